@@ -1,0 +1,158 @@
+//! Differential geometry of a surface point from its derivatives ([DC] §3-2, §3-3).
+//!
+//! Unit normal n = S_u × S_v / |S_u × S_v|. First fundamental form E = S_u·S_u, F = S_u·S_v,
+//! G = S_v·S_v; second L = S_uu·n, M = S_uv·n, N = S_vv·n. Normal curvature in the tangent direction
+//! a S_u + b S_v: κ_n = (L a² + 2M ab + N b²)/(E a² + 2F ab + G b²). Mean curvature
+//! H = (EN − 2FM + GL) / (2(EG − F²)), Gaussian K = (LN − M²)/(EG − F²), principal curvatures
+//! k_{1,2} = H ± √(H² − K), k1 ≥ k2. All curvatures are signed with respect to n: a sphere with the
+//! outward normal has negative curvatures.
+//!
+//! # Tolerance
+//! A point is singular (normal and curvatures `None`) when a tangent vanishes against the other
+//! ([`TANGENT_RATIO_EPS`]) or the tangents are parallel ([`NORMAL_SIN_EPS`]); both are relative,
+//! so the test does not depend on the model's units. Collapsed sides (poles) fall under the first.
+
+use crate::surface::SurfaceDerivatives;
+use crate::Vector3;
+
+/// |S_u| / |S_v| (or its inverse) below which a tangent counts as vanished: a collapsed side
+/// evaluates to a tangent of rounding size, ~1e-16 of the other.
+pub const TANGENT_RATIO_EPS: f64 = 1e-10;
+
+/// sin of the angle between S_u and S_v below which the tangents count as parallel.
+pub const NORMAL_SIN_EPS: f64 = 1e-10;
+
+/// Relative size of the tangential part of a 3D direction below which it counts as normal to
+/// the surface (no normal curvature in that direction).
+pub const DIRECTION_TANGENTIAL_EPS: f64 = 1e-9;
+
+/// Relative size of H² − K under which a point counts as umbilic (any direction is principal).
+pub const UMBILIC_EPS: f64 = 1e-12;
+
+/// First and second fundamental forms at a regular point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FundamentalForms {
+    /// E = S_u·S_u
+    pub e: f64,
+    /// F = S_u·S_v
+    pub f: f64,
+    /// G = S_v·S_v
+    pub g: f64,
+    /// L = S_uu·n
+    pub l: f64,
+    /// M = S_uv·n
+    pub m: f64,
+    /// N = S_vv·n
+    pub n: f64,
+    /// the unit normal used for the signs
+    pub normal: Vector3,
+}
+
+/// Principal curvatures and directions at a regular point.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PrincipalCurvatures {
+    /// larger principal curvature
+    pub k1: f64,
+    /// smaller principal curvature
+    pub k2: f64,
+    /// unit 3D direction of k1
+    pub dir1: Vector3,
+    /// unit 3D direction of k2 (n × dir1)
+    pub dir2: Vector3,
+    /// unit normal the signs refer to
+    pub normal: Vector3,
+}
+
+impl PrincipalCurvatures {
+    /// Mean curvature (k1 + k2)/2.
+    pub fn mean(&self) -> f64 {
+        0.5 * (self.k1 + self.k2)
+    }
+    /// Gaussian curvature k1·k2.
+    pub fn gauss(&self) -> f64 {
+        self.k1 * self.k2
+    }
+}
+
+impl SurfaceDerivatives {
+    /// The unit normal S_u × S_v / |S_u × S_v|, `None` at singular points.
+    pub fn normal(&self) -> Option<Vector3> {
+        let (lu, lv) = (self.du.norm(), self.dv.norm());
+        let (lo, hi) = if lu < lv { (lu, lv) } else { (lv, lu) };
+        if !(lo > TANGENT_RATIO_EPS * hi) {
+            return None;
+        }
+        let c = self.du.cross(&self.dv);
+        let lc = c.norm();
+        if !(lc > NORMAL_SIN_EPS * lu * lv) {
+            return None;
+        }
+        Some(c / lc)
+    }
+
+    /// First and second fundamental forms, `None` at singular points.
+    pub fn fundamental_forms(&self) -> Option<FundamentalForms> {
+        let normal = self.normal()?;
+        Some(FundamentalForms {
+            e: self.du.dot(&self.du),
+            f: self.du.dot(&self.dv),
+            g: self.dv.dot(&self.dv),
+            l: self.duu.dot(&normal),
+            m: self.duv.dot(&normal),
+            n: self.dvv.dot(&normal),
+            normal,
+        })
+    }
+
+    /// Normal curvature in the 3D `direction` (its tangential part is used), `None` at singular
+    /// points or when the direction is normal to the surface.
+    pub fn normal_curvature(&self, direction: &Vector3) -> Option<f64> {
+        let ff = self.fundamental_forms()?;
+        let det = ff.e * ff.g - ff.f * ff.f;
+        let (du_d, dv_d) = (direction.dot(&self.du), direction.dot(&self.dv));
+        let a = (ff.g * du_d - ff.f * dv_d) / det;
+        let b = (ff.e * dv_d - ff.f * du_d) / det;
+        let tangential = self.du * a + self.dv * b;
+        if !(tangential.norm() > DIRECTION_TANGENTIAL_EPS * direction.norm()) {
+            return None;
+        }
+        let first = ff.e * a * a + 2.0 * ff.f * a * b + ff.g * b * b;
+        let second = ff.l * a * a + 2.0 * ff.m * a * b + ff.n * b * b;
+        Some(second / first)
+    }
+
+    /// Principal curvatures (k1 ≥ k2) and directions, `None` at singular points.
+    pub fn principal_curvatures(&self) -> Option<PrincipalCurvatures> {
+        let ff = self.fundamental_forms()?;
+        let det = ff.e * ff.g - ff.f * ff.f;
+        let h = (ff.e * ff.n - 2.0 * ff.f * ff.m + ff.g * ff.l) / (2.0 * det);
+        let k = (ff.l * ff.n - ff.m * ff.m) / det;
+        let disc = (h * h - k).max(0.0);
+        let root = disc.sqrt();
+        let (k1, k2) = (h + root, h - root);
+        // null vector of II − k1·I: take the better conditioned of its two rows
+        let r0 = (ff.l - k1 * ff.e, ff.m - k1 * ff.f);
+        let r1 = (ff.m - k1 * ff.f, ff.n - k1 * ff.g);
+        let (n0, n1) = (r0.0.hypot(r0.1), r1.0.hypot(r1.1));
+        let scale = ff.l.abs() + ff.m.abs() + ff.n.abs() + k1.abs() * (ff.e + ff.f.abs() + ff.g);
+        let umbilic = disc <= UMBILIC_EPS * (h * h).max(f64::MIN_POSITIVE) || n0.max(n1) <= UMBILIC_EPS * scale;
+        let dir1 = if umbilic {
+            self.du.normalize()
+        } else {
+            let (a, b) = if n0 >= n1 { (-r0.1, r0.0) } else { (-r1.1, r1.0) };
+            (self.du * a + self.dv * b).normalize()
+        };
+        let dir2 = ff.normal.cross(&dir1);
+        Some(PrincipalCurvatures { k1, k2, dir1, dir2, normal: ff.normal })
+    }
+
+    /// Mean curvature (k1 + k2)/2, `None` at singular points.
+    pub fn mean_curvature(&self) -> Option<f64> {
+        self.principal_curvatures().map(|c| c.mean())
+    }
+
+    /// Gaussian curvature k1·k2, `None` at singular points.
+    pub fn gaussian_curvature(&self) -> Option<f64> {
+        self.principal_curvatures().map(|c| c.gauss())
+    }
+}

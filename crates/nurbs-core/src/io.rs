@@ -1,0 +1,125 @@
+//! The JSON surface format of `docs/model-format.md` (feature `serde`).
+//!
+//! A surface record has `degree_u`, `degree_v`, optional full knot vectors `knots_u`/`knots_v`
+//! (absent: a Bézier patch), `control_points[i][j] = [x, y, z]` (i over u) and optional `weights`
+//! of the same shape (Euclidean control points, not pre-multiplied). A file holds one record, a
+//! list of records, `{"surfaces": [...]}` or `{"patches": [...]}`.
+
+use serde::{Deserialize, Serialize};
+
+use crate::error::{Error, Result};
+use crate::knots::KnotVector;
+use crate::surface::BSplineSurface;
+use crate::Point3;
+
+/// One B-spline surface as stored in JSON.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct SurfaceRecord {
+    /// degree in u
+    pub degree_u: usize,
+    /// degree in v
+    pub degree_v: usize,
+    /// full knot vector in u (absent for a Bézier patch)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub knots_u: Option<Vec<f64>>,
+    /// full knot vector in v (absent for a Bézier patch)
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub knots_v: Option<Vec<f64>>,
+    /// control_points[i][j] = [x, y, z]
+    pub control_points: Vec<Vec<[f64; 3]>>,
+    /// weights[i][j], absent for polynomial surfaces
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub weights: Option<Vec<Vec<f64>>>,
+}
+
+fn knots(field: &'static str, degree: usize, given: &Option<Vec<f64>>, count: usize) -> Result<KnotVector> {
+    let kv = match given {
+        Some(k) => KnotVector::new(degree, k.clone()),
+        None if count == degree + 1 => KnotVector::bezier(degree),
+        None => Err(Error::Format {
+            detail: format!("no knots given, so a Bézier patch of degree {degree} needs {} control points in this direction, got {count}", degree + 1),
+        }),
+    }
+    .map_err(|e| e.context(field))?;
+    kv.check_count(if field == "knots_u" { "u" } else { "v" }, count).map_err(|e| e.context(field))?;
+    Ok(kv)
+}
+
+impl SurfaceRecord {
+    /// Validates the record and builds the surface; errors name the field at fault.
+    pub fn to_surface(&self) -> Result<BSplineSurface> {
+        let nu = self.control_points.len();
+        let nv = self.control_points.first().map_or(0, Vec::len);
+        if nu == 0 || nv == 0 {
+            return Err(Error::ControlNetShape { detail: "control_points is empty".into() }.context("control_points"));
+        }
+        if let Some((i, row)) = self.control_points.iter().enumerate().find(|(_, r)| r.len() != nv) {
+            return Err(Error::ControlNetShape { detail: format!("row {i} has {} points, row 0 has {nv}", row.len()) }.context("control_points"));
+        }
+        let ku = knots("knots_u", self.degree_u, &self.knots_u, nu)?;
+        let kv = knots("knots_v", self.degree_v, &self.knots_v, nv)?;
+        let points: Vec<Point3> = self.control_points.iter().flatten().map(|c| Point3::new(c[0], c[1], c[2])).collect();
+        let weights = match &self.weights {
+            None => None,
+            Some(w) => {
+                if w.len() != nu || w.iter().any(|r| r.len() != nv) {
+                    return Err(Error::ControlNetShape { detail: format!("weights must be {nu}×{nv} like the control net") }.context("weights"));
+                }
+                Some(w.iter().flatten().copied().collect())
+            }
+        };
+        BSplineSurface::new(ku, kv, points, weights)
+    }
+
+    /// The record of a surface (full knot vectors, weights only when rational).
+    pub fn from_surface(s: &BSplineSurface) -> Self {
+        let (nu, nv) = (s.num_u(), s.num_v());
+        Self {
+            degree_u: s.degree_u(),
+            degree_v: s.degree_v(),
+            knots_u: Some(s.knots_u().knots().to_vec()),
+            knots_v: Some(s.knots_v().knots().to_vec()),
+            control_points: (0..nu).map(|i| (0..nv).map(|j| s.control_point(i, j).coords.into()).collect()).collect(),
+            weights: s.weights().map(|_| (0..nu).map(|i| (0..nv).map(|j| s.weight(i, j)).collect()).collect()),
+        }
+    }
+}
+
+/// The shapes a surface file may take.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(untagged)]
+enum SurfaceFileShape {
+    Wrapped { surfaces: Vec<serde_json::Value> },
+    Patches { patches: Vec<serde_json::Value> },
+    List(Vec<serde_json::Value>),
+    One(serde_json::Value),
+}
+
+/// Parses a surface file (one record, a list, `{"surfaces": …}` or `{"patches": …}`) and
+/// validates every surface; errors name the surface and the field.
+pub fn surfaces_from_json(text: &str) -> Result<Vec<BSplineSurface>> {
+    let shape: SurfaceFileShape = serde_json::from_str(text).map_err(|e| Error::Format { detail: format!("malformed JSON: {e}") })?;
+    let (values, single) = match shape {
+        SurfaceFileShape::Wrapped { surfaces } => (surfaces, false),
+        SurfaceFileShape::Patches { patches } => (patches, false),
+        SurfaceFileShape::List(list) => (list, false),
+        SurfaceFileShape::One(v) => (vec![v], true),
+    };
+    if values.is_empty() {
+        return Err(Error::Format { detail: "the file holds no surface".into() });
+    }
+    values
+        .into_iter()
+        .enumerate()
+        .map(|(k, value)| {
+            let place = if single { "surface".to_string() } else { format!("surface {k}") };
+            let record: SurfaceRecord = serde_json::from_value(value).map_err(|e| Error::Format { detail: format!("{place}: {e}") })?;
+            record.to_surface().map_err(|e| e.context(place))
+        })
+        .collect()
+}
+
+/// Serializes one surface as a JSON record.
+pub fn surface_to_json(surface: &BSplineSurface) -> String {
+    serde_json::to_string(&SurfaceRecord::from_surface(surface)).expect("a surface record always serializes")
+}

@@ -1,0 +1,254 @@
+//! Knot insertion, refinement, removal, degree elevation and extraction on homogeneous control
+//! polygons — the curve algorithms that the curve and surface methods apply (to every row or
+//! column for surfaces).
+//!
+//! - Insertion ([NB] A5.1, Boehm): inserting ū r times into span k rewrites P_{k−p+1..k−s}
+//!   by Q_i = α_i P_i + (1 − α_i) P_{i−1}, α_i = (ū − t_i)/(t_{i+p} − t_i), repeated r times.
+//! - Refinement ([NB] A5.4 in effect): successive single insertions of a sorted knot list.
+//! - Removal ([NB] A5.8, Tiller): solves the insertion equations from both ends and accepts the
+//!   removal when the two solutions meet within the tolerance; the tolerance bounds the
+//!   Euclidean deviation of the curve (for rational curves scaled by w_min/(1 + max|P|), eq. 5.30).
+//! - Degree elevation: decomposition into Bézier segments (insertion), per-segment elevation
+//!   Q_i = (i/(p+1)) P_{i−1} + (1 − i/(p+1)) P_i ([NB] eq. 5.41), and exact removal of the surplus
+//!   knots — the same result as [NB] A5.9, built from the operations above.
+//! - Extraction: the sub-curve over [a, b] by inserting a and b to multiplicity p.
+
+use crate::error::{Error, Result};
+use crate::homogeneous::{distance4, lerp4};
+use crate::knots::KnotVector;
+
+/// A knot vector with its homogeneous control polygon.
+pub(crate) type Polygon = (KnotVector, Vec<[f64; 4]>);
+
+/// Relative tolerance (against the polygon's extent) of the exact knot removals that degree
+/// elevation performs: the removed knots are removable in exact arithmetic, so only rounding
+/// (~1e-15 relative) must pass.
+pub const EXACT_REMOVAL_REL_TOL: f64 = 1e-9;
+
+/// Inserts `u` `times` times ([NB] A5.1).
+pub(crate) fn insert(kv: &KnotVector, pw: &[[f64; 4]], u: f64, times: usize) -> Result<Polygon> {
+    kv.check_param(u)?;
+    let p = kv.degree();
+    let knots = kv.knots();
+    let s = kv.multiplicity(u);
+    if times == 0 {
+        return Ok((kv.clone(), pw.to_vec()));
+    }
+    if s + times > p {
+        return Err(Error::InsertionOverflow { value: u, times, multiplicity: s, degree: p });
+    }
+    let np = pw.len() - 1;
+    let mp = knots.len() - 1;
+    // k: last index with t_k ≤ u (t_k ≤ u < t_{k+1})
+    let k = knots.partition_point(|&t| t <= u) - 1;
+    let mut uq = Vec::with_capacity(knots.len() + times);
+    uq.extend_from_slice(&knots[..=k]);
+    uq.extend(std::iter::repeat_n(u, times));
+    uq.extend_from_slice(&knots[k + 1..=mp]);
+    let mut qw = vec![[0.0; 4]; pw.len() + times];
+    qw[..=k - p].copy_from_slice(&pw[..=k - p]);
+    for i in (k - s)..=np {
+        qw[i + times] = pw[i];
+    }
+    let mut rw: Vec<[f64; 4]> = pw[k - p..=k - s].to_vec();
+    let mut l = 0;
+    for j in 1..=times {
+        l = k - p + j;
+        for i in 0..=(p - j - s) {
+            let alpha = (u - knots[l + i]) / (knots[i + k + 1] - knots[l + i]);
+            rw[i] = lerp4(&rw[i + 1], alpha, &rw[i], 1.0 - alpha);
+        }
+        qw[l] = rw[0];
+        qw[k + times - j - s] = rw[p - j - s];
+    }
+    for i in (l + 1)..(k - s) {
+        qw[i] = rw[i - l];
+    }
+    Ok((KnotVector::new(p, uq)?, qw))
+}
+
+/// Inserts every knot of `xs` (any order, repeats allowed) once per occurrence.
+pub(crate) fn refine(kv: &KnotVector, pw: &[[f64; 4]], xs: &[f64]) -> Result<Polygon> {
+    let mut sorted = xs.to_vec();
+    if let Some(&bad) = sorted.iter().find(|x| !x.is_finite()) {
+        let (start, end) = kv.domain();
+        return Err(Error::ParameterOutOfDomain { value: bad, start, end });
+    }
+    sorted.sort_by(f64::total_cmp);
+    let mut cur = (kv.clone(), pw.to_vec());
+    for x in sorted {
+        cur = insert(&cur.0, &cur.1, x, 1)?;
+    }
+    Ok(cur)
+}
+
+/// Tries to remove the interior knot `u` up to `num` times with Euclidean deviation at most
+/// `tolerance` ([NB] A5.8); returns the new polygon and how many times it was removed.
+pub(crate) fn remove(kv: &KnotVector, pw: &[[f64; 4]], u: f64, num: usize, tolerance: f64) -> Result<(Polygon, usize)> {
+    let p = kv.degree();
+    let knots = kv.knots();
+    let (start, end) = kv.domain();
+    let s = kv.multiplicity(u);
+    if !(u > start && u < end) || s == 0 {
+        return Err(Error::ParameterOutOfDomain { value: u, start, end });
+    }
+    let r = knots.partition_point(|&t| t <= u) - 1;
+    let n = pw.len() - 1;
+    let m = n + p + 1;
+    let ord = p + 1;
+    let wmin = pw.iter().map(|q| q[3]).fold(f64::INFINITY, f64::min);
+    let pmax = pw.iter().map(|q| (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt() / q[3]).fold(0.0, f64::max);
+    let tol = tolerance * wmin / (1.0 + pmax);
+    let fout = (2 * r - s - p) / 2;
+    let mut first = r - p;
+    let mut last = r - s;
+    let mut pw = pw.to_vec();
+    let mut temp = vec![[0.0; 4]; 2 * p + 1];
+    let mut t = 0;
+    while t < num.min(s) {
+        let off = first - 1;
+        temp[0] = pw[off];
+        temp[last + 1 - off] = pw[last + 1];
+        let (mut i, mut j) = (first, last);
+        let (mut ii, mut jj) = (1usize, last - off);
+        while j as isize - i as isize > t as isize {
+            let alfi = (u - knots[i]) / (knots[i + ord + t] - knots[i]);
+            let alfj = (u - knots[j - t]) / (knots[j + ord] - knots[j - t]);
+            temp[ii] = lerp4(&pw[i], 1.0 / alfi, &temp[ii - 1], -(1.0 - alfi) / alfi);
+            temp[jj] = lerp4(&pw[j], 1.0 / (1.0 - alfj), &temp[jj + 1], -alfj / (1.0 - alfj));
+            i += 1;
+            ii += 1;
+            j -= 1;
+            jj -= 1;
+        }
+        let ok = if (j as isize - i as isize) < t as isize {
+            distance4(&temp[ii - 1], &temp[jj + 1]) <= tol
+        } else {
+            let alfi = (u - knots[i]) / (knots[i + ord + t] - knots[i]);
+            let guess = lerp4(&temp[ii + t + 1], alfi, &temp[ii - 1], 1.0 - alfi);
+            distance4(&pw[i], &guess) <= tol
+        };
+        if !ok {
+            break;
+        }
+        let (mut i, mut j) = (first, last);
+        while j as isize - i as isize > t as isize {
+            pw[i] = temp[i - off];
+            pw[j] = temp[j - off];
+            i += 1;
+            j -= 1;
+        }
+        first -= 1;
+        last += 1;
+        t += 1;
+    }
+    if t == 0 {
+        return Ok(((kv.clone(), pw), 0));
+    }
+    let mut new_knots = knots.to_vec();
+    for k in (r + 1)..=m {
+        new_knots[k - t] = new_knots[k];
+    }
+    new_knots.truncate(m + 1 - t);
+    let mut j = fout;
+    let mut i = j;
+    for k in 1..t {
+        if k % 2 == 1 {
+            i += 1;
+        } else {
+            j -= 1;
+        }
+    }
+    for k in (i + 1)..=n {
+        pw[j] = pw[k];
+        j += 1;
+    }
+    pw.truncate(n + 1 - t);
+    Ok(((KnotVector::new(p, new_knots)?, pw), t))
+}
+
+/// The part of the curve over [a, b] as a clamped polygon.
+pub(crate) fn extract(kv: &KnotVector, pw: &[[f64; 4]], a: f64, b: f64) -> Result<Polygon> {
+    kv.check_param(a)?;
+    kv.check_param(b)?;
+    if !(a < b) {
+        return Err(Error::Degenerate { detail: format!("extraction range [{a}, {b}] is empty") });
+    }
+    let p = kv.degree();
+    let mut cur = (kv.clone(), pw.to_vec());
+    for x in [a, b] {
+        let s = cur.0.multiplicity(x);
+        if s < p {
+            cur = insert(&cur.0, &cur.1, x, p - s)?;
+        }
+    }
+    let knots = cur.0.knots();
+    let r_a = knots.partition_point(|&t| t <= a) - 1;
+    let f_b = knots.partition_point(|&t| t < b);
+    let (first, last) = (r_a - p, f_b - 1);
+    let mut sub = vec![a; p + 1];
+    sub.extend_from_slice(&knots[r_a + 1..f_b]);
+    sub.extend(std::iter::repeat_n(b, p + 1));
+    Ok((KnotVector::new(p, sub)?, cur.1[first..=last].to_vec()))
+}
+
+/// Raises the degree by `by` keeping the curve ([NB] §5.5).
+pub(crate) fn elevate(kv: &KnotVector, pw: &[[f64; 4]], by: usize) -> Result<Polygon> {
+    if by == 0 {
+        return Ok((kv.clone(), pw.to_vec()));
+    }
+    let (a, b) = kv.domain();
+    let (kv, pw) = if kv.is_clamped() { (kv.clone(), pw.to_vec()) } else { extract(kv, pw, a, b)? };
+    let p = kv.degree();
+    let interior = kv.interior_knots();
+    let mut bez = (kv.clone(), pw.clone());
+    for &(x, m) in &interior {
+        if m < p {
+            bez = insert(&bez.0, &bez.1, x, p - m)?;
+        }
+    }
+    let q = p + by;
+    let segments = interior.len() + 1;
+    let mut out: Vec<[f64; 4]> = Vec::with_capacity(segments * q + 1);
+    for seg in 0..segments {
+        let mut cp: Vec<[f64; 4]> = bez.1[seg * p..=seg * p + p].to_vec();
+        for deg in p..q {
+            let mut next = Vec::with_capacity(deg + 2);
+            next.push(cp[0]);
+            for i in 1..=deg {
+                let alpha = i as f64 / (deg + 1) as f64;
+                next.push(lerp4(&cp[i - 1], alpha, &cp[i], 1.0 - alpha));
+            }
+            next.push(cp[deg]);
+            cp = next;
+        }
+        let skip = usize::from(seg > 0);
+        out.extend_from_slice(&cp[skip..]);
+    }
+    let mut knots = vec![a; q + 1];
+    for &(x, _) in &interior {
+        knots.extend(std::iter::repeat_n(x, q));
+    }
+    knots.extend(std::iter::repeat_n(b, q + 1));
+    let mut cur = (KnotVector::new(q, knots)?, out);
+    let extent = extent4(&cur.1);
+    let tolerance = EXACT_REMOVAL_REL_TOL * extent.max(f64::MIN_POSITIVE);
+    for &(x, m) in &interior {
+        let want = p - m;
+        if want == 0 {
+            continue;
+        }
+        let (next, removed) = remove(&cur.0, &cur.1, x, want, tolerance)?;
+        if removed != want {
+            return Err(Error::RemovalFailed { value: x, tolerance });
+        }
+        cur = next;
+    }
+    Ok(cur)
+}
+
+/// Largest Euclidean coordinate extent of a homogeneous polygon (after division by w).
+fn extent4(pw: &[[f64; 4]]) -> f64 {
+    let pts: Vec<crate::Point3> = pw.iter().map(|q| crate::Point3::new(q[0] / q[3], q[1] / q[3], q[2] / q[3])).collect();
+    crate::homogeneous::bounding_diagonal(&pts).max(pts.iter().map(|p| p.coords.norm()).fold(0.0, f64::max))
+}

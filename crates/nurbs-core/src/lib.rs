@@ -1,0 +1,52 @@
+//! # nurbs-core
+//!
+//! The B-spline/NURBS kernel of hier-fair: knot vectors, basis functions ([NB] A2.2/A2.3), curves
+//! and surfaces (polynomial and rational) with derivatives, differential geometry, knot
+//! insertion/removal, degree elevation, extraction and isocurves, Gram integrals, projection,
+//! least-squares fitting with control masks, the frames of [SV] §3.1, the [`SurfaceFairing`] trait
+//! and a small triangle mesh. References (keys in brackets) are listed in `docs/references.md`.
+//!
+//! Conventions: control nets are flat, `P[i * n_v + j]`, i over u; parameters outside the domain
+//! are clamped by evaluators; normals are S_u × S_v normalized and curvatures are signed with
+//! respect to them.
+
+pub mod basis;
+pub mod curve;
+pub mod diffgeom;
+pub mod energy;
+pub mod error;
+pub mod fairing;
+pub mod fit;
+pub mod frames;
+pub mod gram;
+pub mod grid;
+pub mod homogeneous;
+#[cfg(feature = "serde")]
+pub mod io;
+pub mod knot_ops;
+pub mod knots;
+pub mod mesh;
+pub mod ops;
+pub mod projection;
+pub mod quadrature;
+pub mod surface;
+
+/// A point in 3D (f64).
+pub type Point3 = nalgebra::Point3<f64>;
+/// A vector in 3D (f64).
+pub type Vector3 = nalgebra::Vector3<f64>;
+
+pub use basis::BasisEvaluator;
+pub use curve::{BSplineCurve, CurveDerivatives};
+pub use diffgeom::{FundamentalForms, PrincipalCurvatures};
+pub use error::{Error, Result};
+pub use fairing::{FairingReport, SurfaceFairing};
+pub use fit::{fit_curve, fit_surface, FitParams, FitReport};
+pub use frames::{Continuity, ControlMask, Frame, Side};
+pub use gram::{gram_matrix, BandedMatrix, ThinPlateGram};
+pub use grid::GridOrder;
+pub use knots::KnotVector;
+pub use mesh::TriMesh;
+pub use ops::Direction;
+pub use projection::{project_to_curve, project_to_surface, project_to_surface_from, CurveProjection, ProjectionParams, SurfaceProjection};
+pub use surface::{BSplineSurface, SurfaceDerivatives, SurfaceEvaluator};

@@ -1,0 +1,186 @@
+//! Knot operations, degree elevation, extraction and isocurves on curves and surfaces.
+//!
+//! Surfaces apply the curve algorithms of [`crate::knot_ops`] to every column (u direction) or row
+//! (v direction) of the homogeneous net ([NB] §5.3: surface knot insertion is curve insertion on
+//! the iso-polygons). Isocurves are exact: the curve v ↦ S(ū, v) has the homogeneous control points
+//! Q_j = Σ_i N_i(ū) w_ij P_ij on the v knot vector.
+
+use crate::basis::BasisEvaluator;
+use crate::curve::BSplineCurve;
+use crate::error::Result;
+use crate::knot_ops::{self, Polygon};
+use crate::knots::KnotVector;
+use crate::surface::BSplineSurface;
+
+/// A parametric direction of a surface.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "lowercase"))]
+pub enum Direction {
+    /// the u direction (rows i)
+    U,
+    /// the v direction (columns j)
+    V,
+}
+
+impl BSplineCurve {
+    fn apply(&self, f: impl FnOnce(&KnotVector, &[[f64; 4]]) -> Result<Polygon>) -> Result<Self> {
+        let (kv, pw) = f(self.knots(), &self.homogeneous())?;
+        Self::from_homogeneous_as(kv, &pw, self.is_rational())
+    }
+
+    /// Inserts the knot `t` `times` times; the curve is unchanged.
+    pub fn insert_knot(&self, t: f64, times: usize) -> Result<Self> {
+        self.apply(|kv, pw| knot_ops::insert(kv, pw, t, times))
+    }
+
+    /// Inserts all knots of `xs` (knot refinement); the curve is unchanged.
+    pub fn refine(&self, xs: &[f64]) -> Result<Self> {
+        self.apply(|kv, pw| knot_ops::refine(kv, pw, xs))
+    }
+
+    /// Removes the interior knot `t` up to `num` times while the curve moves by at most
+    /// `tolerance` (model units); returns the curve and how many were removed (0 = failed).
+    pub fn remove_knot(&self, t: f64, num: usize, tolerance: f64) -> Result<(Self, usize)> {
+        let ((kv, pw), removed) = knot_ops::remove(self.knots(), &self.homogeneous(), t, num, tolerance)?;
+        Ok((Self::from_homogeneous_as(kv, &pw, self.is_rational())?, removed))
+    }
+
+    /// Raises the degree by `by`; the curve is unchanged (the result is clamped).
+    pub fn elevate_degree(&self, by: usize) -> Result<Self> {
+        self.apply(|kv, pw| knot_ops::elevate(kv, pw, by))
+    }
+
+    /// The part over [a, b], clamped, with the same parametrization.
+    pub fn extract(&self, a: f64, b: f64) -> Result<Self> {
+        self.apply(|kv, pw| knot_ops::extract(kv, pw, a, b))
+    }
+}
+
+impl BSplineSurface {
+    /// Applies a curve algorithm to every iso-polygon running in `dir`.
+    fn map_polygons(&self, dir: Direction, f: impl Fn(&KnotVector, &[[f64; 4]]) -> Result<Polygon>) -> Result<Self> {
+        let (nu, nv) = (self.num_u(), self.num_v());
+        let hw = self.homogeneous();
+        let (kv, count, len) = match dir {
+            Direction::U => (self.knots_u(), nv, nu),
+            Direction::V => (self.knots_v(), nu, nv),
+        };
+        let at = |line: usize, k: usize| match dir {
+            Direction::U => k * nv + line,
+            Direction::V => line * nv + k,
+        };
+        let mut results = Vec::with_capacity(count);
+        for line in 0..count {
+            let poly: Vec<[f64; 4]> = (0..len).map(|k| hw[at(line, k)]).collect();
+            results.push(f(kv, &poly)?);
+        }
+        let new_kv = results[0].0.clone();
+        let new_len = results[0].1.len();
+        let (new_nu, new_nv) = match dir {
+            Direction::U => (new_len, nv),
+            Direction::V => (nu, new_len),
+        };
+        let mut net = vec![[0.0; 4]; new_nu * new_nv];
+        for (line, (_, poly)) in results.iter().enumerate() {
+            for (k, h) in poly.iter().enumerate() {
+                let idx = match dir {
+                    Direction::U => k * new_nv + line,
+                    Direction::V => line * new_nv + k,
+                };
+                net[idx] = *h;
+            }
+        }
+        match dir {
+            Direction::U => Self::from_homogeneous_as(new_kv, self.knots_v().clone(), &net, self.is_rational()),
+            Direction::V => Self::from_homogeneous_as(self.knots_u().clone(), new_kv, &net, self.is_rational()),
+        }
+    }
+
+    /// Inserts the knot `t` `times` times in direction `dir`; the surface is unchanged.
+    pub fn insert_knot(&self, dir: Direction, t: f64, times: usize) -> Result<Self> {
+        self.map_polygons(dir, |kv, pw| knot_ops::insert(kv, pw, t, times))
+    }
+
+    /// Knot refinement in direction `dir`; the surface is unchanged.
+    pub fn refine(&self, dir: Direction, xs: &[f64]) -> Result<Self> {
+        self.map_polygons(dir, |kv, pw| knot_ops::refine(kv, pw, xs))
+    }
+
+    /// Removes the interior knot `t` of direction `dir` up to `num` times, each removal only when
+    /// every iso-polygon allows it within `tolerance` (model units); returns the surface and the
+    /// number removed.
+    pub fn remove_knot(&self, dir: Direction, t: f64, num: usize, tolerance: f64) -> Result<(Self, usize)> {
+        let mut cur = self.clone();
+        let mut removed = 0;
+        while removed < num {
+            let attempt = cur.map_polygons(dir, |kv, pw| {
+                let (poly, k) = knot_ops::remove(kv, pw, t, 1, tolerance)?;
+                if k == 1 {
+                    Ok(poly)
+                } else {
+                    Err(crate::Error::RemovalFailed { value: t, tolerance })
+                }
+            });
+            match attempt {
+                Ok(next) => {
+                    cur = next;
+                    removed += 1;
+                }
+                Err(crate::Error::RemovalFailed { .. }) => break,
+                Err(e) => return Err(e),
+            }
+        }
+        Ok((cur, removed))
+    }
+
+    /// Raises the degree of direction `dir` by `by`; the surface is unchanged.
+    pub fn elevate_degree(&self, dir: Direction, by: usize) -> Result<Self> {
+        self.map_polygons(dir, |kv, pw| knot_ops::elevate(kv, pw, by))
+    }
+
+    /// The sub-surface over [u0, u1] × [v0, v1], clamped, same parametrization.
+    pub fn extract(&self, (u0, u1): (f64, f64), (v0, v1): (f64, f64)) -> Result<Self> {
+        self.map_polygons(Direction::U, |kv, pw| knot_ops::extract(kv, pw, u0, u1))?
+            .map_polygons(Direction::V, |kv, pw| knot_ops::extract(kv, pw, v0, v1))
+    }
+
+    /// A copy with clamped knot vectors in both directions (the same surface).
+    pub fn clamped(&self) -> Result<Self> {
+        if self.knots_u().is_clamped() && self.knots_v().is_clamped() {
+            return Ok(self.clone());
+        }
+        self.extract(self.domain_u(), self.domain_v())
+    }
+
+    /// The exact isocurve at parameter `t` of direction `dir`: `Direction::U` fixes u = t and
+    /// gives the curve v ↦ S(t, v); `Direction::V` fixes v = t and gives u ↦ S(u, t).
+    pub fn isocurve(&self, dir: Direction, t: f64) -> Result<BSplineCurve> {
+        let (fixed_kv, free_kv) = match dir {
+            Direction::U => (self.knots_u(), self.knots_v()),
+            Direction::V => (self.knots_v(), self.knots_u()),
+        };
+        fixed_kv.check_param(t)?;
+        let p = fixed_kv.degree();
+        let span = fixed_kv.span(t);
+        let mut n = vec![0.0; p + 1];
+        BasisEvaluator::new(p).values(fixed_kv.knots(), span, t, &mut n);
+        let hw = self.homogeneous();
+        let nv = self.num_v();
+        let count = free_kv.num_basis();
+        let mut q = vec![[0.0; 4]; count];
+        for (k, out) in q.iter_mut().enumerate() {
+            for (r, &b) in n.iter().enumerate() {
+                let i = span - p + r;
+                let h = match dir {
+                    Direction::U => hw[i * nv + k],
+                    Direction::V => hw[k * nv + i],
+                };
+                for d in 0..4 {
+                    out[d] += b * h[d];
+                }
+            }
+        }
+        BSplineCurve::from_homogeneous_as(free_kv.clone(), &q, self.is_rational())
+    }
+}

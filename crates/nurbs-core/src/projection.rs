@@ -1,0 +1,245 @@
+//! Closest-point projection (point inversion) onto curves and surfaces ([NB] §6.1).
+//!
+//! Minimizes f = ½|S(u, v) − P|². Start: the best of a sample grid (several samples per knot span),
+//! then safeguarded Newton on ∇f = (r·S_u, r·S_v), r = S − P, with the Hessian
+//! H = [[S_u·S_u + r·S_uu, S_u·S_v + r·S_uv], [·, S_v·S_v + r·S_vv]]; where H is not positive
+//! definite the Gauss–Newton matrix (H without the r terms) is used instead. Each step is clamped
+//! to the domain and halved until f decreases. Converged when the distance is below the point
+//! tolerance, when r is orthogonal to both tangents within the cosine tolerance (zero-cosine test
+//! of [NB] eq. 6.4), or when a clamped step no longer moves the point.
+//!
+//! # Tolerance
+//! [`ProjectionParams::point_tolerance`] is relative to the size (bounding-box diagonal) of the
+//! control net; [`ProjectionParams::cosine_tolerance`] is dimensionless.
+
+use crate::curve::BSplineCurve;
+use crate::surface::BSplineSurface;
+use crate::{Point3, Vector3};
+
+/// Settings of the projection.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ProjectionParams {
+    /// Distances below `point_tolerance × size` count as coincident (default 1e-12: about 1e4
+    /// rounding units of the coordinates).
+    pub point_tolerance: f64,
+    /// |cos| of the angle between r and a tangent below which r is orthogonal (default 1e-10).
+    pub cosine_tolerance: f64,
+    /// Newton iterations from one start (default 50; quadratic convergence needs < 10).
+    pub max_iterations: usize,
+    /// Start samples per knot span and direction (default 4).
+    pub samples_per_span: usize,
+    /// How many of the best samples Newton starts from (default 3).
+    pub starts: usize,
+}
+
+impl Default for ProjectionParams {
+    fn default() -> Self {
+        Self { point_tolerance: 1e-12, cosine_tolerance: 1e-10, max_iterations: 50, samples_per_span: 4, starts: 3 }
+    }
+}
+
+/// Result of projecting a point onto a surface.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SurfaceProjection {
+    /// parameter u of the closest point
+    pub u: f64,
+    /// parameter v of the closest point
+    pub v: f64,
+    /// the closest point S(u, v)
+    pub point: Point3,
+    /// |S(u, v) − P|
+    pub distance: f64,
+    /// whether a convergence test was met
+    pub converged: bool,
+    /// Newton iterations of the winning start
+    pub iterations: usize,
+}
+
+/// Result of projecting a point onto a curve.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CurveProjection {
+    /// parameter of the closest point
+    pub t: f64,
+    /// the closest point C(t)
+    pub point: Point3,
+    /// |C(t) − P|
+    pub distance: f64,
+    /// whether a convergence test was met
+    pub converged: bool,
+    /// Newton iterations of the winning start
+    pub iterations: usize,
+}
+
+/// Sample parameters: `per_span` per non-empty span plus the domain end.
+fn span_samples(knots: &crate::KnotVector, per_span: usize) -> Vec<f64> {
+    let k = knots.knots();
+    let mut out = Vec::new();
+    for s in knots.spans() {
+        for i in 0..per_span.max(1) {
+            out.push(k[s] + (k[s + 1] - k[s]) * i as f64 / per_span.max(1) as f64);
+        }
+    }
+    out.push(knots.domain().1);
+    out
+}
+
+/// Projects `point` onto `surface` from sampled starts.
+pub fn project_to_surface(surface: &BSplineSurface, point: &Point3, params: &ProjectionParams) -> SurfaceProjection {
+    let us = span_samples(surface.knots_u(), params.samples_per_span);
+    let vs = span_samples(surface.knots_v(), params.samples_per_span);
+    let grid = surface.eval_grid_points(&us, &vs);
+    let mut order: Vec<(f64, usize)> = grid.iter().enumerate().map(|(k, q)| ((q - point).norm_squared(), k)).collect();
+    let starts = params.starts.max(1).min(order.len());
+    order.select_nth_unstable_by(starts - 1, |a, b| a.0.total_cmp(&b.0));
+    order[..starts].sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+    let mut best: Option<SurfaceProjection> = None;
+    for &(_, k) in &order[..starts] {
+        let start = (us[k / vs.len()], vs[k % vs.len()]);
+        let candidate = project_to_surface_from(surface, point, start, params);
+        let better = match &best {
+            None => true,
+            Some(b) => candidate.distance < b.distance || (candidate.converged && !b.converged && candidate.distance <= b.distance),
+        };
+        if better {
+            best = Some(candidate);
+        }
+    }
+    best.expect("at least one start")
+}
+
+/// Projects `point` onto `surface` by safeguarded Newton from the parameters `start`.
+pub fn project_to_surface_from(surface: &BSplineSurface, point: &Point3, start: (f64, f64), params: &ProjectionParams) -> SurfaceProjection {
+    let (ua, ub) = surface.domain_u();
+    let (va, vb) = surface.domain_v();
+    let eps = params.point_tolerance * surface.size().max(f64::MIN_POSITIVE);
+    let mut eval = surface.evaluator();
+    let (mut u, mut v) = (start.0.clamp(ua, ub), start.1.clamp(va, vb));
+    let mut d = eval.derivatives(u, v);
+    let mut r = d.point - point;
+    let mut dist = r.norm();
+    let mut converged = false;
+    let mut iterations = 0;
+    while iterations < params.max_iterations {
+        if dist <= eps {
+            converged = true;
+            break;
+        }
+        let (su, sv) = (d.du, d.dv);
+        let (gu, gv) = (r.dot(&su), r.dot(&sv));
+        let cos_u = gu.abs() / (dist * su.norm()).max(f64::MIN_POSITIVE);
+        let cos_v = gv.abs() / (dist * sv.norm()).max(f64::MIN_POSITIVE);
+        // at a domain bound, a gradient pointing outward is a KKT multiplier, not a residual
+        let free_u = !((u <= ua && gu > 0.0) || (u >= ub && gu < 0.0));
+        let free_v = !((v <= va && gv > 0.0) || (v >= vb && gv < 0.0));
+        if (!free_u || cos_u <= params.cosine_tolerance) && (!free_v || cos_v <= params.cosine_tolerance) {
+            converged = true;
+            break;
+        }
+        let (mut a, mut b, mut c) = (su.dot(&su) + r.dot(&d.duu), su.dot(&sv) + r.dot(&d.duv), sv.dot(&sv) + r.dot(&d.dvv));
+        if !(a > 0.0 && a * c - b * b > 0.0) {
+            (a, b, c) = (su.dot(&su), su.dot(&sv), sv.dot(&sv));
+        }
+        let det = a * c - b * b;
+        let (mut du, mut dv) = if det > 0.0 {
+            (-(c * gu - b * gv) / det, -(a * gv - b * gu) / det)
+        } else {
+            // singular metric (e.g. at a pole): steepest descent scaled by the larger tangent
+            let s = (su.norm_squared() + sv.norm_squared()).max(f64::MIN_POSITIVE);
+            (-gu / s, -gv / s)
+        };
+        let mut step_ok = false;
+        for _ in 0..30 {
+            let (nu, nv) = ((u + du).clamp(ua, ub), (v + dv).clamp(va, vb));
+            let nd = eval.derivatives(nu, nv);
+            let nr = nd.point - point;
+            let ndist = nr.norm();
+            if ndist <= dist {
+                let moved: Vector3 = nd.point - d.point;
+                let tiny = moved.norm() <= eps;
+                u = nu;
+                v = nv;
+                d = nd;
+                r = nr;
+                dist = ndist;
+                step_ok = !tiny;
+                if tiny {
+                    converged = true;
+                }
+                break;
+            }
+            du *= 0.5;
+            dv *= 0.5;
+        }
+        iterations += 1;
+        if !step_ok {
+            if !converged {
+                // no decrease along the Newton direction: a stationary point within rounding
+                converged = dist <= eps.max(1e-9 * surface.size());
+            }
+            break;
+        }
+    }
+    SurfaceProjection { u, v, point: d.point, distance: dist, converged, iterations }
+}
+
+/// Projects `point` onto `curve` (same safeguards as for surfaces, in one parameter).
+pub fn project_to_curve(curve: &BSplineCurve, point: &Point3, params: &ProjectionParams) -> CurveProjection {
+    let ts = span_samples(curve.knots(), params.samples_per_span);
+    let mut order: Vec<(f64, f64)> = ts.iter().map(|&t| ((curve.point(t) - point).norm_squared(), t)).collect();
+    order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    let (a, b) = curve.domain();
+    let scale = crate::homogeneous::bounding_diagonal(curve.control_points()).max(f64::MIN_POSITIVE);
+    let eps = params.point_tolerance * scale;
+    let mut best: Option<CurveProjection> = None;
+    for &(_, t0) in order.iter().take(params.starts.max(1)) {
+        let mut t = t0;
+        let mut d = curve.derivatives(t, 2);
+        let mut r = d.d[0] - point.coords;
+        let mut dist = r.norm();
+        let mut converged = false;
+        let mut iterations = 0;
+        while iterations < params.max_iterations {
+            if dist <= eps {
+                converged = true;
+                break;
+            }
+            let g = r.dot(&d.d[1]);
+            let cos = g.abs() / (dist * d.d[1].norm()).max(f64::MIN_POSITIVE);
+            if cos <= params.cosine_tolerance || (t <= a && g > 0.0) || (t >= b && g < 0.0) {
+                converged = true;
+                break;
+            }
+            let mut h = d.d[1].norm_squared() + r.dot(&d.d[2]);
+            if !(h > 0.0) {
+                h = d.d[1].norm_squared().max(f64::MIN_POSITIVE);
+            }
+            let mut dt = -g / h;
+            let mut step_ok = false;
+            for _ in 0..30 {
+                let nt = (t + dt).clamp(a, b);
+                let nd = curve.derivatives(nt, 2);
+                let nr = nd.d[0] - point.coords;
+                if nr.norm() <= dist {
+                    let tiny = (nd.d[0] - d.d[0]).norm() <= eps;
+                    t = nt;
+                    d = nd;
+                    r = nr;
+                    dist = nr.norm();
+                    step_ok = !tiny;
+                    converged |= tiny;
+                    break;
+                }
+                dt *= 0.5;
+            }
+            iterations += 1;
+            if !step_ok {
+                break;
+            }
+        }
+        let cand = CurveProjection { t, point: Point3::from(d.d[0]), distance: dist, converged, iterations };
+        if best.as_ref().is_none_or(|b| cand.distance < b.distance) {
+            best = Some(cand);
+        }
+    }
+    best.expect("at least one start")
+}
