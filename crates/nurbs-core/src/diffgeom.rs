@@ -3,8 +3,8 @@
 //! Unit normal n = S_u × S_v / |S_u × S_v|. First fundamental form E = S_u·S_u, F = S_u·S_v,
 //! G = S_v·S_v; second L = S_uu·n, M = S_uv·n, N = S_vv·n. Normal curvature in the tangent direction
 //! a S_u + b S_v: κ_n = (L a² + 2M ab + N b²)/(E a² + 2F ab + G b²). Mean curvature
-//! H = (EN − 2FM + GL) / (2(EG − F²)), Gaussian K = (LN − M²)/(EG − F²), principal curvatures
-//! k_{1,2} = H ± √(H² − K), k1 ≥ k2. All curvatures are signed with respect to n: a sphere with the
+//! H = (k1 + k2)/2 and Gaussian K = k1·k2 from the principal curvatures k1 ≥ k2, the eigenvalues
+//! of the shape operator. All curvatures are signed with respect to n: a sphere with the
 //! outward normal has negative curvatures.
 //!
 //! # Tolerance
@@ -25,9 +25,6 @@ pub const NORMAL_SIN_EPS: f64 = 1e-10;
 /// Relative size of the tangential part of a 3D direction below which it counts as normal to
 /// the surface (no normal curvature in that direction).
 pub const DIRECTION_TANGENTIAL_EPS: f64 = 1e-9;
-
-/// Relative size of H² − K under which a point counts as umbilic (any direction is principal).
-pub const UMBILIC_EPS: f64 = 1e-12;
 
 /// First and second fundamental forms at a regular point.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -122,28 +119,31 @@ impl SurfaceDerivatives {
     }
 
     /// Principal curvatures (k1 ≥ k2) and directions, `None` at singular points.
+    ///
+    /// The second fundamental form is written in the orthonormal tangent frame e1 = S_u/|S_u|,
+    /// e2 = n × e1 as the symmetric matrix B = [[b11, b12], [b12, b22]]; its eigenvalues
+    /// m ± √(((b11 − b22)/2)² + b12²) avoid the cancellation of H ± √(H² − K) near umbilics, and
+    /// the eigenvector angle θ = ½ atan2(2 b12, b11 − b22) gives dir1 = cos θ e1 + sin θ e2.
     pub fn principal_curvatures(&self) -> Option<PrincipalCurvatures> {
         let ff = self.fundamental_forms()?;
         let det = ff.e * ff.g - ff.f * ff.f;
-        let h = (ff.e * ff.n - 2.0 * ff.f * ff.m + ff.g * ff.l) / (2.0 * det);
-        let k = (ff.l * ff.n - ff.m * ff.m) / det;
-        let disc = (h * h - k).max(0.0);
-        let root = disc.sqrt();
-        let (k1, k2) = (h + root, h - root);
-        // null vector of II − k1·I: take the better conditioned of its two rows
-        let r0 = (ff.l - k1 * ff.e, ff.m - k1 * ff.f);
-        let r1 = (ff.m - k1 * ff.f, ff.n - k1 * ff.g);
-        let (n0, n1) = (r0.0.hypot(r0.1), r1.0.hypot(r1.1));
-        let scale = ff.l.abs() + ff.m.abs() + ff.n.abs() + k1.abs() * (ff.e + ff.f.abs() + ff.g);
-        let umbilic = disc <= UMBILIC_EPS * (h * h).max(f64::MIN_POSITIVE) || n0.max(n1) <= UMBILIC_EPS * scale;
-        let dir1 = if umbilic {
-            self.du.normalize()
-        } else {
-            let (a, b) = if n0 >= n1 { (-r0.1, r0.0) } else { (-r1.1, r1.0) };
-            (self.du * a + self.dv * b).normalize()
-        };
+        let e1 = self.du / ff.e.sqrt();
+        let e2 = ff.normal.cross(&e1);
+        // coefficients of e1, e2 in the basis (S_u, S_v)
+        let (a1, c1) = (1.0 / ff.e.sqrt(), 0.0);
+        let (du_d, dv_d) = (e2.dot(&self.du), e2.dot(&self.dv));
+        let a2 = (ff.g * du_d - ff.f * dv_d) / det;
+        let c2 = (ff.e * dv_d - ff.f * du_d) / det;
+        let second = |a: f64, c: f64, b: f64, d: f64| ff.l * a * b + ff.m * (a * d + c * b) + ff.n * c * d;
+        let b11 = second(a1, c1, a1, c1);
+        let b12 = second(a1, c1, a2, c2);
+        let b22 = second(a2, c2, a2, c2);
+        let mid = 0.5 * (b11 + b22);
+        let radius = (0.5 * (b11 - b22)).hypot(b12);
+        let theta = 0.5 * (2.0 * b12).atan2(b11 - b22);
+        let dir1 = e1 * theta.cos() + e2 * theta.sin();
         let dir2 = ff.normal.cross(&dir1);
-        Some(PrincipalCurvatures { k1, k2, dir1, dir2, normal: ff.normal })
+        Some(PrincipalCurvatures { k1: mid + radius, k2: mid - radius, dir1, dir2, normal: ff.normal })
     }
 
     /// Mean curvature (k1 + k2)/2, `None` at singular points.

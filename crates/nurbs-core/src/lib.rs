@@ -29,7 +29,10 @@ pub mod mesh;
 pub mod ops;
 pub mod projection;
 pub mod quadrature;
+pub mod shapes;
 pub mod surface;
+#[cfg(feature = "testing")]
+pub mod testing;
 
 /// A point in 3D (f64).
 pub type Point3 = nalgebra::Point3<f64>;

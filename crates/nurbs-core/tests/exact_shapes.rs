@@ -1,0 +1,148 @@
+//! Closed-form truth: circles, spheres, cylinders, tori and the paraboloid.
+
+use nurbs_core::shapes::{circle, cylinder, paraboloid_bicubic, sphere_patch, torus};
+use nurbs_core::testing::assert_close;
+use nurbs_core::{Direction, Point3, Vector3};
+
+const TOL: f64 = 1e-12;
+
+#[test]
+fn rational_circle_has_radius_and_curvature() {
+    for r in [0.5, 3.0, 120.0] {
+        let c = circle(r).unwrap();
+        for k in 0..=200 {
+            let t = k as f64 / 200.0;
+            let p = c.point(t);
+            assert_close(p.coords.norm(), r, TOL * r, "radius");
+            assert_close(c.curvature(t).unwrap(), 1.0 / r, TOL / r, "curvature");
+        }
+    }
+}
+
+#[test]
+fn sphere_patch_curvatures() {
+    let r = 2.5;
+    let s = sphere_patch(r).unwrap();
+    for a in 0..=10 {
+        for b in 0..=10 {
+            let d = s.derivatives(a as f64 / 10.0, b as f64 / 10.0);
+            assert_close(d.point.coords.norm(), r, TOL * r, "on sphere");
+            let pc = d.principal_curvatures().unwrap();
+            // normal S_u × S_v of this patch points inward: curvatures are +1/r
+            let outward = d.point.coords.dot(&pc.normal) > 0.0;
+            let sign = if outward { -1.0 } else { 1.0 };
+            assert_close(pc.k1, sign / r, 1e-10, "k1");
+            assert_close(pc.k2, sign / r, 1e-10, "k2");
+            assert_close(pc.gauss(), 1.0 / (r * r), 1e-10, "K");
+            assert_close(pc.mean().abs(), 1.0 / r, 1e-10, "|H|");
+            // normal curvature in any tangent direction is the same
+            let dir = d.du * 0.3 + d.dv * 0.7;
+            assert_close(d.normal_curvature(&dir).unwrap(), sign / r, 1e-10, "normal curvature");
+        }
+    }
+}
+
+#[test]
+fn cylinder_curvatures_and_directions() {
+    let (r, h) = (4.0, 10.0);
+    let s = cylinder(r, h).unwrap();
+    for a in 0..=6 {
+        for b in 0..=6 {
+            let d = s.derivatives(a as f64 / 6.0, b as f64 / 6.0);
+            let p = d.point;
+            assert_close(p.x.hypot(p.y), r, TOL * r, "on cylinder");
+            let pc = d.principal_curvatures().unwrap();
+            let outward = Vector3::new(p.x, p.y, 0.0).dot(&pc.normal) > 0.0;
+            let curved = if outward { -1.0 / r } else { 1.0 / r };
+            let (kmax, kmin) = if curved > 0.0 { (curved, 0.0) } else { (0.0, curved) };
+            assert_close(pc.k1, kmax, 1e-10, "k1");
+            assert_close(pc.k2, kmin, 1e-10, "k2");
+            assert_close(pc.gauss(), 0.0, 1e-10, "K");
+            // the zero-curvature direction is the axis
+            let axis_dir = if curved > 0.0 { pc.dir2 } else { pc.dir1 };
+            assert_close(axis_dir.z.abs(), 1.0, 1e-8, "ruling along z");
+            assert_close(d.normal_curvature(&Vector3::z()).unwrap(), 0.0, 1e-10, "axis curvature");
+        }
+    }
+}
+
+#[test]
+fn torus_gauss_and_mean_everywhere() {
+    let (big, small) = (5.0, 1.5);
+    let s = torus(big, small).unwrap();
+    for a in 0..=24 {
+        for b in 0..=24 {
+            let d = s.derivatives(a as f64 / 24.0, b as f64 / 24.0);
+            let p = d.point;
+            let rho = p.x.hypot(p.y);
+            assert_close((rho - big).hypot(p.z), small, 1e-12 * big, "on torus");
+            let cos_theta = (rho - big) / small;
+            let k_exact = cos_theta / (small * (big + small * cos_theta));
+            let h_exact = (big + 2.0 * small * cos_theta) / (2.0 * small * (big + small * cos_theta));
+            let pc = d.principal_curvatures().unwrap();
+            let tube_centre = Point3::new(big * p.x / rho, big * p.y / rho, 0.0);
+            let outward = (p - tube_centre).dot(&pc.normal) > 0.0;
+            assert_close(pc.gauss(), k_exact, 1e-10, "K");
+            assert_close(pc.mean(), if outward { -h_exact } else { h_exact }, 1e-10, "H");
+        }
+    }
+}
+
+#[test]
+fn paraboloid_bicubic_is_exact() {
+    let s = paraboloid_bicubic(&[0.2, 0.45, 0.7]).unwrap();
+    assert_eq!((s.degree_u(), s.degree_v()), (3, 3));
+    assert!(!s.is_rational());
+    for a in 0..=20 {
+        for b in 0..=20 {
+            let (u, v) = (a as f64 / 20.0, b as f64 / 20.0);
+            let d = s.derivatives(u, v);
+            let (x, y) = (2.0 * u - 1.0, 2.0 * v - 1.0);
+            assert_close(d.point.x, x, 1e-13, "x");
+            assert_close(d.point.y, y, 1e-13, "y");
+            assert_close(d.point.z, x * x + y * y, 1e-13, "z");
+            let w = 1.0 + 4.0 * x * x + 4.0 * y * y;
+            let pc = d.principal_curvatures().unwrap();
+            assert!(pc.normal.z > 0.0);
+            assert_close(pc.gauss(), 4.0 / (w * w), 1e-10, "K");
+            assert_close(pc.mean(), (2.0 + 4.0 * x * x + 4.0 * y * y) / w.powf(1.5), 1e-10, "H");
+        }
+    }
+    // the isocurve at u = 0.5 (x = 0) is the parabola z = y²
+    let iso = s.isocurve(Direction::U, 0.5).unwrap();
+    for k in 0..=10 {
+        let t = k as f64 / 10.0;
+        let y = 2.0 * t - 1.0;
+        let c = iso.point(t);
+        assert_close(c.z, y * y, 1e-13, "isocurve z");
+        let exact_curv = 2.0 / (1.0 + 4.0 * y * y).powf(1.5);
+        assert_close(iso.curvature(t).unwrap(), exact_curv, 1e-10, "parabola curvature");
+    }
+}
+
+#[test]
+fn poles_have_no_normal() {
+    // a sphere cap with a pole: a quarter meridian from the equator to the north pole
+    use nurbs_core::{BSplineSurface, KnotVector};
+    let c = std::f64::consts::FRAC_1_SQRT_2;
+    let prof = [(1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
+    let rot = [(1.0, 0.0), (1.0, 1.0), (0.0, 1.0)];
+    let w = [1.0, c, 1.0];
+    let mut pts = Vec::new();
+    let mut ws = Vec::new();
+    for i in 0..3 {
+        for j in 0..3 {
+            pts.push(Point3::new(prof[i].0 * rot[j].0, prof[i].0 * rot[j].1, prof[i].1));
+            ws.push(w[i] * w[j]);
+        }
+    }
+    let s = BSplineSurface::new(KnotVector::bezier(2).unwrap(), KnotVector::bezier(2).unwrap(), pts, Some(ws)).unwrap();
+    for b in 0..=10 {
+        let d = s.derivatives(1.0, b as f64 / 10.0);
+        assert!(d.normal().is_none(), "pole must have no normal");
+        assert!(d.principal_curvatures().is_none());
+        assert!(d.normal_curvature(&d.du).is_none());
+        let inside = s.derivatives(0.5, b as f64 / 10.0);
+        assert!(inside.principal_curvatures().is_some());
+    }
+}

@@ -1,0 +1,163 @@
+//! Laws checked on random surfaces and curves (degrees 1–5, non-uniform knots with interior
+//! multiplicities, rational and polynomial).
+
+use nurbs_core::basis::basis_row;
+use nurbs_core::testing::{random_curve, random_param, random_surface, rng};
+use nurbs_core::{BSplineSurface, Direction};
+use proptest::prelude::*;
+
+fn max_gap(a: &BSplineSurface, b: &BSplineSurface, n: usize) -> f64 {
+    let us = a.knots_u().uniform_params(n);
+    let vs = a.knots_v().uniform_params(n);
+    a.eval_grid_points(&us, &vs).iter().zip(b.eval_grid_points(&us, &vs)).map(|(p, q)| (p - q).norm()).fold(0.0, f64::max)
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 48, .. ProptestConfig::default() })]
+
+    #[test]
+    fn partition_of_unity(seed in 0u64..10_000, t in 0.0f64..=1.0) {
+        let s = random_surface(seed, 1..=5, 12, false);
+        let sum: f64 = basis_row(s.knots_u(), t).iter().sum();
+        prop_assert!((sum - 1.0).abs() < 1e-13);
+        prop_assert!(basis_row(s.knots_v(), t).iter().all(|&b| b >= -1e-15));
+    }
+
+    #[test]
+    fn surface_derivatives_match_finite_differences(seed in 0u64..10_000, rational in any::<bool>()) {
+        let s = random_surface(seed, 1..=5, 10, rational);
+        let mut r = rng(seed ^ 0x5eed);
+        let h = 1e-6;
+        for _ in 0..4 {
+            let (ua, ub) = s.domain_u();
+            let (va, vb) = s.domain_v();
+            // stay a step away from the ends so central differences stay in the domain
+            let u = random_param(&mut r, s.knots_u()).clamp(ua + 2.0 * h, ub - 2.0 * h);
+            let v = random_param(&mut r, s.knots_v()).clamp(va + 2.0 * h, vb - 2.0 * h);
+            // skip parameters within h of a knot (derivatives may jump there)
+            let near_knot = |kv: &nurbs_core::KnotVector, t: f64| kv.knots().iter().any(|&k| (k - t).abs() < 3.0 * h);
+            if near_knot(s.knots_u(), u) || near_knot(s.knots_v(), v) { continue; }
+            let d = s.derivatives(u, v);
+            let (pu, mu) = (s.derivatives(u + h, v), s.derivatives(u - h, v));
+            let (pv, mv) = (s.derivatives(u, v + h), s.derivatives(u, v - h));
+            let scale = 1.0 + d.du.norm() + d.dv.norm() + d.duu.norm() + d.dvv.norm() + d.duv.norm();
+            let tol = 1e-5 * scale;
+            prop_assert!(((pu.point - mu.point) / (2.0 * h) - d.du).norm() < tol);
+            prop_assert!(((pv.point - mv.point) / (2.0 * h) - d.dv).norm() < tol);
+            prop_assert!(((pu.du - mu.du) / (2.0 * h) - d.duu).norm() < tol);
+            prop_assert!(((pv.dv - mv.dv) / (2.0 * h) - d.dvv).norm() < tol);
+            prop_assert!(((pv.du - mv.du) / (2.0 * h) - d.duv).norm() < tol);
+            prop_assert!(((pu.dv - mu.dv) / (2.0 * h) - d.duv).norm() < tol);
+        }
+    }
+
+    #[test]
+    fn curve_derivatives_match_finite_differences(seed in 0u64..10_000, rational in any::<bool>()) {
+        let c = random_curve(seed, 1..=5, 12, rational);
+        let h = 1e-6;
+        let mut r = rng(seed);
+        for _ in 0..6 {
+            let t = random_param(&mut r, c.knots()).clamp(2.0 * h, 1.0 - 2.0 * h);
+            if c.knots().knots().iter().any(|&k| (k - t).abs() < 3.0 * h) { continue; }
+            let d = c.derivatives(t, 3);
+            let (p, m) = (c.derivatives(t + h, 3), c.derivatives(t - h, 3));
+            for k in 1..=3 {
+                let fd = (p.d[k - 1] - m.d[k - 1]) / (2.0 * h);
+                prop_assert!((fd - d.d[k]).norm() < 1e-5 * (1.0 + d.d[k].norm() + d.d[k-1].norm()), "order {}", k);
+            }
+        }
+    }
+
+    #[test]
+    fn knot_insertion_and_refinement_keep_the_surface(seed in 0u64..10_000, rational in any::<bool>(), t in 0.01f64..0.99) {
+        let s = random_surface(seed, 1..=5, 9, rational);
+        let p = s.degree_u();
+        let mult = s.knots_u().multiplicity(t);
+        let times = (p - mult.min(p)).min(2);
+        let inserted = s.insert_knot(Direction::U, t, times).unwrap();
+        prop_assert_eq!(inserted.num_u(), s.num_u() + times);
+        prop_assert_eq!(inserted.is_rational(), s.is_rational());
+        prop_assert!(max_gap(&s, &inserted, 23) < 1e-12);
+        let refined = s.refine(Direction::V, &[0.13, 0.5, 0.77]).unwrap();
+        prop_assert!(max_gap(&s, &refined, 23) < 1e-12);
+    }
+
+    #[test]
+    fn removing_an_inserted_knot_gives_back_the_original(seed in 0u64..10_000, rational in any::<bool>(), t in 0.01f64..0.99) {
+        let s = random_surface(seed, 1..=5, 9, rational);
+        prop_assume!(s.knots_v().multiplicity(t) == 0);
+        let inserted = s.insert_knot(Direction::V, t, 1).unwrap();
+        let (back, removed) = inserted.remove_knot(Direction::V, t, 1, 1e-9).unwrap();
+        prop_assert_eq!(removed, 1);
+        prop_assert_eq!(back.knots_v(), s.knots_v());
+        for (a, b) in back.control_points().iter().zip(s.control_points()) {
+            prop_assert!((a - b).norm() < 1e-9);
+        }
+        // a knot that carries shape cannot be removed at a tight tolerance
+        let c = random_curve(seed, 2..=4, 10, rational);
+        if let Some(&(k, _)) = c.knots().interior_knots().first() {
+            let (_, n) = c.remove_knot(k, 1, 1e-12).unwrap();
+            prop_assert_eq!(n, 0);
+        }
+    }
+
+    #[test]
+    fn degree_elevation_keeps_the_surface(seed in 0u64..10_000, rational in any::<bool>(), by in 1usize..=2) {
+        let s = random_surface(seed, 1..=4, 8, rational);
+        let e = s.elevate_degree(Direction::U, by).unwrap().elevate_degree(Direction::V, 1).unwrap();
+        prop_assert_eq!(e.degree_u(), s.degree_u() + by);
+        prop_assert_eq!(e.degree_v(), s.degree_v() + 1);
+        for (x, m) in s.knots_u().interior_knots() {
+            prop_assert_eq!(e.knots_u().multiplicity(x), m + by);
+        }
+        prop_assert!(max_gap(&s, &e, 23) < 1e-10);
+        let c = random_curve(seed, 1..=4, 10, rational);
+        let ce = c.elevate_degree(by).unwrap();
+        for k in 0..=40 {
+            let t = k as f64 / 40.0;
+            prop_assert!((c.point(t) - ce.point(t)).norm() < 1e-10);
+        }
+    }
+
+    #[test]
+    fn extraction_and_isocurves_are_exact(seed in 0u64..10_000, rational in any::<bool>(), a in 0.05f64..0.45, b in 0.55f64..0.95) {
+        let s = random_surface(seed, 1..=5, 9, rational);
+        let sub = s.extract((a, b), (a * 0.5, b)).unwrap();
+        prop_assert!(sub.knots_u().is_clamped() && sub.knots_v().is_clamped());
+        for k in 0..=10 {
+            for l in 0..=10 {
+                let (u, v) = (a + (b - a) * k as f64 / 10.0, a * 0.5 + (b - a * 0.5) * l as f64 / 10.0);
+                prop_assert!((sub.point(u, v) - s.point(u, v)).norm() < 1e-11);
+            }
+        }
+        let iso_u = s.isocurve(Direction::U, a).unwrap();
+        let iso_v = s.isocurve(Direction::V, b).unwrap();
+        for k in 0..=20 {
+            let t = k as f64 / 20.0;
+            prop_assert!((iso_u.point(t) - s.point(a, t)).norm() < 1e-12);
+            prop_assert!((iso_v.point(t) - s.point(t, b)).norm() < 1e-12);
+        }
+    }
+
+    #[test]
+    fn grid_evaluation_matches_pointwise_and_parallel(seed in 0u64..10_000, rational in any::<bool>()) {
+        let s = random_surface(seed, 1..=5, 10, rational);
+        let us = s.knots_u().uniform_params(17);
+        let vs = s.knots_v().uniform_params(13);
+        let grid = s.eval_grid_derivatives(&us, &vs);
+        let par = s.par_eval_grid_with(&us, &vs, nurbs_core::GridOrder::Second, |d| *d);
+        prop_assert_eq!(&grid, &par);
+        let pts = s.eval_grid_points(&us, &vs);
+        for (a, &u) in us.iter().enumerate() {
+            for (b, &v) in vs.iter().enumerate() {
+                let d = s.derivatives(u, v);
+                let g = grid[a * vs.len() + b];
+                let tol = 1e-11 * (1.0 + d.duu.norm() + d.dvv.norm() + d.duv.norm());
+                prop_assert!((g.point - d.point).norm() < 1e-12);
+                prop_assert!((pts[a * vs.len() + b] - d.point).norm() < 1e-12);
+                prop_assert!((g.du - d.du).norm() < tol && (g.dv - d.dv).norm() < tol);
+                prop_assert!((g.duu - d.duu).norm() < tol && (g.duv - d.duv).norm() < tol && (g.dvv - d.dvv).norm() < tol);
+            }
+        }
+    }
+}
