@@ -1,0 +1,10 @@
+//! The `hier-fair` command line as a library: every subcommand is a function from parsed
+//! arguments to output, so that tests and `xtask` drive it without spawning processes.
+//! This crate (with `xtask`) is the only place with argument parsing, files and `anyhow`.
+
+pub mod eval;
+pub mod files;
+pub mod summary;
+
+/// The surface bundled in the binary: the default model of `hier-fair demo`.
+pub const BUNDLED_SURFACE: &str = include_str!("../../../fixtures/surfaces/hood_panel.json");
