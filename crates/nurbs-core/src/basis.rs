@@ -27,7 +27,7 @@ impl BasisEvaluator {
             degree,
             left: vec![0.0; p1],
             right: vec![0.0; p1],
-            ndu: vec![0.0; p1 * p1],
+            ndu: vec![0.0; p1 * p1.max(3)],
             a: vec![0.0; 2 * p1],
         }
     }
@@ -58,7 +58,85 @@ impl BasisEvaluator {
     /// Derivatives of order 0..=n of the p + 1 non-vanishing functions at `t` ([NB] A2.3).
     ///
     /// `out[k * (p + 1) + r]` = N^{(k)}_{span−p+r}(t); derivatives above the degree are zero.
+    /// Orders up to 2 take a direct route (see [`Self::derivatives_upto2`]); higher orders use A2.3.
     pub fn derivatives(&mut self, knots: &[f64], span: usize, t: f64, n: usize, out: &mut [f64]) {
+        if n <= 2 {
+            self.derivatives_upto2(knots, span, t, n, out);
+        } else {
+            self.derivatives_general(knots, span, t, n, out);
+        }
+    }
+
+    /// Orders 0..=n ≤ 2 from the lower-degree values: with
+    /// N'_{i,p} = p (N_{i,p−1}/(t_{i+p} − t_i) − N_{i+1,p−1}/(t_{i+p+1} − t_{i+1})) ([NB] eq. 2.7)
+    /// applied once to degree p − 1 values and twice to degree p − 2 values (0/0 terms are 0).
+    fn derivatives_upto2(&mut self, knots: &[f64], span: usize, t: f64, n: usize, out: &mut [f64]) {
+        let p = self.degree;
+        let p1 = p + 1;
+        // scratch rows: degree p values, degree p − 1 values, degree p − 2 values
+        let (vals, rest) = self.ndu.split_at_mut(p1);
+        let (lower1, rest) = rest.split_at_mut(p1);
+        let lower2 = &mut rest[..p1];
+        vals[0] = 1.0;
+        for j in 1..=p {
+            // at the start of step j, vals[..j] holds the degree j − 1 values
+            if j == p {
+                lower1[..j].copy_from_slice(&vals[..j]);
+            }
+            if j + 1 == p {
+                lower2[..j].copy_from_slice(&vals[..j]);
+            }
+            self.left[j] = t - knots[span + 1 - j];
+            self.right[j] = knots[span + j] - t;
+            let mut saved = 0.0;
+            for r in 0..j {
+                let temp = vals[r] / (self.right[r + 1] + self.left[j - r]);
+                vals[r] = saved + self.right[r + 1] * temp;
+                saved = self.left[j - r] * temp;
+            }
+            vals[j] = saved;
+        }
+        out[..p1].copy_from_slice(&vals[..p1]);
+        if n == 0 {
+            return;
+        }
+        // N_{i,d} = d (N_{i,d−1}/(t_{i+d} − t_i) − N_{i+1,d−1}/(t_{i+d+1} − t_{i+1})),
+        // where N_{i,d−1} with i = span − d + 1 + r is entry r of the degree-(d−1) row.
+        let first = span - p; // index of the first function of degree p
+        let div = |x: f64, d: f64| if d == 0.0 { 0.0 } else { x / d };
+        // first derivatives of degree p from degree p − 1 (row lower1, functions span−p+1..=span)
+        for r in 0..=p {
+            let i = first + r;
+            let a = if r >= 1 { div(lower1[r - 1], knots[i + p] - knots[i]) } else { 0.0 };
+            let b = if r < p { div(lower1[r], knots[i + p + 1] - knots[i + 1]) } else { 0.0 };
+            out[p1 + r] = p as f64 * (a - b);
+        }
+        if n == 1 {
+            return;
+        }
+        if p < 2 {
+            out[2 * p1..3 * p1].fill(0.0);
+            return;
+        }
+        // first derivatives of degree p − 1 (functions span−p+1..=span) from degree p − 2
+        let q = p - 1;
+        let d1 = &mut self.a[..p];
+        for r in 0..p {
+            let i = first + 1 + r;
+            let a = if r >= 1 { div(lower2[r - 1], knots[i + q] - knots[i]) } else { 0.0 };
+            let b = if r < q { div(lower2[r], knots[i + q + 1] - knots[i + 1]) } else { 0.0 };
+            d1[r] = q as f64 * (a - b);
+        }
+        for r in 0..=p {
+            let i = first + r;
+            let a = if r >= 1 { div(d1[r - 1], knots[i + p] - knots[i]) } else { 0.0 };
+            let b = if r < p { div(d1[r], knots[i + p + 1] - knots[i + 1]) } else { 0.0 };
+            out[2 * p1 + r] = p as f64 * (a - b);
+        }
+    }
+
+    /// Any order by [NB] A2.3.
+    pub fn derivatives_general(&mut self, knots: &[f64], span: usize, t: f64, n: usize, out: &mut [f64]) {
         let p = self.degree;
         let p1 = p + 1;
         let ndu = &mut self.ndu;
@@ -122,6 +200,64 @@ impl BasisEvaluator {
             factor *= (p - k) as f64;
         }
     }
+}
+
+/// Values, first and second derivatives of the P1 = p + 1 functions that do not vanish on
+/// `span`, with the degree known at compile time (no scratch, no allocation): the hot path of
+/// scattered evaluation. Same formulas as [`BasisEvaluator::derivatives`] for n = 2.
+#[inline(always)]
+pub fn derivatives2_fixed<const P1: usize>(knots: &[f64], span: usize, t: f64) -> [[f64; P1]; 3] {
+    let p = P1 - 1;
+    let mut left = [0.0; P1];
+    let mut right = [0.0; P1];
+    let mut vals = [0.0; P1];
+    let mut lower1 = [0.0; P1];
+    let mut lower2 = [0.0; P1];
+    vals[0] = 1.0;
+    for j in 1..=p {
+        if j == p {
+            lower1 = vals;
+        }
+        if j + 1 == p {
+            lower2 = vals;
+        }
+        left[j] = t - knots[span + 1 - j];
+        right[j] = knots[span + j] - t;
+        let mut saved = 0.0;
+        for r in 0..j {
+            let temp = vals[r] / (right[r + 1] + left[j - r]);
+            vals[r] = saved + right[r + 1] * temp;
+            saved = left[j - r] * temp;
+        }
+        vals[j] = saved;
+    }
+    let div = |x: f64, d: f64| if d == 0.0 { 0.0 } else { x / d };
+    let first = span - p;
+    let mut d1 = [0.0; P1];
+    for r in 0..=p {
+        let i = first + r;
+        let a = if r >= 1 { div(lower1[r - 1], knots[i + p] - knots[i]) } else { 0.0 };
+        let b = if r < p { div(lower1[r], knots[i + p + 1] - knots[i + 1]) } else { 0.0 };
+        d1[r] = p as f64 * (a - b);
+    }
+    let mut d2 = [0.0; P1];
+    if p >= 2 {
+        let q = p - 1;
+        let mut lower_d1 = [0.0; P1];
+        for r in 0..p {
+            let i = first + 1 + r;
+            let a = if r >= 1 { div(lower2[r - 1], knots[i + q] - knots[i]) } else { 0.0 };
+            let b = if r < q { div(lower2[r], knots[i + q + 1] - knots[i + 1]) } else { 0.0 };
+            lower_d1[r] = q as f64 * (a - b);
+        }
+        for r in 0..=p {
+            let i = first + r;
+            let a = if r >= 1 { div(lower_d1[r - 1], knots[i + p] - knots[i]) } else { 0.0 };
+            let b = if r < p { div(lower_d1[r], knots[i + p + 1] - knots[i + 1]) } else { 0.0 };
+            d2[r] = p as f64 * (a - b);
+        }
+    }
+    [vals, d1, d2]
 }
 
 /// Convenience (allocating): the span of `t` and the derivatives of order 0..=n of the p + 1
@@ -201,6 +337,37 @@ mod tests {
                         / (2.0 * h);
                     assert!((d - fd).abs() < 1e-5 * (1.0 + d.abs()), "i={i} t={t} k={order}: {d} vs {fd}");
                 }
+            }
+        }
+    }
+
+    #[test]
+    fn direct_route_matches_a2_3() {
+        for (p, knots) in [
+            (1, vec![0., 0., 0.3, 0.45, 0.6, 1., 1.]),
+            (2, vec![0., 0., 0., 0.2, 0.2, 0.5, 0.8, 1., 1., 1.]),
+            (3, vec![0., 0., 0., 0., 0.1, 0.5, 0.5, 0.5, 0.9, 1., 1., 1., 1.]),
+            (5, vec![0., 0., 0., 0., 0., 0., 0.3, 0.3, 0.7, 1., 1., 1., 1., 1., 1.]),
+        ] {
+            let kv = KnotVector::new(p, knots).unwrap();
+            let mut e = BasisEvaluator::new(p);
+            for s in 0..=40 {
+                let t = s as f64 / 40.0;
+                let span = kv.span(t);
+                let mut fast = vec![0.0; 3 * (p + 1)];
+                let mut general = vec![0.0; 3 * (p + 1)];
+                e.derivatives(kv.knots(), span, t, 2, &mut fast);
+                e.derivatives_general(kv.knots(), span, t, 2, &mut general);
+                for (a, b) in fast.iter().zip(&general) {
+                    assert!((a - b).abs() < 1e-10 * (1.0 + b.abs()), "p={p} t={t}: {fast:?} vs {general:?}");
+                }
+                let fixed: Vec<f64> = match p {
+                    1 => derivatives2_fixed::<2>(kv.knots(), span, t).concat(),
+                    2 => derivatives2_fixed::<3>(kv.knots(), span, t).concat(),
+                    3 => derivatives2_fixed::<4>(kv.knots(), span, t).concat(),
+                    _ => derivatives2_fixed::<6>(kv.knots(), span, t).concat(),
+                };
+                assert_eq!(fixed, fast, "p={p} t={t}");
             }
         }
     }

@@ -73,18 +73,19 @@ impl PrincipalCurvatures {
 
 impl SurfaceDerivatives {
     /// The unit normal S_u × S_v / |S_u × S_v|, `None` at singular points.
+    #[inline]
     pub fn normal(&self) -> Option<Vector3> {
-        let (lu, lv) = (self.du.norm(), self.dv.norm());
-        let (lo, hi) = if lu < lv { (lu, lv) } else { (lv, lu) };
-        if !(lo > TANGENT_RATIO_EPS * hi) {
+        let (lu2, lv2) = (self.du.norm_squared(), self.dv.norm_squared());
+        let (lo2, hi2) = if lu2 < lv2 { (lu2, lv2) } else { (lv2, lu2) };
+        if !(lo2 > TANGENT_RATIO_EPS * TANGENT_RATIO_EPS * hi2) {
             return None;
         }
         let c = self.du.cross(&self.dv);
-        let lc = c.norm();
-        if !(lc > NORMAL_SIN_EPS * lu * lv) {
+        let lc2 = c.norm_squared();
+        if !(lc2 > NORMAL_SIN_EPS * NORMAL_SIN_EPS * lu2 * lv2) {
             return None;
         }
-        Some(c / lc)
+        Some(c / lc2.sqrt())
     }
 
     /// First and second fundamental forms, `None` at singular points.
@@ -120,30 +121,33 @@ impl SurfaceDerivatives {
 
     /// Principal curvatures (k1 ≥ k2) and directions, `None` at singular points.
     ///
-    /// The second fundamental form is written in the orthonormal tangent frame e1 = S_u/|S_u|,
-    /// e2 = n × e1 as the symmetric matrix B = [[b11, b12], [b12, b22]]; its eigenvalues
-    /// m ± √(((b11 − b22)/2)² + b12²) avoid the cancellation of H ± √(H² − K) near umbilics, and
-    /// the eigenvector angle θ = ½ atan2(2 b12, b11 − b22) gives dir1 = cos θ e1 + sin θ e2.
+    /// The second fundamental form is written in the orthonormal tangent frame e1 = S_u/√E,
+    /// e2 = (S_v − (F/E) S_u)/√((EG − F²)/E) (= n × e1) as the symmetric matrix
+    /// B = [[b11, b12], [b12, b22]]; its eigenvalues m ± √(h² + b12²), m = (b11 + b22)/2,
+    /// h = (b11 − b22)/2, avoid the cancellation of H ± √(H² − K) near umbilics, and the
+    /// eigenvector of k1 is (h + r, b12) or (b12, r − h), whichever is better conditioned.
+    #[inline]
     pub fn principal_curvatures(&self) -> Option<PrincipalCurvatures> {
-        let ff = self.fundamental_forms()?;
-        let det = ff.e * ff.g - ff.f * ff.f;
-        let e1 = self.du / ff.e.sqrt();
-        let e2 = ff.normal.cross(&e1);
-        // coefficients of e1, e2 in the basis (S_u, S_v)
-        let (a1, c1) = (1.0 / ff.e.sqrt(), 0.0);
-        let (du_d, dv_d) = (e2.dot(&self.du), e2.dot(&self.dv));
-        let a2 = (ff.g * du_d - ff.f * dv_d) / det;
-        let c2 = (ff.e * dv_d - ff.f * du_d) / det;
-        let second = |a: f64, c: f64, b: f64, d: f64| ff.l * a * b + ff.m * (a * d + c * b) + ff.n * c * d;
-        let b11 = second(a1, c1, a1, c1);
-        let b12 = second(a1, c1, a2, c2);
-        let b22 = second(a2, c2, a2, c2);
+        let normal = self.normal()?;
+        let (e, f, g) = (self.du.norm_squared(), self.du.dot(&self.dv), self.dv.norm_squared());
+        let (l, m, n) = (self.duu.dot(&normal), self.duv.dot(&normal), self.dvv.dot(&normal));
+        let w2 = (e * g - f * f) / e;
+        let (se, sw) = (e.sqrt(), w2.sqrt());
+        let r = f / e;
+        let b11 = l / e;
+        let b12 = (m - r * l) / (se * sw);
+        let b22 = (n - 2.0 * r * m + r * r * l) / w2;
         let mid = 0.5 * (b11 + b22);
-        let radius = (0.5 * (b11 - b22)).hypot(b12);
-        let theta = 0.5 * (2.0 * b12).atan2(b11 - b22);
-        let dir1 = e1 * theta.cos() + e2 * theta.sin();
-        let dir2 = ff.normal.cross(&dir1);
-        Some(PrincipalCurvatures { k1: mid + radius, k2: mid - radius, dir1, dir2, normal: ff.normal })
+        let half = 0.5 * (b11 - b22);
+        let radius = (half * half + b12 * b12).sqrt();
+        let (x, y) = if half >= 0.0 { (half + radius, b12) } else { (b12, radius - half) };
+        let len = (x * x + y * y).sqrt();
+        let (x, y) = if len > 0.0 { (x / len, y / len) } else { (1.0, 0.0) };
+        let e1 = self.du / se;
+        let e2 = (self.dv - self.du * r) / sw;
+        let dir1 = e1 * x + e2 * y;
+        let dir2 = normal.cross(&dir1);
+        Some(PrincipalCurvatures { k1: mid + radius, k2: mid - radius, dir1, dir2, normal })
     }
 
     /// Mean curvature (k1 + k2)/2, `None` at singular points.

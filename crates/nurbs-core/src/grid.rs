@@ -103,35 +103,78 @@ impl<'a> GridPlan<'a> {
     /// Evaluates grid column `b` from a contracted row.
     #[inline]
     fn point_in_row(&self, b: usize, rows: &[[f64; 4]]) -> SurfaceDerivatives {
+        match self.surface.degree_v() {
+            1 => self.point_in_row_fixed::<2>(b, rows),
+            2 => self.point_in_row_fixed::<3>(b, rows),
+            3 => self.point_in_row_fixed::<4>(b, rows),
+            4 => self.point_in_row_fixed::<5>(b, rows),
+            5 => self.point_in_row_fixed::<6>(b, rows),
+            _ => self.point_in_row_any(b, rows),
+        }
+    }
+
+    /// The column sums of [`Self::point_in_row`] for a compile-time v order Q1 = q + 1.
+    #[inline(always)]
+    fn point_in_row_fixed<const Q1: usize>(&self, b: usize, rows: &[[f64; 4]]) -> SurfaceDerivatives {
+        let nv = self.surface.num_v();
+        let span = self.bv.spans[b];
+        let ders = &self.bv.ders[b * self.bv.stride..(b + 1) * self.bv.stride];
+        let first = span + 1 - Q1;
+        let mut a = [[0.0f64; 4]; 6];
+        let r0: &[[f64; 4]; Q1] = rows[first..first + Q1].try_into().expect("span inside the net");
+        let m0: &[f64; Q1] = ders[..Q1].try_into().expect("stride ≥ Q1");
+        if self.order == 0 {
+            for c in 0..Q1 {
+                for d in 0..4 {
+                    a[0][d] += m0[c] * r0[c][d];
+                }
+            }
+        } else {
+            let r1: &[[f64; 4]; Q1] = rows[nv + first..nv + first + Q1].try_into().expect("span inside the net");
+            let r2: &[[f64; 4]; Q1] = rows[2 * nv + first..2 * nv + first + Q1].try_into().expect("span inside the net");
+            let m1: &[f64; Q1] = ders[Q1..2 * Q1].try_into().expect("stride ≥ 3 Q1");
+            let m2: &[f64; Q1] = ders[2 * Q1..3 * Q1].try_into().expect("stride ≥ 3 Q1");
+            for c in 0..Q1 {
+                for d in 0..4 {
+                    a[0][d] += m0[c] * r0[c][d];
+                    a[1][d] += m0[c] * r1[c][d];
+                    a[2][d] += m1[c] * r0[c][d];
+                    a[3][d] += m0[c] * r2[c][d];
+                    a[4][d] += m1[c] * r1[c][d];
+                    a[5][d] += m2[c] * r0[c][d];
+                }
+            }
+        }
+        quotient_rule(&a, self.surface.is_rational())
+    }
+
+    /// [`Self::point_in_row`] for any degree.
+    fn point_in_row_any(&self, b: usize, rows: &[[f64; 4]]) -> SurfaceDerivatives {
         let s = self.surface;
         let (q, nv) = (s.degree_v(), s.num_v());
         let span = self.bv.spans[b];
         let ders = &self.bv.ders[b * self.bv.stride..(b + 1) * self.bv.stride];
         let first = span - q;
         let mut a = [[0.0f64; 4]; 6];
-        if self.order == 0 {
-            let r0 = &rows[first..=span];
-            for (c, h) in r0.iter().enumerate() {
-                let m = ders[c];
+        let q1 = q + 1;
+        for c in 0..=q {
+            let h0 = &rows[first + c];
+            if self.order == 0 {
                 for d in 0..4 {
-                    a[0][d] += m * h[d];
+                    a[0][d] += ders[c] * h0[d];
                 }
+                continue;
             }
-        } else {
-            let q1 = q + 1;
-            for c in 0..=q {
-                let (m0, m1, m2) = (ders[c], ders[q1 + c], ders[2 * q1 + c]);
-                let h0 = &rows[first + c];
-                let h1 = &rows[nv + first + c];
-                let h2 = &rows[2 * nv + first + c];
-                for d in 0..4 {
-                    a[0][d] += m0 * h0[d];
-                    a[1][d] += m0 * h1[d];
-                    a[2][d] += m1 * h0[d];
-                    a[3][d] += m0 * h2[d];
-                    a[4][d] += m1 * h1[d];
-                    a[5][d] += m2 * h0[d];
-                }
+            let (m0, m1, m2) = (ders[c], ders[q1 + c], ders[2 * q1 + c]);
+            let h1 = &rows[nv + first + c];
+            let h2 = &rows[2 * nv + first + c];
+            for d in 0..4 {
+                a[0][d] += m0 * h0[d];
+                a[1][d] += m0 * h1[d];
+                a[2][d] += m1 * h0[d];
+                a[3][d] += m0 * h2[d];
+                a[4][d] += m1 * h1[d];
+                a[5][d] += m2 * h0[d];
             }
         }
         quotient_rule(&a, s.is_rational())
@@ -148,16 +191,25 @@ impl BSplineSurface {
     where
         F: Fn(&SurfaceDerivatives) -> T,
     {
+        let mut out = Vec::new();
+        self.eval_grid_into(us, vs, order, &mut out, f);
+        out
+    }
+
+    /// Like [`eval_grid_with`](Self::eval_grid_with) but writes into `out` (cleared first), so
+    /// that repeated evaluations reuse one allocation.
+    pub fn eval_grid_into<T, F>(&self, us: &[f64], vs: &[f64], order: GridOrder, out: &mut Vec<T>, f: F)
+    where
+        F: Fn(&SurfaceDerivatives) -> T,
+    {
         let plan = GridPlan::new(self, us, vs, order);
         let mut rows = plan.row_scratch();
-        let mut out = Vec::with_capacity(us.len() * vs.len());
+        out.clear();
+        out.reserve(us.len() * vs.len());
         for a in 0..us.len() {
             plan.contract_row(a, &mut rows);
-            for b in 0..vs.len() {
-                out.push(f(&plan.point_in_row(b, &rows)));
-            }
+            out.extend((0..vs.len()).map(|b| f(&plan.point_in_row(b, &rows))));
         }
-        out
     }
 
     /// Points of the grid `us × vs` (u slowest).
@@ -177,11 +229,22 @@ impl BSplineSurface {
         T: Send + Clone + Default,
         F: Fn(&SurfaceDerivatives) -> T + Sync,
     {
+        let mut out = Vec::new();
+        self.par_eval_grid_into(us, vs, order, &mut out, f);
+        out
+    }
+
+    /// Parallel [`eval_grid_into`](Self::eval_grid_into).
+    pub fn par_eval_grid_into<T, F>(&self, us: &[f64], vs: &[f64], order: GridOrder, out: &mut Vec<T>, f: F)
+    where
+        T: Send + Clone + Default,
+        F: Fn(&SurfaceDerivatives) -> T + Sync,
+    {
         let plan = GridPlan::new(self, us, vs, order);
         let nvs = vs.len();
-        let mut out = vec![T::default(); us.len() * nvs];
+        out.resize(us.len() * nvs, T::default());
         if nvs == 0 {
-            return out;
+            return;
         }
         let rows_per_chunk = us.len().div_ceil(4 * rayon::current_num_threads()).max(1);
         out.par_chunks_mut(rows_per_chunk * nvs).enumerate().for_each(|(chunk, block)| {
@@ -194,6 +257,5 @@ impl BSplineSurface {
                 }
             }
         });
-        out
     }
 }

@@ -25,6 +25,7 @@ pub mod homogeneous;
 pub mod io;
 pub mod knot_ops;
 pub mod knots;
+pub mod max_tree;
 pub mod mesh;
 pub mod ops;
 pub mod projection;

@@ -211,8 +211,20 @@ impl<'a> SurfaceEvaluator<'a> {
     }
 
     /// Point and derivatives up to order 2 at (u, v), clamped into the domain.
+    ///
+    /// Degrees 1–5 in both directions take a path specialized at compile time.
+    #[inline]
     pub fn derivatives(&mut self, u: f64, v: f64) -> SurfaceDerivatives {
-        self.evaluate(u, v, 2)
+        let s = self.surface;
+        macro_rules! dispatch {
+            ($($p:literal => [$($q:literal),*]),*) => {
+                match (s.degree_u() + 1, s.degree_v() + 1) {
+                    $($( ($p, $q) => derivatives_fixed::<$p, $q>(s, u, v), )*)*
+                    _ => self.evaluate(u, v, 2),
+                }
+            };
+        }
+        dispatch!(2 => [2, 3, 4, 5, 6], 3 => [2, 3, 4, 5, 6], 4 => [2, 3, 4, 5, 6], 5 => [2, 3, 4, 5, 6], 6 => [2, 3, 4, 5, 6])
     }
 
     /// The point S(u, v), clamped into the domain.
@@ -243,14 +255,27 @@ impl<'a> SurfaceEvaluator<'a> {
         for r in 0..=p {
             let row = (su - p + r) * nv + sv - q;
             let mut t = [[0.0f64; 4]; 3];
-            for c in 0..=q {
-                let pt = &s.points[row + c];
-                let w = s.weights.as_ref().map_or(1.0, |w| w[row + c]);
-                let h = [pt.x * w, pt.y * w, pt.z * w, w];
-                for l in 0..=order {
-                    let b = nv_ders[l * (q + 1) + c];
-                    for d in 0..4 {
-                        t[l][d] += b * h[d];
+            match &s.weights {
+                None => {
+                    for (c, pt) in s.points[row..=row + q].iter().enumerate() {
+                        for l in 0..=order {
+                            let b = nv_ders[l * (q + 1) + c];
+                            t[l][0] += b * pt.x;
+                            t[l][1] += b * pt.y;
+                            t[l][2] += b * pt.z;
+                        }
+                    }
+                }
+                Some(weights) => {
+                    for c in 0..=q {
+                        let (pt, w) = (&s.points[row + c], weights[row + c]);
+                        let h = [pt.x * w, pt.y * w, pt.z * w, w];
+                        for l in 0..=order {
+                            let b = nv_ders[l * (q + 1) + c];
+                            for d in 0..4 {
+                                t[l][d] += b * h[d];
+                            }
+                        }
                     }
                 }
             }
@@ -277,6 +302,59 @@ impl<'a> SurfaceEvaluator<'a> {
         }
         quotient_rule(&a, s.is_rational())
     }
+}
+
+/// Point and derivatives up to order 2 for compile-time orders P1 = p + 1, Q1 = q + 1.
+#[inline(always)]
+fn derivatives_fixed<const P1: usize, const Q1: usize>(s: &BSplineSurface, u: f64, v: f64) -> SurfaceDerivatives {
+    use crate::basis::derivatives2_fixed;
+    let u = s.knots_u.clamp_param(u);
+    let v = s.knots_v.clamp_param(v);
+    let su = s.knots_u.span(u);
+    let sv = s.knots_v.span(v);
+    let nu = derivatives2_fixed::<P1>(s.knots_u.knots(), su, u);
+    let nv_ = derivatives2_fixed::<Q1>(s.knots_v.knots(), sv, v);
+    let nv = s.num_v();
+    let mut a = [[0.0f64; 4]; 6];
+    for r in 0..P1 {
+        let row = (su + 1 - P1 + r) * nv + sv + 1 - Q1;
+        let mut t = [[0.0f64; 4]; 3];
+        match &s.weights {
+            None => {
+                let pts: &[Point3; Q1] = s.points[row..row + Q1].try_into().expect("span inside the net");
+                for c in 0..Q1 {
+                    let h = [pts[c].x, pts[c].y, pts[c].z, 1.0];
+                    for l in 0..3 {
+                        for d in 0..4 {
+                            t[l][d] += nv_[l][c] * h[d];
+                        }
+                    }
+                }
+            }
+            Some(w) => {
+                let pts: &[Point3; Q1] = s.points[row..row + Q1].try_into().expect("span inside the net");
+                let ws: &[f64; Q1] = w[row..row + Q1].try_into().expect("span inside the net");
+                for c in 0..Q1 {
+                    let h = [pts[c].x * ws[c], pts[c].y * ws[c], pts[c].z * ws[c], ws[c]];
+                    for l in 0..3 {
+                        for d in 0..4 {
+                            t[l][d] += nv_[l][c] * h[d];
+                        }
+                    }
+                }
+            }
+        }
+        let (n0, n1, n2) = (nu[0][r], nu[1][r], nu[2][r]);
+        for d in 0..4 {
+            a[0][d] += n0 * t[0][d];
+            a[1][d] += n1 * t[0][d];
+            a[2][d] += n0 * t[1][d];
+            a[3][d] += n2 * t[0][d];
+            a[4][d] += n1 * t[1][d];
+            a[5][d] += n0 * t[2][d];
+        }
+    }
+    quotient_rule(&a, s.is_rational())
 }
 
 /// Turns homogeneous derivatives (order 00, 10, 01, 20, 11, 02) into Euclidean ones

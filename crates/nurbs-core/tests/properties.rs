@@ -151,12 +151,17 @@ proptest! {
         for (a, &u) in us.iter().enumerate() {
             for (b, &v) in vs.iter().enumerate() {
                 let d = s.derivatives(u, v);
+                // the general path (any degree) agrees with the degree-specialized one
+                let e = s.evaluator().evaluate(u, v, 2);
                 let g = grid[a * vs.len() + b];
+                prop_assert!((e.point - d.point).norm() < 1e-12);
                 let tol = 1e-11 * (1.0 + d.duu.norm() + d.dvv.norm() + d.duv.norm());
                 prop_assert!((g.point - d.point).norm() < 1e-12);
                 prop_assert!((pts[a * vs.len() + b] - d.point).norm() < 1e-12);
                 prop_assert!((g.du - d.du).norm() < tol && (g.dv - d.dv).norm() < tol);
                 prop_assert!((g.duu - d.duu).norm() < tol && (g.duv - d.duv).norm() < tol && (g.dvv - d.dvv).norm() < tol);
+                prop_assert!((e.du - d.du).norm() < tol && (e.dv - d.dv).norm() < tol);
+                prop_assert!((e.duu - d.duu).norm() < tol && (e.duv - d.duv).norm() < tol && (e.dvv - d.dvv).norm() < tol);
             }
         }
     }
