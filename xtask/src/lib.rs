@@ -15,7 +15,10 @@ pub const SNAPSHOT_DIGITS: i32 = 8;
 
 /// The workspace root.
 pub fn root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).parent().expect("xtask lives in the workspace").to_path_buf()
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .expect("xtask lives in the workspace")
+        .to_path_buf()
 }
 
 /// All fixture surface files, sorted.
@@ -38,20 +41,28 @@ pub fn round_json(v: &Value) -> Value {
                 let digits = SNAPSHOT_DIGITS - 1 - x.abs().log10().floor() as i32;
                 let scale = 10f64.powi(digits);
                 let r = (x * scale).round() / scale;
-                serde_json::Number::from_f64(if r == 0.0 { 0.0 } else { r }).map_or(Value::Null, Value::Number)
+                serde_json::Number::from_f64(if r == 0.0 { 0.0 } else { r })
+                    .map_or(Value::Null, Value::Number)
             }
             _ => v.clone(),
         },
         Value::Array(a) => Value::Array(a.iter().map(round_json).collect()),
-        Value::Object(o) => Value::Object(o.iter().map(|(k, x)| (k.clone(), round_json(x))).collect()),
+        Value::Object(o) => {
+            Value::Object(o.iter().map(|(k, x)| (k.clone(), round_json(x))).collect())
+        }
         other => other.clone(),
     }
 }
 
 /// The rounded summary of every surface of one fixture file.
 pub fn fixture_summary(path: &Path) -> Result<Value> {
-    let text = std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
-    let surfaces = nurbs_core::io::surfaces_from_json(&text).map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
-    let list: Vec<Value> = surfaces.iter().map(|s| serde_json::to_value(hier_fair_cli::summary::summarize(s))).collect::<Result<_, _>>()?;
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let surfaces = nurbs_core::io::surfaces_from_json(&text)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let list: Vec<Value> = surfaces
+        .iter()
+        .map(|s| serde_json::to_value(hier_fair_cli::summary::summarize(s)))
+        .collect::<Result<_, _>>()?;
     Ok(round_json(&Value::Array(list)))
 }

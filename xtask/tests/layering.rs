@@ -8,17 +8,58 @@ fn allowed() -> BTreeMap<&'static str, &'static [&'static str]> {
     let methods: &[&str] = &["nurbs-core"];
     let mut m: BTreeMap<&str, &[&str]> = BTreeMap::new();
     m.insert("nurbs-core", &[]);
-    for c in ["g-continuity", "fair-energy", "fair-krr", "fair-curvature", "nside-discrete", "trim-label", "nurbs-io"] {
+    for c in [
+        "g-continuity",
+        "fair-energy",
+        "fair-krr",
+        "fair-curvature",
+        "nside-discrete",
+        "trim-label",
+        "nurbs-io",
+    ] {
         m.insert(c, methods);
     }
-    m.insert("hier-fair", &["nurbs-core", "g-continuity", "fair-energy", "fair-krr", "fair-curvature", "nside-discrete", "trim-label", "nurbs-io"]);
+    m.insert(
+        "hier-fair",
+        &[
+            "nurbs-core",
+            "g-continuity",
+            "fair-energy",
+            "fair-krr",
+            "fair-curvature",
+            "nside-discrete",
+            "trim-label",
+            "nurbs-io",
+        ],
+    );
     m.insert(
         "hier-fair-cli",
-        &["nurbs-core", "g-continuity", "fair-energy", "fair-krr", "fair-curvature", "nside-discrete", "trim-label", "nurbs-io", "hier-fair"],
+        &[
+            "nurbs-core",
+            "g-continuity",
+            "fair-energy",
+            "fair-krr",
+            "fair-curvature",
+            "nside-discrete",
+            "trim-label",
+            "nurbs-io",
+            "hier-fair",
+        ],
     );
     m.insert(
         "xtask",
-        &["nurbs-core", "g-continuity", "fair-energy", "fair-krr", "fair-curvature", "nside-discrete", "trim-label", "nurbs-io", "hier-fair", "hier-fair-cli"],
+        &[
+            "nurbs-core",
+            "g-continuity",
+            "fair-energy",
+            "fair-krr",
+            "fair-curvature",
+            "nside-discrete",
+            "trim-label",
+            "nurbs-io",
+            "hier-fair",
+            "hier-fair-cli",
+        ],
     );
     m
 }
@@ -27,11 +68,21 @@ fn allowed() -> BTreeMap<&'static str, &'static [&'static str]> {
 fn crates_depend_only_downward() {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let out = std::process::Command::new(cargo)
-        .args(["metadata", "--format-version", "1", "--no-deps", "--offline"])
+        .args([
+            "metadata",
+            "--format-version",
+            "1",
+            "--no-deps",
+            "--offline",
+        ])
         .current_dir(env!("CARGO_MANIFEST_DIR"))
         .output()
         .expect("cargo metadata runs");
-    assert!(out.status.success(), "cargo metadata failed: {}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "cargo metadata failed: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let meta: serde_json::Value = serde_json::from_slice(&out.stdout).expect("metadata is JSON");
     let packages = meta["packages"].as_array().expect("packages");
     let names: Vec<&str> = packages.iter().filter_map(|p| p["name"].as_str()).collect();
@@ -40,7 +91,9 @@ fn crates_depend_only_downward() {
     for p in packages {
         let name = p["name"].as_str().expect("name");
         let Some(ok) = rules.get(name) else {
-            violations.push(format!("{name}: not in the layering table (add it to docs/ARCHITECTURE.md and this test)"));
+            violations.push(format!(
+                "{name}: not in the layering table (add it to docs/ARCHITECTURE.md and this test)"
+            ));
             continue;
         };
         for d in p["dependencies"].as_array().expect("dependencies") {
@@ -53,7 +106,11 @@ fn crates_depend_only_downward() {
             }
         }
     }
-    assert!(violations.is_empty(), "layering violations:\n{}", violations.join("\n"));
+    assert!(
+        violations.is_empty(),
+        "layering violations:\n{}",
+        violations.join("\n")
+    );
 }
 
 #[test]
@@ -67,7 +124,10 @@ fn library_crates_do_not_use_anyhow_or_paths() {
             continue;
         }
         let manifest = std::fs::read_to_string(dir.join("Cargo.toml")).unwrap_or_default();
-        let deps = manifest.split("[dev-dependencies]").next().unwrap_or_default();
+        let deps = manifest
+            .split("[dev-dependencies]")
+            .next()
+            .unwrap_or_default();
         assert!(!deps.contains("anyhow"), "{name} must not depend on anyhow");
     }
 }

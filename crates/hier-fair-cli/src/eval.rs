@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 use std::time::Instant;
 
-use anyhow::{bail, Result};
+use anyhow::{Result, bail};
 use nurbs_core::{BSplineSurface, GridOrder, SurfaceDerivatives};
 use serde::Deserialize;
 
@@ -54,7 +54,11 @@ struct ParamsFile {
 pub fn parse_grid(text: &str) -> Result<Params> {
     let parts: Vec<&str> = text.split(',').collect();
     let parse = |s: &str| s.trim().parse::<usize>().ok().filter(|&n| n >= 1);
-    match (parts.as_slice(), parts.first().and_then(|s| parse(s)), parts.get(1).and_then(|s| parse(s))) {
+    match (
+        parts.as_slice(),
+        parts.first().and_then(|s| parse(s)),
+        parts.get(1).and_then(|s| parse(s)),
+    ) {
         ([_, _], Some(nu), Some(nv)) => Ok(Params::Grid(nu, nv)),
         _ => bail!("--grid expects NU,NV with two positive integers, got {text:?}"),
     }
@@ -62,8 +66,11 @@ pub fn parse_grid(text: &str) -> Result<Params> {
 
 /// Parses a PARAMS.json text `{"params": [[u, v], ...]}`.
 pub fn parse_params(text: &str, origin: &str) -> Result<Params> {
-    let file: ParamsFile = serde_json::from_str(text).map_err(|e| anyhow::anyhow!("{origin}: malformed params file: {e}"))?;
-    Ok(Params::List(file.params.into_iter().map(|[u, v]| (u, v)).collect()))
+    let file: ParamsFile = serde_json::from_str(text)
+        .map_err(|e| anyhow::anyhow!("{origin}: malformed params file: {e}"))?;
+    Ok(Params::List(
+        file.params.into_iter().map(|[u, v]| (u, v)).collect(),
+    ))
 }
 
 /// Evaluates `surface` at `params`; returns the samples and the evaluation time in seconds.
@@ -75,17 +82,30 @@ pub fn evaluate(surface: &BSplineSurface, params: &Params) -> Result<(Vec<Sample
             let vs = surface.knots_v().uniform_params(*nv);
             let start = Instant::now();
             let derivs = surface.par_eval_grid_with(&us, &vs, GridOrder::Second, |d| *d);
-            let samples: Vec<Sample> = derivs.iter().enumerate().map(|(k, d)| Sample::new(us[k / nv], vs[k % nv], d)).collect();
+            let samples: Vec<Sample> = derivs
+                .iter()
+                .enumerate()
+                .map(|(k, d)| Sample::new(us[k / nv], vs[k % nv], d))
+                .collect();
             Ok((samples, start.elapsed().as_secs_f64()))
         }
         Params::List(list) => {
             for (k, &(u, v)) in list.iter().enumerate() {
-                surface.knots_u().check_param(u).map_err(|e| anyhow::anyhow!("params[{k}] u: {e}"))?;
-                surface.knots_v().check_param(v).map_err(|e| anyhow::anyhow!("params[{k}] v: {e}"))?;
+                surface
+                    .knots_u()
+                    .check_param(u)
+                    .map_err(|e| anyhow::anyhow!("params[{k}] u: {e}"))?;
+                surface
+                    .knots_v()
+                    .check_param(v)
+                    .map_err(|e| anyhow::anyhow!("params[{k}] v: {e}"))?;
             }
             let start = Instant::now();
             let mut eval = surface.evaluator();
-            let samples = list.iter().map(|&(u, v)| Sample::new(u, v, &eval.derivatives(u, v))).collect();
+            let samples = list
+                .iter()
+                .map(|&(u, v)| Sample::new(u, v, &eval.derivatives(u, v)))
+                .collect();
             Ok((samples, start.elapsed().as_secs_f64()))
         }
     }
@@ -93,8 +113,12 @@ pub fn evaluate(surface: &BSplineSurface, params: &Params) -> Result<(Vec<Sample
 
 /// `{"count", "seconds", "checksum"}` with checksum = sum of all point coordinates.
 pub fn summary_json(samples: &[Sample], seconds: f64) -> String {
-    let checksum: f64 = samples.iter().map(|s| s.d.point.x + s.d.point.y + s.d.point.z).sum();
-    serde_json::json!({"count": samples.len(), "seconds": seconds, "checksum": checksum}).to_string()
+    let checksum: f64 = samples
+        .iter()
+        .map(|s| s.d.point.x + s.d.point.y + s.d.point.z)
+        .sum();
+    serde_json::json!({"count": samples.len(), "seconds": seconds, "checksum": checksum})
+        .to_string()
 }
 
 fn push_num(out: &mut String, x: f64) {
@@ -130,7 +154,14 @@ pub fn results_json(samples: &[Sample]) -> String {
         out.push_str(",\"v\":");
         push_num(&mut out, s.v);
         let d = &s.d;
-        for (name, v) in [("point", d.point.coords), ("du", d.du), ("dv", d.dv), ("duu", d.duu), ("duv", d.duv), ("dvv", d.dvv)] {
+        for (name, v) in [
+            ("point", d.point.coords),
+            ("du", d.du),
+            ("dv", d.dv),
+            ("duu", d.duu),
+            ("duv", d.duv),
+            ("dvv", d.dvv),
+        ] {
             let _ = write!(out, ",\"{name}\":");
             push_vec(&mut out, v.as_slice());
         }

@@ -41,14 +41,18 @@ pub struct SurfaceSummary {
 }
 
 fn range(it: impl Iterator<Item = f64>) -> [f64; 2] {
-    it.fold([f64::INFINITY, f64::NEG_INFINITY], |[lo, hi], x| [lo.min(x), hi.max(x)])
+    it.fold([f64::INFINITY, f64::NEG_INFINITY], |[lo, hi], x| {
+        [lo.min(x), hi.max(x)]
+    })
 }
 
 /// Samples `surface` on a `SUMMARY_GRID²` grid and collects the figures.
 pub fn summarize(surface: &BSplineSurface) -> SurfaceSummary {
     let us = surface.knots_u().uniform_params(SUMMARY_GRID);
     let vs = surface.knots_v().uniform_params(SUMMARY_GRID);
-    let samples = surface.par_eval_grid_with(&us, &vs, GridOrder::Second, |d| (d.point, d.principal_curvatures()));
+    let samples = surface.par_eval_grid_with(&us, &vs, GridOrder::Second, |d| {
+        (d.point, d.principal_curvatures())
+    });
     let curv: Vec<_> = samples.iter().filter_map(|(_, c)| *c).collect();
     let mut bbox = [[f64::INFINITY; 3], [f64::NEG_INFINITY; 3]];
     for (p, _) in &samples {
@@ -64,7 +68,10 @@ pub fn summarize(surface: &BSplineSurface) -> SurfaceSummary {
         control_net: [surface.num_u(), surface.num_v()],
         rational: surface.is_rational(),
         domain: [surface.domain_u().into(), surface.domain_v().into()],
-        interior_knots: [surface.knots_u().interior_knots().len(), surface.knots_v().interior_knots().len()],
+        interior_knots: [
+            surface.knots_u().interior_knots().len(),
+            surface.knots_v().interior_knots().len(),
+        ],
         bounding_box: bbox,
         k_range: [k2[0], k1[1]],
         mean_range: range(curv.iter().map(|c| c.mean())),
@@ -79,17 +86,64 @@ pub fn summarize(surface: &BSplineSurface) -> SurfaceSummary {
 pub fn render(name: &str, s: &SurfaceSummary, seconds: f64) -> String {
     let mut out = String::new();
     let _ = writeln!(out, "surface            {name}");
-    let _ = writeln!(out, "degrees (u, v)     {} × {}{}", s.degrees[0], s.degrees[1], if s.rational { " (rational)" } else { " (polynomial)" });
-    let _ = writeln!(out, "control net        {} × {}", s.control_net[0], s.control_net[1]);
-    let _ = writeln!(out, "interior knots     {} in u, {} in v", s.interior_knots[0], s.interior_knots[1]);
-    let _ = writeln!(out, "domain             u ∈ [{}, {}], v ∈ [{}, {}]", s.domain[0][0], s.domain[0][1], s.domain[1][0], s.domain[1][1]);
+    let _ = writeln!(
+        out,
+        "degrees (u, v)     {} × {}{}",
+        s.degrees[0],
+        s.degrees[1],
+        if s.rational {
+            " (rational)"
+        } else {
+            " (polynomial)"
+        }
+    );
+    let _ = writeln!(
+        out,
+        "control net        {} × {}",
+        s.control_net[0], s.control_net[1]
+    );
+    let _ = writeln!(
+        out,
+        "interior knots     {} in u, {} in v",
+        s.interior_knots[0], s.interior_knots[1]
+    );
+    let _ = writeln!(
+        out,
+        "domain             u ∈ [{}, {}], v ∈ [{}, {}]",
+        s.domain[0][0], s.domain[0][1], s.domain[1][0], s.domain[1][1]
+    );
     let b = &s.bounding_box;
-    let _ = writeln!(out, "bounding box       [{:.3}, {:.3}, {:.3}] – [{:.3}, {:.3}, {:.3}]", b[0][0], b[0][1], b[0][2], b[1][0], b[1][1], b[1][2]);
-    let _ = writeln!(out, "principal k        {:+.6e} … {:+.6e}", s.k_range[0], s.k_range[1]);
-    let _ = writeln!(out, "mean curvature H   {:+.6e} … {:+.6e}", s.mean_range[0], s.mean_range[1]);
-    let _ = writeln!(out, "Gauss curvature K  {:+.6e} … {:+.6e}", s.gauss_range[0], s.gauss_range[1]);
-    let _ = writeln!(out, "singular samples   {} of {}", s.singular_samples, s.samples);
+    let _ = writeln!(
+        out,
+        "bounding box       [{:.3}, {:.3}, {:.3}] – [{:.3}, {:.3}, {:.3}]",
+        b[0][0], b[0][1], b[0][2], b[1][0], b[1][1], b[1][2]
+    );
+    let _ = writeln!(
+        out,
+        "principal k        {:+.6e} … {:+.6e}",
+        s.k_range[0], s.k_range[1]
+    );
+    let _ = writeln!(
+        out,
+        "mean curvature H   {:+.6e} … {:+.6e}",
+        s.mean_range[0], s.mean_range[1]
+    );
+    let _ = writeln!(
+        out,
+        "Gauss curvature K  {:+.6e} … {:+.6e}",
+        s.gauss_range[0], s.gauss_range[1]
+    );
+    let _ = writeln!(
+        out,
+        "singular samples   {} of {}",
+        s.singular_samples, s.samples
+    );
     let _ = writeln!(out, "thin-plate energy  {:.6e}", s.thin_plate_energy);
-    let _ = writeln!(out, "evaluation         {} points with derivatives and curvatures in {:.1} ms", s.samples, seconds * 1e3);
+    let _ = writeln!(
+        out,
+        "evaluation         {} points with derivatives and curvatures in {:.1} ms",
+        s.samples,
+        seconds * 1e3
+    );
     out
 }

@@ -7,14 +7,19 @@
 
 use std::hint::black_box;
 
-use criterion::{criterion_group, criterion_main, Criterion, Throughput};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use nurbs_core::{BSplineSurface, GridOrder};
 use rand::{Rng, SeedableRng};
 
 fn bench_surface() -> BSplineSurface {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data/bench/bicubic_20x20_nonuniform.json");
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../../shared/data/bench/bicubic_20x20_nonuniform.json"
+    );
     match std::fs::read_to_string(path) {
-        Ok(text) => nurbs_core::io::surfaces_from_json(&text).expect("bench surface parses").remove(0),
+        Ok(text) => nurbs_core::io::surfaces_from_json(&text)
+            .expect("bench surface parses")
+            .remove(0),
         Err(_) => {
             eprintln!("{path} not found: benchmarking a generated 20×20 bicubic instead");
             nurbs_core::testing::random_surface(20, 3..=3, 20, false)
@@ -28,10 +33,17 @@ fn single_thread<R: Send>(f: impl FnOnce() -> R + Send) -> R {
 
 fn thread_local_pool() -> &'static rayon::ThreadPool {
     static POOL: std::sync::OnceLock<rayon::ThreadPool> = std::sync::OnceLock::new();
-    POOL.get_or_init(|| rayon::ThreadPoolBuilder::new().num_threads(1).build().expect("pool"))
+    POOL.get_or_init(|| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(1)
+            .build()
+            .expect("pool")
+    })
 }
 
-/// What "point with normal and principal curvatures" returns per sample.
+/// What "point with normal and principal curvatures" returns per sample (read only through
+/// `black_box`).
+#[allow(dead_code)]
 #[derive(Clone, Copy, Default)]
 struct CurvatureSample {
     point: nurbs_core::Point3,
@@ -42,8 +54,18 @@ struct CurvatureSample {
 
 fn curvature_sample(d: &nurbs_core::SurfaceDerivatives) -> CurvatureSample {
     match d.principal_curvatures() {
-        Some(c) => CurvatureSample { point: d.point, normal: c.normal, k1: c.k1, k2: c.k2 },
-        None => CurvatureSample { point: d.point, normal: nurbs_core::Vector3::zeros(), k1: f64::NAN, k2: f64::NAN },
+        Some(c) => CurvatureSample {
+            point: d.point,
+            normal: c.normal,
+            k1: c.k1,
+            k2: c.k2,
+        },
+        None => CurvatureSample {
+            point: d.point,
+            normal: nurbs_core::Vector3::zeros(),
+            k1: f64::NAN,
+            k2: f64::NAN,
+        },
     }
 }
 
@@ -56,9 +78,13 @@ fn grid(c: &mut Criterion) {
     g.throughput(Throughput::Elements(1_000_000));
     // results go into buffers reused across iterations, as a caller evaluating repeatedly would
     let mut points = Vec::new();
-    g.bench_function("points", |b| b.iter(|| s.eval_grid_into(&us, &vs, GridOrder::Points, &mut points, |d| d.point)));
+    g.bench_function("points", |b| {
+        b.iter(|| s.eval_grid_into(&us, &vs, GridOrder::Points, &mut points, |d| d.point))
+    });
     let mut derivs = Vec::new();
-    g.bench_function("second_derivatives", |b| b.iter(|| s.eval_grid_into(&us, &vs, GridOrder::Second, &mut derivs, |d| *d)));
+    g.bench_function("second_derivatives", |b| {
+        b.iter(|| s.eval_grid_into(&us, &vs, GridOrder::Second, &mut derivs, |d| *d))
+    });
     let mut curv = Vec::new();
     g.bench_function("normal_and_principal_curvatures", |b| {
         b.iter(|| s.eval_grid_into(&us, &vs, GridOrder::Second, &mut curv, curvature_sample))
@@ -67,13 +93,19 @@ fn grid(c: &mut Criterion) {
         b.iter(|| s.par_eval_grid_into(&us, &vs, GridOrder::Second, &mut derivs, |d| *d))
     });
     g.bench_function("par_second_derivatives_1_thread", |b| {
-        b.iter(|| single_thread(|| s.par_eval_grid_into(&us, &vs, GridOrder::Second, &mut derivs, |d| *d)))
+        b.iter(|| {
+            single_thread(|| s.par_eval_grid_into(&us, &vs, GridOrder::Second, &mut derivs, |d| *d))
+        })
     });
     g.bench_function("par_curvatures_all_threads", |b| {
         b.iter(|| s.par_eval_grid_into(&us, &vs, GridOrder::Second, &mut curv, curvature_sample))
     });
     g.bench_function("par_curvatures_1_thread", |b| {
-        b.iter(|| single_thread(|| s.par_eval_grid_into(&us, &vs, GridOrder::Second, &mut curv, curvature_sample)))
+        b.iter(|| {
+            single_thread(|| {
+                s.par_eval_grid_into(&us, &vs, GridOrder::Second, &mut curv, curvature_sample)
+            })
+        })
     });
     black_box((&points, &derivs, &curv));
     g.finish();
@@ -82,7 +114,9 @@ fn grid(c: &mut Criterion) {
 fn scattered(c: &mut Criterion) {
     let s = bench_surface();
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(7);
-    let params: Vec<(f64, f64)> = (0..1_000_000).map(|_| (rng.random_range(0.0..=1.0), rng.random_range(0.0..=1.0))).collect();
+    let params: Vec<(f64, f64)> = (0..1_000_000)
+        .map(|_| (rng.random_range(0.0..=1.0), rng.random_range(0.0..=1.0)))
+        .collect();
     let mut g = c.benchmark_group("scattered_1M");
     g.sample_size(20);
     g.throughput(Throughput::Elements(params.len() as u64));

@@ -107,8 +107,16 @@ impl BasisEvaluator {
         // first derivatives of degree p from degree p − 1 (row lower1, functions span−p+1..=span)
         for r in 0..=p {
             let i = first + r;
-            let a = if r >= 1 { div(lower1[r - 1], knots[i + p] - knots[i]) } else { 0.0 };
-            let b = if r < p { div(lower1[r], knots[i + p + 1] - knots[i + 1]) } else { 0.0 };
+            let a = if r >= 1 {
+                div(lower1[r - 1], knots[i + p] - knots[i])
+            } else {
+                0.0
+            };
+            let b = if r < p {
+                div(lower1[r], knots[i + p + 1] - knots[i + 1])
+            } else {
+                0.0
+            };
             out[p1 + r] = p as f64 * (a - b);
         }
         if n == 1 {
@@ -123,20 +131,43 @@ impl BasisEvaluator {
         let d1 = &mut self.a[..p];
         for r in 0..p {
             let i = first + 1 + r;
-            let a = if r >= 1 { div(lower2[r - 1], knots[i + q] - knots[i]) } else { 0.0 };
-            let b = if r < q { div(lower2[r], knots[i + q + 1] - knots[i + 1]) } else { 0.0 };
+            let a = if r >= 1 {
+                div(lower2[r - 1], knots[i + q] - knots[i])
+            } else {
+                0.0
+            };
+            let b = if r < q {
+                div(lower2[r], knots[i + q + 1] - knots[i + 1])
+            } else {
+                0.0
+            };
             d1[r] = q as f64 * (a - b);
         }
         for r in 0..=p {
             let i = first + r;
-            let a = if r >= 1 { div(d1[r - 1], knots[i + p] - knots[i]) } else { 0.0 };
-            let b = if r < p { div(d1[r], knots[i + p + 1] - knots[i + 1]) } else { 0.0 };
+            let a = if r >= 1 {
+                div(d1[r - 1], knots[i + p] - knots[i])
+            } else {
+                0.0
+            };
+            let b = if r < p {
+                div(d1[r], knots[i + p + 1] - knots[i + 1])
+            } else {
+                0.0
+            };
             out[2 * p1 + r] = p as f64 * (a - b);
         }
     }
 
     /// Any order by [NB] A2.3.
-    pub fn derivatives_general(&mut self, knots: &[f64], span: usize, t: f64, n: usize, out: &mut [f64]) {
+    pub fn derivatives_general(
+        &mut self,
+        knots: &[f64],
+        span: usize,
+        t: f64,
+        n: usize,
+        out: &mut [f64],
+    ) {
         let p = self.degree;
         let p1 = p + 1;
         let ndu = &mut self.ndu;
@@ -178,10 +209,15 @@ impl BasisEvaluator {
                     d = a[s2 * p1] * ndu[(r - k) * p1 + pk];
                 }
                 let j1 = if rk >= -1 { 1 } else { (-rk) as usize };
-                let j2 = if (r as isize - 1) <= pk as isize { k - 1 } else { p - r };
+                let j2 = if (r as isize - 1) <= pk as isize {
+                    k - 1
+                } else {
+                    p - r
+                };
                 for j in j1..=j2 {
                     let idx = (rk + j as isize) as usize;
-                    a[s2 * p1 + j] = (a[s1 * p1 + j] - a[s1 * p1 + j - 1]) / ndu[(pk + 1) * p1 + idx];
+                    a[s2 * p1 + j] =
+                        (a[s1 * p1 + j] - a[s1 * p1 + j - 1]) / ndu[(pk + 1) * p1 + idx];
                     d += a[s2 * p1 + j] * ndu[idx * p1 + pk];
                 }
                 if r <= pk {
@@ -236,8 +272,16 @@ pub fn derivatives2_fixed<const P1: usize>(knots: &[f64], span: usize, t: f64) -
     let mut d1 = [0.0; P1];
     for r in 0..=p {
         let i = first + r;
-        let a = if r >= 1 { div(lower1[r - 1], knots[i + p] - knots[i]) } else { 0.0 };
-        let b = if r < p { div(lower1[r], knots[i + p + 1] - knots[i + 1]) } else { 0.0 };
+        let a = if r >= 1 {
+            div(lower1[r - 1], knots[i + p] - knots[i])
+        } else {
+            0.0
+        };
+        let b = if r < p {
+            div(lower1[r], knots[i + p + 1] - knots[i + 1])
+        } else {
+            0.0
+        };
         d1[r] = p as f64 * (a - b);
     }
     let mut d2 = [0.0; P1];
@@ -246,14 +290,30 @@ pub fn derivatives2_fixed<const P1: usize>(knots: &[f64], span: usize, t: f64) -
         let mut lower_d1 = [0.0; P1];
         for r in 0..p {
             let i = first + 1 + r;
-            let a = if r >= 1 { div(lower2[r - 1], knots[i + q] - knots[i]) } else { 0.0 };
-            let b = if r < q { div(lower2[r], knots[i + q + 1] - knots[i + 1]) } else { 0.0 };
+            let a = if r >= 1 {
+                div(lower2[r - 1], knots[i + q] - knots[i])
+            } else {
+                0.0
+            };
+            let b = if r < q {
+                div(lower2[r], knots[i + q + 1] - knots[i + 1])
+            } else {
+                0.0
+            };
             lower_d1[r] = q as f64 * (a - b);
         }
         for r in 0..=p {
             let i = first + r;
-            let a = if r >= 1 { div(lower_d1[r - 1], knots[i + p] - knots[i]) } else { 0.0 };
-            let b = if r < p { div(lower_d1[r], knots[i + p + 1] - knots[i + 1]) } else { 0.0 };
+            let a = if r >= 1 {
+                div(lower_d1[r - 1], knots[i + p] - knots[i])
+            } else {
+                0.0
+            };
+            let b = if r < p {
+                div(lower_d1[r], knots[i + p + 1] - knots[i + 1])
+            } else {
+                0.0
+            };
             d2[r] = p as f64 * (a - b);
         }
     }
@@ -313,7 +373,8 @@ mod tests {
 
     #[test]
     fn values_match_cox_de_boor() {
-        let kv = KnotVector::new(3, vec![0., 0., 0., 0., 0.2, 0.5, 0.5, 0.9, 1., 1., 1., 1.]).unwrap();
+        let kv =
+            KnotVector::new(3, vec![0., 0., 0., 0., 0.2, 0.5, 0.5, 0.9, 1., 1., 1., 1.]).unwrap();
         for s in 0..50 {
             let t = s as f64 / 50.0;
             let row = basis_row(&kv, t);
@@ -326,7 +387,11 @@ mod tests {
 
     #[test]
     fn derivatives_match_finite_differences() {
-        let kv = KnotVector::new(4, vec![0., 0., 0., 0., 0., 0.3, 0.45, 0.8, 1., 1., 1., 1., 1.]).unwrap();
+        let kv = KnotVector::new(
+            4,
+            vec![0., 0., 0., 0., 0., 0.3, 0.45, 0.8, 1., 1., 1., 1., 1.],
+        )
+        .unwrap();
         let h = 1e-6;
         for &t in &[0.1, 0.37, 0.6, 0.95] {
             for i in 0..kv.num_basis() {
@@ -335,7 +400,10 @@ mod tests {
                     let fd = (basis_function_derivative(&kv, i, t + h, order - 1)
                         - basis_function_derivative(&kv, i, t - h, order - 1))
                         / (2.0 * h);
-                    assert!((d - fd).abs() < 1e-5 * (1.0 + d.abs()), "i={i} t={t} k={order}: {d} vs {fd}");
+                    assert!(
+                        (d - fd).abs() < 1e-5 * (1.0 + d.abs()),
+                        "i={i} t={t} k={order}: {d} vs {fd}"
+                    );
                 }
             }
         }
@@ -346,8 +414,16 @@ mod tests {
         for (p, knots) in [
             (1, vec![0., 0., 0.3, 0.45, 0.6, 1., 1.]),
             (2, vec![0., 0., 0., 0.2, 0.2, 0.5, 0.8, 1., 1., 1.]),
-            (3, vec![0., 0., 0., 0., 0.1, 0.5, 0.5, 0.5, 0.9, 1., 1., 1., 1.]),
-            (5, vec![0., 0., 0., 0., 0., 0., 0.3, 0.3, 0.7, 1., 1., 1., 1., 1., 1.]),
+            (
+                3,
+                vec![0., 0., 0., 0., 0.1, 0.5, 0.5, 0.5, 0.9, 1., 1., 1., 1.],
+            ),
+            (
+                5,
+                vec![
+                    0., 0., 0., 0., 0., 0., 0.3, 0.3, 0.7, 1., 1., 1., 1., 1., 1.,
+                ],
+            ),
         ] {
             let kv = KnotVector::new(p, knots).unwrap();
             let mut e = BasisEvaluator::new(p);
@@ -359,7 +435,10 @@ mod tests {
                 e.derivatives(kv.knots(), span, t, 2, &mut fast);
                 e.derivatives_general(kv.knots(), span, t, 2, &mut general);
                 for (a, b) in fast.iter().zip(&general) {
-                    assert!((a - b).abs() < 1e-10 * (1.0 + b.abs()), "p={p} t={t}: {fast:?} vs {general:?}");
+                    assert!(
+                        (a - b).abs() < 1e-10 * (1.0 + b.abs()),
+                        "p={p} t={t}: {fast:?} vs {general:?}"
+                    );
                 }
                 let fixed: Vec<f64> = match p {
                     1 => derivatives2_fixed::<2>(kv.knots(), span, t).concat(),

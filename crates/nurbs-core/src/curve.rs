@@ -56,7 +56,11 @@ impl BSplineCurve {
         }
         if let Some(w) = &weights {
             if w.len() != points.len() {
-                return Err(Error::LengthMismatch { what: "curve weights vs control points", left: w.len(), right: points.len() });
+                return Err(Error::LengthMismatch {
+                    what: "curve weights vs control points",
+                    left: w.len(),
+                    right: points.len(),
+                });
             }
             for (i, &value) in w.iter().enumerate() {
                 if !(value.is_finite() && value > 0.0) {
@@ -64,7 +68,11 @@ impl BSplineCurve {
                 }
             }
         }
-        Ok(Self { knots, points, weights })
+        Ok(Self {
+            knots,
+            points,
+            weights,
+        })
     }
 
     /// Builds a curve from homogeneous control points (w·x, w·y, w·z, w); polynomial when every

@@ -12,8 +12,8 @@
 //! ([`TANGENT_RATIO_EPS`]) or the tangents are parallel ([`NORMAL_SIN_EPS`]); both are relative,
 //! so the test does not depend on the model's units. Collapsed sides (poles) fall under the first.
 
-use crate::surface::SurfaceDerivatives;
 use crate::Vector3;
+use crate::surface::SurfaceDerivatives;
 
 /// |S_u| / |S_v| (or its inverse) below which a tangent counts as vanished: a collapsed side
 /// evaluates to a tangent of rounding size, ~1e-16 of the other.
@@ -129,8 +129,16 @@ impl SurfaceDerivatives {
     #[inline]
     pub fn principal_curvatures(&self) -> Option<PrincipalCurvatures> {
         let normal = self.normal()?;
-        let (e, f, g) = (self.du.norm_squared(), self.du.dot(&self.dv), self.dv.norm_squared());
-        let (l, m, n) = (self.duu.dot(&normal), self.duv.dot(&normal), self.dvv.dot(&normal));
+        let (e, f, g) = (
+            self.du.norm_squared(),
+            self.du.dot(&self.dv),
+            self.dv.norm_squared(),
+        );
+        let (l, m, n) = (
+            self.duu.dot(&normal),
+            self.duv.dot(&normal),
+            self.dvv.dot(&normal),
+        );
         let w2 = (e * g - f * f) / e;
         let (se, sw) = (e.sqrt(), w2.sqrt());
         let r = f / e;
@@ -140,14 +148,28 @@ impl SurfaceDerivatives {
         let mid = 0.5 * (b11 + b22);
         let half = 0.5 * (b11 - b22);
         let radius = (half * half + b12 * b12).sqrt();
-        let (x, y) = if half >= 0.0 { (half + radius, b12) } else { (b12, radius - half) };
+        let (x, y) = if half >= 0.0 {
+            (half + radius, b12)
+        } else {
+            (b12, radius - half)
+        };
         let len = (x * x + y * y).sqrt();
-        let (x, y) = if len > 0.0 { (x / len, y / len) } else { (1.0, 0.0) };
+        let (x, y) = if len > 0.0 {
+            (x / len, y / len)
+        } else {
+            (1.0, 0.0)
+        };
         let e1 = self.du / se;
         let e2 = (self.dv - self.du * r) / sw;
         let dir1 = e1 * x + e2 * y;
         let dir2 = normal.cross(&dir1);
-        Some(PrincipalCurvatures { k1: mid + radius, k2: mid - radius, dir1, dir2, normal })
+        Some(PrincipalCurvatures {
+            k1: mid + radius,
+            k2: mid - radius,
+            dir1,
+            dir2,
+            normal,
+        })
     }
 
     /// Mean curvature (k1 + k2)/2, `None` at singular points.

@@ -9,7 +9,7 @@
 //! the modified surface is projected onto the original starting from the same parameters, so
 //! the figure is a true surface-to-surface distance, not a control-point displacement.
 
-use crate::projection::{project_to_surface_from, ProjectionParams};
+use crate::projection::{ProjectionParams, project_to_surface_from};
 use crate::quadrature::GaussLegendre;
 use crate::surface::BSplineSurface;
 
@@ -20,7 +20,11 @@ pub const RATIONAL_EXTRA_POINTS: usize = 3;
 
 /// Thin-plate energy ∬ |S_uu|² + 2|S_uv|² + |S_vv|² du dv.
 pub fn thin_plate_energy(surface: &BSplineSurface) -> f64 {
-    let extra = if surface.is_rational() { RATIONAL_EXTRA_POINTS } else { 0 };
+    let extra = if surface.is_rational() {
+        RATIONAL_EXTRA_POINTS
+    } else {
+        0
+    };
     let ru = GaussLegendre::new(surface.degree_u() + 1 + extra);
     let rv = GaussLegendre::new(surface.degree_v() + 1 + extra);
     let (ku, kv) = (surface.knots_u().knots(), surface.knots_v().knots());
@@ -31,7 +35,11 @@ pub fn thin_plate_energy(surface: &BSplineSurface) -> f64 {
             for sv in surface.knots_v().spans() {
                 for (v, wv) in rv.on(kv[sv], kv[sv + 1]) {
                     let d = eval.derivatives(u, v);
-                    total += wu * wv * (d.duu.norm_squared() + 2.0 * d.duv.norm_squared() + d.dvv.norm_squared());
+                    total += wu
+                        * wv
+                        * (d.duu.norm_squared()
+                            + 2.0 * d.duv.norm_squared()
+                            + d.dvv.norm_squared());
                 }
             }
         }

@@ -51,7 +51,9 @@ pub enum Error {
         end: f64,
     },
     /// A knot repeated more often than the degree allows.
-    #[error("knot {value} has multiplicity {multiplicity}, more than {max} allowed for degree {degree}")]
+    #[error(
+        "knot {value} has multiplicity {multiplicity}, more than {max} allowed for degree {degree}"
+    )]
     KnotMultiplicity {
         /// the knot value
         value: f64,
@@ -63,7 +65,9 @@ pub enum Error {
         degree: usize,
     },
     /// Knot count does not match degree and number of control points.
-    #[error("{direction} knot vector has {len} knots, but degree {degree} with {count} control points needs {expected}")]
+    #[error(
+        "{direction} knot vector has {len} knots, but degree {degree} with {count} control points needs {expected}"
+    )]
     KnotCountMismatch {
         /// "u", "v" or "curve"
         direction: &'static str,
@@ -111,7 +115,9 @@ pub enum Error {
         end: f64,
     },
     /// A knot operation asked for more than the knot vector allows.
-    #[error("cannot insert knot {value} {times} time(s): multiplicity {multiplicity} would exceed degree {degree}")]
+    #[error(
+        "cannot insert knot {value} {times} time(s): multiplicity {multiplicity} would exceed degree {degree}"
+    )]
     InsertionOverflow {
         /// the knot
         value: f64,
@@ -191,7 +197,10 @@ pub enum Error {
 impl Error {
     /// Wraps the error with the place it happened.
     pub fn context(self, context: impl Into<String>) -> Self {
-        Error::Context { context: context.into(), source: Box::new(self) }
+        Error::Context {
+            context: context.into(),
+            source: Box::new(self),
+        }
     }
 }
 

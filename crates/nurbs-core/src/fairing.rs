@@ -36,12 +36,24 @@ pub struct FairingReport {
 impl FairingReport {
     /// Measures energies, control moves and the sampled deviation of `faired` against
     /// `original`.
-    pub fn measure(method: &str, original: &BSplineSurface, faired: &BSplineSurface, iterations: usize, seconds: f64) -> Self {
-        let max_control_move = if original.num_u() == faired.num_u() && original.num_v() == faired.num_v() {
-            original.control_points().iter().zip(faired.control_points()).map(|(a, b)| (a - b).norm()).fold(0.0, f64::max)
-        } else {
-            f64::NAN
-        };
+    pub fn measure(
+        method: &str,
+        original: &BSplineSurface,
+        faired: &BSplineSurface,
+        iterations: usize,
+        seconds: f64,
+    ) -> Self {
+        let max_control_move =
+            if original.num_u() == faired.num_u() && original.num_v() == faired.num_v() {
+                original
+                    .control_points()
+                    .iter()
+                    .zip(faired.control_points())
+                    .map(|(a, b)| (a - b).norm())
+                    .fold(0.0, f64::max)
+            } else {
+                f64::NAN
+            };
         Self {
             method: method.to_string(),
             iterations,
@@ -62,5 +74,10 @@ pub trait SurfaceFairing: Send + Sync {
     /// Fairs `surface` moving only the control points `mask` frees, keeping the result within
     /// `tolerance` (model units) of the original. Method failures are returned as
     /// [`crate::Error::FairingFailed`].
-    fn fair(&self, surface: &BSplineSurface, mask: &ControlMask, tolerance: f64) -> Result<(BSplineSurface, FairingReport)>;
+    fn fair(
+        &self,
+        surface: &BSplineSurface,
+        mask: &ControlMask,
+        tolerance: f64,
+    ) -> Result<(BSplineSurface, FairingReport)>;
 }

@@ -21,13 +21,13 @@ use nalgebra::DMatrix;
 use nalgebra_sparse::factorization::CscCholesky;
 use nalgebra_sparse::{CooMatrix, CscMatrix};
 
+use crate::Point3;
 use crate::basis::BasisEvaluator;
 use crate::curve::BSplineCurve;
 use crate::error::{Error, Result};
 use crate::frames::ControlMask;
-use crate::gram::{gram_matrix, ThinPlateGram};
+use crate::gram::{ThinPlateGram, gram_matrix};
 use crate::surface::BSplineSurface;
-use crate::Point3;
 
 /// Relative size (pivot² / largest pivot²) below which the normal matrix counts as singular.
 pub const SINGULAR_PIVOT_REL: f64 = 1e-14;
@@ -66,15 +66,22 @@ struct Problem<'a> {
 }
 
 fn check_points(points: &[Point3], what: &'static str) -> Result<()> {
-    if let Some(k) = points.iter().position(|p| !p.coords.iter().all(|c| c.is_finite())) {
-        return Err(Error::Format { detail: format!("{what} {k} is not finite") });
+    if let Some(k) = points
+        .iter()
+        .position(|p| !p.coords.iter().all(|c| c.is_finite()))
+    {
+        return Err(Error::Format {
+            detail: format!("{what} {k} is not finite"),
+        });
     }
     Ok(())
 }
 
 fn check_smoothing(fit: &FitParams) -> Result<()> {
     if !(fit.smoothing.is_finite() && fit.smoothing >= 0.0) {
-        return Err(Error::Format { detail: format!("smoothing weight {} must be finite and ≥ 0", fit.smoothing) });
+        return Err(Error::Format {
+            detail: format!("smoothing weight {} must be finite and ≥ 0", fit.smoothing),
+        });
     }
     Ok(())
 }
@@ -124,7 +131,10 @@ fn solve(problem: &Problem<'_>) -> Result<Vec<Point3>> {
         if let Some(ck) = covered.iter().position(|&c| !c) {
             let k = col.iter().position(|&c| c == ck).unwrap_or(0);
             return Err(Error::SingularSystem {
-                reason: format!("control point {} has no data point in its support (a knot span without data)", (problem.name)(k)),
+                reason: format!(
+                    "control point {} has no data point in its support (a knot span without data)",
+                    (problem.name)(k)
+                ),
             });
         }
     }
@@ -145,13 +155,25 @@ fn solve(problem: &Problem<'_>) -> Result<Vec<Point3>> {
         }
     }
     let csc = CscMatrix::from(&coo);
-    let chol = CscCholesky::factor(&csc).map_err(|e| Error::SingularSystem { reason: format!("normal matrix is not positive definite ({e:?})") })?;
+    let chol = CscCholesky::factor(&csc).map_err(|e| Error::SingularSystem {
+        reason: format!("normal matrix is not positive definite ({e:?})"),
+    })?;
     let l = chol.l();
-    let diag: Vec<f64> = (0..nf).map(|j| l.col(j).values().first().copied().unwrap_or(0.0)).collect();
+    let diag: Vec<f64> = (0..nf)
+        .map(|j| l.col(j).values().first().copied().unwrap_or(0.0))
+        .collect();
     let dmax = diag.iter().fold(0.0f64, |m, d| m.max(d * d));
-    if let Some(j) = diag.iter().position(|d| !(d * d > SINGULAR_PIVOT_REL * dmax)) {
+    if let Some(j) = diag
+        .iter()
+        .position(|d| !(d * d > SINGULAR_PIVOT_REL * dmax))
+    {
         let k = col.iter().position(|&c| c == j).unwrap_or(0);
-        return Err(Error::SingularSystem { reason: format!("control point {} is not determined by the data (pivot ratio below {SINGULAR_PIVOT_REL:e})", (problem.name)(k)) });
+        return Err(Error::SingularSystem {
+            reason: format!(
+                "control point {} is not determined by the data (pivot ratio below {SINGULAR_PIVOT_REL:e})",
+                (problem.name)(k)
+            ),
+        });
     }
     let x = chol.solve(&rhs);
     for (k, &ck) in col.iter().enumerate() {
@@ -169,18 +191,39 @@ fn report(errors: impl Iterator<Item = f64>, free_points: usize) -> FitReport {
         sum += e * e;
         count += 1;
     }
-    FitReport { max_error: max, rms_error: if count > 0 { (sum / count as f64).sqrt() } else { 0.0 }, free_points, samples: count }
+    FitReport {
+        max_error: max,
+        rms_error: if count > 0 {
+            (sum / count as f64).sqrt()
+        } else {
+            0.0
+        },
+        free_points,
+        samples: count,
+    }
 }
 
 /// Fits a polynomial surface with the knots and degrees of `template` to `points` sampled at
 /// `params`; control points that `mask` fixes keep the template's values.
-pub fn fit_surface(template: &BSplineSurface, mask: &ControlMask, params: &[(f64, f64)], points: &[Point3], fit: &FitParams) -> Result<(BSplineSurface, FitReport)> {
+pub fn fit_surface(
+    template: &BSplineSurface,
+    mask: &ControlMask,
+    params: &[(f64, f64)],
+    points: &[Point3],
+    fit: &FitParams,
+) -> Result<(BSplineSurface, FitReport)> {
     if template.is_rational() {
-        return Err(Error::RationalNotSupported { operation: "least-squares surface fitting" });
+        return Err(Error::RationalNotSupported {
+            operation: "least-squares surface fitting",
+        });
     }
     mask.check_shape(template)?;
     if params.len() != points.len() {
-        return Err(Error::LengthMismatch { what: "fit parameters vs points", left: params.len(), right: points.len() });
+        return Err(Error::LengthMismatch {
+            what: "fit parameters vs points",
+            left: params.len(),
+            right: points.len(),
+        });
     }
     check_points(points, "data point")?;
     check_smoothing(fit)?;
@@ -218,25 +261,55 @@ pub fn fit_surface(template: &BSplineSurface, mask: &ControlMask, params: &[(f64
         }
     }
     let name = move |k: usize| format!("[{}][{}]", k / nv, k % nv);
-    let problem = Problem { fixed_values: template.control_points(), free: mask.as_slice(), rows, targets: points, stiffness, smoothing: fit.smoothing, name: &name };
+    let problem = Problem {
+        fixed_values: template.control_points(),
+        free: mask.as_slice(),
+        rows,
+        targets: points,
+        stiffness,
+        smoothing: fit.smoothing,
+        name: &name,
+    };
     let solved = solve(&problem)?;
     let surface = BSplineSurface::new(ku.clone(), kv.clone(), solved, None)?;
     let mut eval = surface.evaluator();
-    let rep = report(params.iter().zip(points).map(|(&(u, v), x)| (eval.point(u, v) - x).norm()), mask.free_count());
+    let rep = report(
+        params
+            .iter()
+            .zip(points)
+            .map(|(&(u, v), x)| (eval.point(u, v) - x).norm()),
+        mask.free_count(),
+    );
     Ok((surface, rep))
 }
 
 /// Fits a polynomial curve with the knots and degree of `template` to `points` at `params`;
 /// control points with `free[k] == false` keep the template's values.
-pub fn fit_curve(template: &BSplineCurve, free: &[bool], params: &[f64], points: &[Point3], fit: &FitParams) -> Result<(BSplineCurve, FitReport)> {
+pub fn fit_curve(
+    template: &BSplineCurve,
+    free: &[bool],
+    params: &[f64],
+    points: &[Point3],
+    fit: &FitParams,
+) -> Result<(BSplineCurve, FitReport)> {
     if template.is_rational() {
-        return Err(Error::RationalNotSupported { operation: "least-squares curve fitting" });
+        return Err(Error::RationalNotSupported {
+            operation: "least-squares curve fitting",
+        });
     }
     if free.len() != template.control_points().len() {
-        return Err(Error::LengthMismatch { what: "free flags vs control points", left: free.len(), right: template.control_points().len() });
+        return Err(Error::LengthMismatch {
+            what: "free flags vs control points",
+            left: free.len(),
+            right: template.control_points().len(),
+        });
     }
     if params.len() != points.len() {
-        return Err(Error::LengthMismatch { what: "fit parameters vs points", left: params.len(), right: points.len() });
+        return Err(Error::LengthMismatch {
+            what: "fit parameters vs points",
+            left: params.len(),
+            right: points.len(),
+        });
     }
     check_points(points, "data point")?;
     check_smoothing(fit)?;
@@ -262,9 +335,23 @@ pub fn fit_curve(template: &BSplineCurve, free: &[bool], params: &[f64], points:
         }
     }
     let name = |k: usize| format!("[{k}]");
-    let problem = Problem { fixed_values: template.control_points(), free, rows, targets: points, stiffness, smoothing: fit.smoothing, name: &name };
+    let problem = Problem {
+        fixed_values: template.control_points(),
+        free,
+        rows,
+        targets: points,
+        stiffness,
+        smoothing: fit.smoothing,
+        name: &name,
+    };
     let solved = solve(&problem)?;
     let curve = BSplineCurve::new(kv.clone(), solved, None)?;
-    let rep = report(params.iter().zip(points).map(|(&t, x)| (curve.point(t) - x).norm()), free.iter().filter(|&&f| f).count());
+    let rep = report(
+        params
+            .iter()
+            .zip(points)
+            .map(|(&t, x)| (curve.point(t) - x).norm()),
+        free.iter().filter(|&&f| f).count(),
+    );
     Ok((curve, rep))
 }

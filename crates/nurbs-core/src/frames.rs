@@ -166,11 +166,19 @@ pub struct ControlMask {
 impl ControlMask {
     /// Every point free.
     pub fn all_free(nu: usize, nv: usize) -> Self {
-        Self { nu, nv, free: vec![true; nu * nv] }
+        Self {
+            nu,
+            nv,
+            free: vec![true; nu * nv],
+        }
     }
     /// Every point fixed.
     pub fn all_fixed(nu: usize, nv: usize) -> Self {
-        Self { nu, nv, free: vec![false; nu * nv] }
+        Self {
+            nu,
+            nv,
+            free: vec![false; nu * nv],
+        }
     }
     /// A mask of the shape of `surface`, every point free.
     pub fn for_surface(surface: &BSplineSurface) -> Self {
@@ -226,13 +234,23 @@ impl ControlMask {
     /// Free points (i, j) in storage order.
     pub fn free_indices(&self) -> impl Iterator<Item = (usize, usize)> + '_ {
         let nv = self.nv;
-        self.free.iter().enumerate().filter(|(_, f)| **f).map(move |(k, _)| (k / nv, k % nv))
+        self.free
+            .iter()
+            .enumerate()
+            .filter(|(_, f)| **f)
+            .map(move |(k, _)| (k / nv, k % nv))
     }
     /// Checks that the mask has the shape of `surface`.
     pub fn check_shape(&self, surface: &BSplineSurface) -> Result<()> {
         if (self.nu, self.nv) != (surface.num_u(), surface.num_v()) {
             return Err(Error::ControlNetShape {
-                detail: format!("mask is {}×{} but the surface has {}×{} control points", self.nu, self.nv, surface.num_u(), surface.num_v()),
+                detail: format!(
+                    "mask is {}×{} but the surface has {}×{} control points",
+                    self.nu,
+                    self.nv,
+                    surface.num_u(),
+                    surface.num_v()
+                ),
             });
         }
         Ok(())

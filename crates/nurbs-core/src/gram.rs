@@ -28,7 +28,11 @@ pub struct BandedMatrix {
 impl BandedMatrix {
     /// A zero n × n matrix with half-bandwidth `w`.
     pub fn zeros(n: usize, w: usize) -> Self {
-        Self { n, half_bandwidth: w, data: vec![0.0; n * (2 * w + 1)] }
+        Self {
+            n,
+            half_bandwidth: w,
+            data: vec![0.0; n * (2 * w + 1)],
+        }
     }
     /// Dimension n.
     pub fn dim(&self) -> usize {
@@ -41,7 +45,8 @@ impl BandedMatrix {
     #[inline]
     fn slot(&self, i: usize, j: usize) -> Option<usize> {
         let w = self.half_bandwidth;
-        (i < self.n && j < self.n && i + w >= j && j + w >= i).then(|| i * (2 * w + 1) + (j + w - i))
+        (i < self.n && j < self.n && i + w >= j && j + w >= i)
+            .then(|| i * (2 * w + 1) + (j + w - i))
     }
     /// Entry (i, j); zero outside the band.
     #[inline]
@@ -103,8 +108,16 @@ impl ThinPlateGram {
     /// Gram matrices of the two knot vectors.
     pub fn new(knots_u: &KnotVector, knots_v: &KnotVector) -> Result<Self> {
         Ok(Self {
-            u: [gram_matrix(knots_u, 0, 0)?, gram_matrix(knots_u, 1, 1)?, gram_matrix(knots_u, 2, 2)?],
-            v: [gram_matrix(knots_v, 0, 0)?, gram_matrix(knots_v, 1, 1)?, gram_matrix(knots_v, 2, 2)?],
+            u: [
+                gram_matrix(knots_u, 0, 0)?,
+                gram_matrix(knots_u, 1, 1)?,
+                gram_matrix(knots_u, 2, 2)?,
+            ],
+            v: [
+                gram_matrix(knots_v, 0, 0)?,
+                gram_matrix(knots_v, 1, 1)?,
+                gram_matrix(knots_v, 2, 2)?,
+            ],
         })
     }
 

@@ -10,10 +10,10 @@
 
 use rayon::prelude::*;
 
+use crate::Point3;
 use crate::basis::BasisEvaluator;
 use crate::knots::KnotVector;
-use crate::surface::{quotient_rule, BSplineSurface, SurfaceDerivatives};
-use crate::Point3;
+use crate::surface::{BSplineSurface, SurfaceDerivatives, quotient_rule};
 
 /// Which derivatives a grid evaluation computes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -51,9 +51,19 @@ impl DirectionBasis {
             let t = knots.clamp_param(t);
             let span = knots.span(t);
             spans.push(span);
-            eval.derivatives(knots.knots(), span, t, order, &mut ders[a * stride..(a + 1) * stride]);
+            eval.derivatives(
+                knots.knots(),
+                span,
+                t,
+                order,
+                &mut ders[a * stride..(a + 1) * stride],
+            );
         }
-        Self { spans, ders, stride }
+        Self {
+            spans,
+            ders,
+            stride,
+        }
     }
 }
 
@@ -115,13 +125,19 @@ impl<'a> GridPlan<'a> {
 
     /// The column sums of [`Self::point_in_row`] for a compile-time v order Q1 = q + 1.
     #[inline(always)]
-    fn point_in_row_fixed<const Q1: usize>(&self, b: usize, rows: &[[f64; 4]]) -> SurfaceDerivatives {
+    fn point_in_row_fixed<const Q1: usize>(
+        &self,
+        b: usize,
+        rows: &[[f64; 4]],
+    ) -> SurfaceDerivatives {
         let nv = self.surface.num_v();
         let span = self.bv.spans[b];
         let ders = &self.bv.ders[b * self.bv.stride..(b + 1) * self.bv.stride];
         let first = span + 1 - Q1;
         let mut a = [[0.0f64; 4]; 6];
-        let r0: &[[f64; 4]; Q1] = rows[first..first + Q1].try_into().expect("span inside the net");
+        let r0: &[[f64; 4]; Q1] = rows[first..first + Q1]
+            .try_into()
+            .expect("span inside the net");
         let m0: &[f64; Q1] = ders[..Q1].try_into().expect("stride ≥ Q1");
         if self.order == 0 {
             for c in 0..Q1 {
@@ -130,8 +146,12 @@ impl<'a> GridPlan<'a> {
                 }
             }
         } else {
-            let r1: &[[f64; 4]; Q1] = rows[nv + first..nv + first + Q1].try_into().expect("span inside the net");
-            let r2: &[[f64; 4]; Q1] = rows[2 * nv + first..2 * nv + first + Q1].try_into().expect("span inside the net");
+            let r1: &[[f64; 4]; Q1] = rows[nv + first..nv + first + Q1]
+                .try_into()
+                .expect("span inside the net");
+            let r2: &[[f64; 4]; Q1] = rows[2 * nv + first..2 * nv + first + Q1]
+                .try_into()
+                .expect("span inside the net");
             let m1: &[f64; Q1] = ders[Q1..2 * Q1].try_into().expect("stride ≥ 3 Q1");
             let m2: &[f64; Q1] = ders[2 * Q1..3 * Q1].try_into().expect("stride ≥ 3 Q1");
             for c in 0..Q1 {
@@ -198,8 +218,14 @@ impl BSplineSurface {
 
     /// Like [`eval_grid_with`](Self::eval_grid_with) but writes into `out` (cleared first), so
     /// that repeated evaluations reuse one allocation.
-    pub fn eval_grid_into<T, F>(&self, us: &[f64], vs: &[f64], order: GridOrder, out: &mut Vec<T>, f: F)
-    where
+    pub fn eval_grid_into<T, F>(
+        &self,
+        us: &[f64],
+        vs: &[f64],
+        order: GridOrder,
+        out: &mut Vec<T>,
+        f: F,
+    ) where
         F: Fn(&SurfaceDerivatives) -> T,
     {
         let plan = GridPlan::new(self, us, vs, order);
@@ -235,8 +261,14 @@ impl BSplineSurface {
     }
 
     /// Parallel [`eval_grid_into`](Self::eval_grid_into).
-    pub fn par_eval_grid_into<T, F>(&self, us: &[f64], vs: &[f64], order: GridOrder, out: &mut Vec<T>, f: F)
-    where
+    pub fn par_eval_grid_into<T, F>(
+        &self,
+        us: &[f64],
+        vs: &[f64],
+        order: GridOrder,
+        out: &mut Vec<T>,
+        f: F,
+    ) where
         T: Send + Clone + Default,
         F: Fn(&SurfaceDerivatives) -> T + Sync,
     {
@@ -247,15 +279,17 @@ impl BSplineSurface {
             return;
         }
         let rows_per_chunk = us.len().div_ceil(4 * rayon::current_num_threads()).max(1);
-        out.par_chunks_mut(rows_per_chunk * nvs).enumerate().for_each(|(chunk, block)| {
-            let mut rows = plan.row_scratch();
-            for (local, row_out) in block.chunks_mut(nvs).enumerate() {
-                let a = chunk * rows_per_chunk + local;
-                plan.contract_row(a, &mut rows);
-                for (b, o) in row_out.iter_mut().enumerate() {
-                    *o = f(&plan.point_in_row(b, &rows));
+        out.par_chunks_mut(rows_per_chunk * nvs)
+            .enumerate()
+            .for_each(|(chunk, block)| {
+                let mut rows = plan.row_scratch();
+                for (local, row_out) in block.chunks_mut(nvs).enumerate() {
+                    let a = chunk * rows_per_chunk + local;
+                    plan.contract_row(a, &mut rows);
+                    for (b, o) in row_out.iter_mut().enumerate() {
+                        *o = f(&plan.point_in_row(b, &rows));
+                    }
                 }
-            }
-        });
+            });
     }
 }

@@ -7,10 +7,10 @@
 
 use serde::{Deserialize, Serialize};
 
+use crate::Point3;
 use crate::error::{Error, Result};
 use crate::knots::KnotVector;
 use crate::surface::BSplineSurface;
-use crate::Point3;
 
 /// One B-spline surface as stored in JSON.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -32,7 +32,12 @@ pub struct SurfaceRecord {
     pub weights: Option<Vec<Vec<f64>>>,
 }
 
-fn knots(field: &'static str, degree: usize, given: &Option<Vec<f64>>, count: usize) -> Result<KnotVector> {
+fn knots(
+    field: &'static str,
+    degree: usize,
+    given: &Option<Vec<f64>>,
+    count: usize,
+) -> Result<KnotVector> {
     let kv = match given {
         Some(k) => KnotVector::new(degree, k.clone()),
         None if count == degree + 1 => KnotVector::bezier(degree),
@@ -41,7 +46,8 @@ fn knots(field: &'static str, degree: usize, given: &Option<Vec<f64>>, count: us
         }),
     }
     .map_err(|e| e.context(field))?;
-    kv.check_count(if field == "knots_u" { "u" } else { "v" }, count).map_err(|e| e.context(field))?;
+    kv.check_count(if field == "knots_u" { "u" } else { "v" }, count)
+        .map_err(|e| e.context(field))?;
     Ok(kv)
 }
 
@@ -51,19 +57,38 @@ impl SurfaceRecord {
         let nu = self.control_points.len();
         let nv = self.control_points.first().map_or(0, Vec::len);
         if nu == 0 || nv == 0 {
-            return Err(Error::ControlNetShape { detail: "control_points is empty".into() }.context("control_points"));
+            return Err(Error::ControlNetShape {
+                detail: "control_points is empty".into(),
+            }
+            .context("control_points"));
         }
-        if let Some((i, row)) = self.control_points.iter().enumerate().find(|(_, r)| r.len() != nv) {
-            return Err(Error::ControlNetShape { detail: format!("row {i} has {} points, row 0 has {nv}", row.len()) }.context("control_points"));
+        if let Some((i, row)) = self
+            .control_points
+            .iter()
+            .enumerate()
+            .find(|(_, r)| r.len() != nv)
+        {
+            return Err(Error::ControlNetShape {
+                detail: format!("row {i} has {} points, row 0 has {nv}", row.len()),
+            }
+            .context("control_points"));
         }
         let ku = knots("knots_u", self.degree_u, &self.knots_u, nu)?;
         let kv = knots("knots_v", self.degree_v, &self.knots_v, nv)?;
-        let points: Vec<Point3> = self.control_points.iter().flatten().map(|c| Point3::new(c[0], c[1], c[2])).collect();
+        let points: Vec<Point3> = self
+            .control_points
+            .iter()
+            .flatten()
+            .map(|c| Point3::new(c[0], c[1], c[2]))
+            .collect();
         let weights = match &self.weights {
             None => None,
             Some(w) => {
                 if w.len() != nu || w.iter().any(|r| r.len() != nv) {
-                    return Err(Error::ControlNetShape { detail: format!("weights must be {nu}×{nv} like the control net") }.context("weights"));
+                    return Err(Error::ControlNetShape {
+                        detail: format!("weights must be {nu}×{nv} like the control net"),
+                    }
+                    .context("weights"));
                 }
                 Some(w.iter().flatten().copied().collect())
             }
@@ -79,8 +104,18 @@ impl SurfaceRecord {
             degree_v: s.degree_v(),
             knots_u: Some(s.knots_u().knots().to_vec()),
             knots_v: Some(s.knots_v().knots().to_vec()),
-            control_points: (0..nu).map(|i| (0..nv).map(|j| s.control_point(i, j).coords.into()).collect()).collect(),
-            weights: s.weights().map(|_| (0..nu).map(|i| (0..nv).map(|j| s.weight(i, j)).collect()).collect()),
+            control_points: (0..nu)
+                .map(|i| {
+                    (0..nv)
+                        .map(|j| s.control_point(i, j).coords.into())
+                        .collect()
+                })
+                .collect(),
+            weights: s.weights().map(|_| {
+                (0..nu)
+                    .map(|i| (0..nv).map(|j| s.weight(i, j)).collect())
+                    .collect()
+            }),
         }
     }
 }
@@ -98,7 +133,9 @@ enum SurfaceFileShape {
 /// Parses a surface file (one record, a list, `{"surfaces": …}` or `{"patches": …}`) and
 /// validates every surface; errors name the surface and the field.
 pub fn surfaces_from_json(text: &str) -> Result<Vec<BSplineSurface>> {
-    let shape: SurfaceFileShape = serde_json::from_str(text).map_err(|e| Error::Format { detail: format!("malformed JSON: {e}") })?;
+    let shape: SurfaceFileShape = serde_json::from_str(text).map_err(|e| Error::Format {
+        detail: format!("malformed JSON: {e}"),
+    })?;
     let (values, single) = match shape {
         SurfaceFileShape::Wrapped { surfaces } => (surfaces, false),
         SurfaceFileShape::Patches { patches } => (patches, false),
@@ -106,14 +143,23 @@ pub fn surfaces_from_json(text: &str) -> Result<Vec<BSplineSurface>> {
         SurfaceFileShape::One(v) => (vec![v], true),
     };
     if values.is_empty() {
-        return Err(Error::Format { detail: "the file holds no surface".into() });
+        return Err(Error::Format {
+            detail: "the file holds no surface".into(),
+        });
     }
     values
         .into_iter()
         .enumerate()
         .map(|(k, value)| {
-            let place = if single { "surface".to_string() } else { format!("surface {k}") };
-            let record: SurfaceRecord = serde_json::from_value(value).map_err(|e| Error::Format { detail: format!("{place}: {e}") })?;
+            let place = if single {
+                "surface".to_string()
+            } else {
+                format!("surface {k}")
+            };
+            let record: SurfaceRecord =
+                serde_json::from_value(value).map_err(|e| Error::Format {
+                    detail: format!("{place}: {e}"),
+                })?;
             record.to_surface().map_err(|e| e.context(place))
         })
         .collect()
@@ -121,5 +167,6 @@ pub fn surfaces_from_json(text: &str) -> Result<Vec<BSplineSurface>> {
 
 /// Serializes one surface as a JSON record.
 pub fn surface_to_json(surface: &BSplineSurface) -> String {
-    serde_json::to_string(&SurfaceRecord::from_surface(surface)).expect("a surface record always serializes")
+    serde_json::to_string(&SurfaceRecord::from_surface(surface))
+        .expect("a surface record always serializes")
 }

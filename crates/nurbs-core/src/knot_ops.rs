@@ -35,7 +35,12 @@ pub(crate) fn insert(kv: &KnotVector, pw: &[[f64; 4]], u: f64, times: usize) -> 
         return Ok((kv.clone(), pw.to_vec()));
     }
     if s + times > p {
-        return Err(Error::InsertionOverflow { value: u, times, multiplicity: s, degree: p });
+        return Err(Error::InsertionOverflow {
+            value: u,
+            times,
+            multiplicity: s,
+            degree: p,
+        });
     }
     let np = pw.len() - 1;
     let mp = knots.len() - 1;
@@ -47,9 +52,7 @@ pub(crate) fn insert(kv: &KnotVector, pw: &[[f64; 4]], u: f64, times: usize) -> 
     uq.extend_from_slice(&knots[k + 1..=mp]);
     let mut qw = vec![[0.0; 4]; pw.len() + times];
     qw[..=k - p].copy_from_slice(&pw[..=k - p]);
-    for i in (k - s)..=np {
-        qw[i + times] = pw[i];
-    }
+    qw[k - s + times..=np + times].copy_from_slice(&pw[k - s..=np]);
     let mut rw: Vec<[f64; 4]> = pw[k - p..=k - s].to_vec();
     let mut l = 0;
     for j in 1..=times {
@@ -61,8 +64,8 @@ pub(crate) fn insert(kv: &KnotVector, pw: &[[f64; 4]], u: f64, times: usize) -> 
         qw[l] = rw[0];
         qw[k + times - j - s] = rw[p - j - s];
     }
-    for i in (l + 1)..(k - s) {
-        qw[i] = rw[i - l];
+    if l + 1 < k - s {
+        qw[l + 1..k - s].copy_from_slice(&rw[1..k - s - l]);
     }
     Ok((KnotVector::new(p, uq)?, qw))
 }
@@ -72,7 +75,11 @@ pub(crate) fn refine(kv: &KnotVector, pw: &[[f64; 4]], xs: &[f64]) -> Result<Pol
     let mut sorted = xs.to_vec();
     if let Some(&bad) = sorted.iter().find(|x| !x.is_finite()) {
         let (start, end) = kv.domain();
-        return Err(Error::ParameterOutOfDomain { value: bad, start, end });
+        return Err(Error::ParameterOutOfDomain {
+            value: bad,
+            start,
+            end,
+        });
     }
     sorted.sort_by(f64::total_cmp);
     let mut cur = (kv.clone(), pw.to_vec());
@@ -84,20 +91,33 @@ pub(crate) fn refine(kv: &KnotVector, pw: &[[f64; 4]], xs: &[f64]) -> Result<Pol
 
 /// Tries to remove the interior knot `u` up to `num` times with Euclidean deviation at most
 /// `tolerance` ([NB] A5.8); returns the new polygon and how many times it was removed.
-pub(crate) fn remove(kv: &KnotVector, pw: &[[f64; 4]], u: f64, num: usize, tolerance: f64) -> Result<(Polygon, usize)> {
+pub(crate) fn remove(
+    kv: &KnotVector,
+    pw: &[[f64; 4]],
+    u: f64,
+    num: usize,
+    tolerance: f64,
+) -> Result<(Polygon, usize)> {
     let p = kv.degree();
     let knots = kv.knots();
     let (start, end) = kv.domain();
     let s = kv.multiplicity(u);
     if !(u > start && u < end) || s == 0 {
-        return Err(Error::ParameterOutOfDomain { value: u, start, end });
+        return Err(Error::ParameterOutOfDomain {
+            value: u,
+            start,
+            end,
+        });
     }
     let r = knots.partition_point(|&t| t <= u) - 1;
     let n = pw.len() - 1;
     let m = n + p + 1;
     let ord = p + 1;
     let wmin = pw.iter().map(|q| q[3]).fold(f64::INFINITY, f64::min);
-    let pmax = pw.iter().map(|q| (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt() / q[3]).fold(0.0, f64::max);
+    let pmax = pw
+        .iter()
+        .map(|q| (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt() / q[3])
+        .fold(0.0, f64::max);
     let tol = tolerance * wmin / (1.0 + pmax);
     let fout = (2 * r - s - p) / 2;
     let mut first = r - p;
@@ -115,7 +135,12 @@ pub(crate) fn remove(kv: &KnotVector, pw: &[[f64; 4]], u: f64, num: usize, toler
             let alfi = (u - knots[i]) / (knots[i + ord + t] - knots[i]);
             let alfj = (u - knots[j - t]) / (knots[j + ord] - knots[j - t]);
             temp[ii] = lerp4(&pw[i], 1.0 / alfi, &temp[ii - 1], -(1.0 - alfi) / alfi);
-            temp[jj] = lerp4(&pw[j], 1.0 / (1.0 - alfj), &temp[jj + 1], -alfj / (1.0 - alfj));
+            temp[jj] = lerp4(
+                &pw[j],
+                1.0 / (1.0 - alfj),
+                &temp[jj + 1],
+                -alfj / (1.0 - alfj),
+            );
             i += 1;
             ii += 1;
             j -= 1;
@@ -172,7 +197,9 @@ pub(crate) fn extract(kv: &KnotVector, pw: &[[f64; 4]], a: f64, b: f64) -> Resul
     kv.check_param(a)?;
     kv.check_param(b)?;
     if !(a < b) {
-        return Err(Error::Degenerate { detail: format!("extraction range [{a}, {b}] is empty") });
+        return Err(Error::Degenerate {
+            detail: format!("extraction range [{a}, {b}] is empty"),
+        });
     }
     let p = kv.degree();
     let mut cur = (kv.clone(), pw.to_vec());
@@ -198,7 +225,11 @@ pub(crate) fn elevate(kv: &KnotVector, pw: &[[f64; 4]], by: usize) -> Result<Pol
         return Ok((kv.clone(), pw.to_vec()));
     }
     let (a, b) = kv.domain();
-    let (kv, pw) = if kv.is_clamped() { (kv.clone(), pw.to_vec()) } else { extract(kv, pw, a, b)? };
+    let (kv, pw) = if kv.is_clamped() {
+        (kv.clone(), pw.to_vec())
+    } else {
+        extract(kv, pw, a, b)?
+    };
     let p = kv.degree();
     let interior = kv.interior_knots();
     let mut bez = (kv.clone(), pw.clone());
@@ -240,7 +271,10 @@ pub(crate) fn elevate(kv: &KnotVector, pw: &[[f64; 4]], by: usize) -> Result<Pol
         }
         let (next, removed) = remove(&cur.0, &cur.1, x, want, tolerance)?;
         if removed != want {
-            return Err(Error::RemovalFailed { value: x, tolerance });
+            return Err(Error::RemovalFailed {
+                value: x,
+                tolerance,
+            });
         }
         cur = next;
     }
@@ -249,6 +283,10 @@ pub(crate) fn elevate(kv: &KnotVector, pw: &[[f64; 4]], by: usize) -> Result<Pol
 
 /// Largest Euclidean coordinate extent of a homogeneous polygon (after division by w).
 fn extent4(pw: &[[f64; 4]]) -> f64 {
-    let pts: Vec<crate::Point3> = pw.iter().map(|q| crate::Point3::new(q[0] / q[3], q[1] / q[3], q[2] / q[3])).collect();
-    crate::homogeneous::bounding_diagonal(&pts).max(pts.iter().map(|p| p.coords.norm()).fold(0.0, f64::max))
+    let pts: Vec<crate::Point3> = pw
+        .iter()
+        .map(|q| crate::Point3::new(q[0] / q[3], q[1] / q[3], q[2] / q[3]))
+        .collect();
+    crate::homogeneous::bounding_diagonal(&pts)
+        .max(pts.iter().map(|p| p.coords.norm()).fold(0.0, f64::max))
 }

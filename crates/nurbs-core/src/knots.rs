@@ -25,14 +25,22 @@ impl KnotVector {
         }
         let min = 2 * (degree + 1);
         if knots.len() < min {
-            return Err(Error::TooFewKnots { len: knots.len(), degree, min });
+            return Err(Error::TooFewKnots {
+                len: knots.len(),
+                degree,
+                min,
+            });
         }
         for (index, &value) in knots.iter().enumerate() {
             if !value.is_finite() {
                 return Err(Error::NonFiniteKnot { index, value });
             }
             if index > 0 && value < knots[index - 1] {
-                return Err(Error::DecreasingKnots { index, previous: knots[index - 1], value });
+                return Err(Error::DecreasingKnots {
+                    index,
+                    previous: knots[index - 1],
+                    value,
+                });
             }
         }
         let n = knots.len() - degree - 2;
@@ -51,7 +59,12 @@ impl KnotVector {
             let interior = value > start && value < end;
             let max = if interior { degree } else { degree + 1 };
             if multiplicity > max {
-                return Err(Error::KnotMultiplicity { value, multiplicity, max, degree });
+                return Err(Error::KnotMultiplicity {
+                    value,
+                    multiplicity,
+                    max,
+                    degree,
+                });
             }
             i = j;
         }
@@ -63,13 +76,22 @@ impl KnotVector {
         while knots[last_span] >= knots[last_span + 1] {
             last_span -= 1;
         }
-        Ok(Self { degree, knots, first_span, last_span })
+        Ok(Self {
+            degree,
+            knots,
+            first_span,
+            last_span,
+        })
     }
 
     /// The clamped uniform knot vector of `degree` for `count` control points on [0, 1].
     pub fn clamped_uniform(degree: usize, count: usize) -> Result<Self> {
         if count < degree + 1 {
-            return Err(Error::TooFewKnots { len: count + degree + 1, degree, min: 2 * (degree + 1) });
+            return Err(Error::TooFewKnots {
+                len: count + degree + 1,
+                degree,
+                min: 2 * (degree + 1),
+            });
         }
         let segments = count - degree;
         let mut knots = vec![0.0; degree + 1];
@@ -180,7 +202,11 @@ impl KnotVector {
         if t.is_finite() && t >= start && t <= end {
             Ok(())
         } else {
-            Err(Error::ParameterOutOfDomain { value: t, start, end })
+            Err(Error::ParameterOutOfDomain {
+                value: t,
+                start,
+                end,
+            })
         }
     }
 
@@ -190,7 +216,9 @@ impl KnotVector {
         match count {
             0 => Vec::new(),
             1 => vec![0.5 * (a + b)],
-            _ => (0..count).map(|i| a + (b - a) * i as f64 / (count - 1) as f64).collect(),
+            _ => (0..count)
+                .map(|i| a + (b - a) * i as f64 / (count - 1) as f64)
+                .collect(),
         }
     }
 
@@ -222,7 +250,10 @@ mod tests {
 
     #[test]
     fn rejects_bad_vectors() {
-        assert!(matches!(KnotVector::new(0, vec![0.0, 1.0]), Err(Error::InvalidDegree { .. })));
+        assert!(matches!(
+            KnotVector::new(0, vec![0.0, 1.0]),
+            Err(Error::InvalidDegree { .. })
+        ));
         assert!(matches!(
             KnotVector::new(2, vec![0.0, 0.0, 1.0, 1.0]),
             Err(Error::TooFewKnots { min: 6, .. })
@@ -241,7 +272,11 @@ mod tests {
         ));
         assert!(matches!(
             KnotVector::new(2, vec![0.0, 0.0, 0.0, 0.5, 0.5, 0.5, 1.0, 1.0, 1.0]),
-            Err(Error::KnotMultiplicity { multiplicity: 3, max: 2, .. })
+            Err(Error::KnotMultiplicity {
+                multiplicity: 3,
+                max: 2,
+                ..
+            })
         ));
     }
 

@@ -45,12 +45,15 @@ pub use curve::{BSplineCurve, CurveDerivatives};
 pub use diffgeom::{FundamentalForms, PrincipalCurvatures};
 pub use error::{Error, Result};
 pub use fairing::{FairingReport, SurfaceFairing};
-pub use fit::{fit_curve, fit_surface, FitParams, FitReport};
+pub use fit::{FitParams, FitReport, fit_curve, fit_surface};
 pub use frames::{Continuity, ControlMask, Frame, Side};
-pub use gram::{gram_matrix, BandedMatrix, ThinPlateGram};
+pub use gram::{BandedMatrix, ThinPlateGram, gram_matrix};
 pub use grid::GridOrder;
 pub use knots::KnotVector;
 pub use mesh::TriMesh;
 pub use ops::Direction;
-pub use projection::{project_to_curve, project_to_surface, project_to_surface_from, CurveProjection, ProjectionParams, SurfaceProjection};
+pub use projection::{
+    CurveProjection, ProjectionParams, SurfaceProjection, project_to_curve, project_to_surface,
+    project_to_surface_from,
+};
 pub use surface::{BSplineSurface, SurfaceDerivatives, SurfaceEvaluator};

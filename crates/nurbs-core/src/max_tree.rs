@@ -24,7 +24,11 @@ impl MaxTree {
     /// A tree over `len` leaves, all [`NEVER`].
     pub fn new(len: usize) -> Self {
         let cap = len.max(1).next_power_of_two();
-        Self { len, cap, nodes: vec![NEVER; 2 * cap] }
+        Self {
+            len,
+            cap,
+            nodes: vec![NEVER; 2 * cap],
+        }
     }
 
     /// Number of leaves.
@@ -91,7 +95,11 @@ impl MaxTree {
         }
         let mut k = 1;
         while k < self.cap {
-            k = if self.nodes[2 * k] >= self.nodes[2 * k + 1] { 2 * k } else { 2 * k + 1 };
+            k = if self.nodes[2 * k] >= self.nodes[2 * k + 1] {
+                2 * k
+            } else {
+                2 * k + 1
+            };
         }
         Some((k - self.cap, best))
     }
@@ -129,7 +137,9 @@ mod tests {
         let mut plain = vec![NEVER; n];
         let mut x: u64 = 12345;
         for _ in 0..500 {
-            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            x = x
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
             let k = (x >> 33) as usize % n;
             let v = ((x >> 11) % 1000) as f64;
             tree.update(k, v);

@@ -35,7 +35,11 @@ impl TriMesh {
         let grid = |a: usize, b: usize| a * nv + b;
         // vertex id of each grid point, merging collapsed sides
         let mut id: Vec<usize> = (0..nu * nv).collect();
-        let collapsed = |cells: &[usize]| cells.iter().all(|&k| (ders[k].point - ders[cells[0]].point).norm() <= tol);
+        let collapsed = |cells: &[usize]| {
+            cells
+                .iter()
+                .all(|&k| (ders[k].point - ders[cells[0]].point).norm() <= tol)
+        };
         let sides: [Vec<usize>; 4] = [
             (0..nv).map(|b| grid(0, b)).collect(),
             (0..nv).map(|b| grid(nu - 1, b)).collect(),
@@ -66,7 +70,8 @@ impl TriMesh {
         let mut faces = Vec::with_capacity(2 * (nu - 1) * (nv - 1));
         for a in 0..nu - 1 {
             for b in 0..nv - 1 {
-                let (p00, p10, p11, p01) = (vid(a, b), vid(a + 1, b), vid(a + 1, b + 1), vid(a, b + 1));
+                let (p00, p10, p11, p01) =
+                    (vid(a, b), vid(a + 1, b), vid(a + 1, b + 1), vid(a, b + 1));
                 for f in [[p00, p10, p11], [p00, p11, p01]] {
                     if f[0] != f[1] && f[1] != f[2] && f[0] != f[2] {
                         faces.push(f);
@@ -74,7 +79,11 @@ impl TriMesh {
                 }
             }
         }
-        let mut mesh = Self { positions, normals, faces };
+        let mut mesh = Self {
+            positions,
+            normals,
+            faces,
+        };
         mesh.fill_missing_normals();
         mesh
     }
@@ -100,7 +109,11 @@ impl TriMesh {
 
     /// (b − a) × (c − a): twice the area times the unit normal of a face.
     pub fn face_normal_area(&self, f: &[usize; 3]) -> Vector3 {
-        let (a, b, c) = (self.positions[f[0]], self.positions[f[1]], self.positions[f[2]]);
+        let (a, b, c) = (
+            self.positions[f[0]],
+            self.positions[f[1]],
+            self.positions[f[2]],
+        );
         (b - a).cross(&(c - a))
     }
 
@@ -152,14 +165,21 @@ impl TriMesh {
                     return Vec::new();
                 }
                 // start at a wedge whose first vertex ends no other wedge (boundary), else anywhere
-                let start = w.iter().position(|&(b, _)| !w.iter().any(|&(_, c)| c == b)).unwrap_or(0);
+                let start = w
+                    .iter()
+                    .position(|&(b, _)| !w.iter().any(|&(_, c)| c == b))
+                    .unwrap_or(0);
                 let mut ring = vec![w[start].0];
                 let mut used = vec![false; w.len()];
                 let mut cur = start;
                 loop {
                     used[cur] = true;
                     let c = w[cur].1;
-                    match w.iter().enumerate().position(|(k, &(b, _))| !used[k] && b == c) {
+                    match w
+                        .iter()
+                        .enumerate()
+                        .position(|(k, &(b, _))| !used[k] && b == c)
+                    {
                         Some(k) => {
                             ring.push(c);
                             cur = k;
@@ -190,7 +210,13 @@ impl TriMesh {
         }
         for f in &self.faces {
             if with_normals {
-                writeln!(out, "f {0}//{0} {1}//{1} {2}//{2}", f[0] + 1, f[1] + 1, f[2] + 1)?;
+                writeln!(
+                    out,
+                    "f {0}//{0} {1}//{1} {2}//{2}",
+                    f[0] + 1,
+                    f[1] + 1,
+                    f[2] + 1
+                )?;
             } else {
                 writeln!(out, "f {} {} {}", f[0] + 1, f[1] + 1, f[2] + 1)?;
             }

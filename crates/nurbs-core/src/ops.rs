@@ -42,8 +42,12 @@ impl BSplineCurve {
     /// Removes the interior knot `t` up to `num` times while the curve moves by at most
     /// `tolerance` (model units); returns the curve and how many were removed (0 = failed).
     pub fn remove_knot(&self, t: f64, num: usize, tolerance: f64) -> Result<(Self, usize)> {
-        let ((kv, pw), removed) = knot_ops::remove(self.knots(), &self.homogeneous(), t, num, tolerance)?;
-        Ok((Self::from_homogeneous_as(kv, &pw, self.is_rational())?, removed))
+        let ((kv, pw), removed) =
+            knot_ops::remove(self.knots(), &self.homogeneous(), t, num, tolerance)?;
+        Ok((
+            Self::from_homogeneous_as(kv, &pw, self.is_rational())?,
+            removed,
+        ))
     }
 
     /// Raises the degree by `by`; the curve is unchanged (the result is clamped).
@@ -59,7 +63,11 @@ impl BSplineCurve {
 
 impl BSplineSurface {
     /// Applies a curve algorithm to every iso-polygon running in `dir`.
-    fn map_polygons(&self, dir: Direction, f: impl Fn(&KnotVector, &[[f64; 4]]) -> Result<Polygon>) -> Result<Self> {
+    fn map_polygons(
+        &self,
+        dir: Direction,
+        f: impl Fn(&KnotVector, &[[f64; 4]]) -> Result<Polygon>,
+    ) -> Result<Self> {
         let (nu, nv) = (self.num_u(), self.num_v());
         let hw = self.homogeneous();
         let (kv, count, len) = match dir {
@@ -92,8 +100,12 @@ impl BSplineSurface {
             }
         }
         match dir {
-            Direction::U => Self::from_homogeneous_as(new_kv, self.knots_v().clone(), &net, self.is_rational()),
-            Direction::V => Self::from_homogeneous_as(self.knots_u().clone(), new_kv, &net, self.is_rational()),
+            Direction::U => {
+                Self::from_homogeneous_as(new_kv, self.knots_v().clone(), &net, self.is_rational())
+            }
+            Direction::V => {
+                Self::from_homogeneous_as(self.knots_u().clone(), new_kv, &net, self.is_rational())
+            }
         }
     }
 
@@ -110,7 +122,13 @@ impl BSplineSurface {
     /// Removes the interior knot `t` of direction `dir` up to `num` times, each removal only when
     /// every iso-polygon allows it within `tolerance` (model units); returns the surface and the
     /// number removed.
-    pub fn remove_knot(&self, dir: Direction, t: f64, num: usize, tolerance: f64) -> Result<(Self, usize)> {
+    pub fn remove_knot(
+        &self,
+        dir: Direction,
+        t: f64,
+        num: usize,
+        tolerance: f64,
+    ) -> Result<(Self, usize)> {
         let mut cur = self.clone();
         let mut removed = 0;
         while removed < num {
@@ -119,7 +137,10 @@ impl BSplineSurface {
                 if k == 1 {
                     Ok(poly)
                 } else {
-                    Err(crate::Error::RemovalFailed { value: t, tolerance })
+                    Err(crate::Error::RemovalFailed {
+                        value: t,
+                        tolerance,
+                    })
                 }
             });
             match attempt {

@@ -34,7 +34,13 @@ pub struct ProjectionParams {
 
 impl Default for ProjectionParams {
     fn default() -> Self {
-        Self { point_tolerance: 1e-12, cosine_tolerance: 1e-10, max_iterations: 50, samples_per_span: 4, starts: 3 }
+        Self {
+            point_tolerance: 1e-12,
+            cosine_tolerance: 1e-10,
+            max_iterations: 50,
+            samples_per_span: 4,
+            starts: 3,
+        }
     }
 }
 
@@ -84,11 +90,19 @@ fn span_samples(knots: &crate::KnotVector, per_span: usize) -> Vec<f64> {
 }
 
 /// Projects `point` onto `surface` from sampled starts.
-pub fn project_to_surface(surface: &BSplineSurface, point: &Point3, params: &ProjectionParams) -> SurfaceProjection {
+pub fn project_to_surface(
+    surface: &BSplineSurface,
+    point: &Point3,
+    params: &ProjectionParams,
+) -> SurfaceProjection {
     let us = span_samples(surface.knots_u(), params.samples_per_span);
     let vs = span_samples(surface.knots_v(), params.samples_per_span);
     let grid = surface.eval_grid_points(&us, &vs);
-    let mut order: Vec<(f64, usize)> = grid.iter().enumerate().map(|(k, q)| ((q - point).norm_squared(), k)).collect();
+    let mut order: Vec<(f64, usize)> = grid
+        .iter()
+        .enumerate()
+        .map(|(k, q)| ((q - point).norm_squared(), k))
+        .collect();
     let starts = params.starts.max(1).min(order.len());
     order.select_nth_unstable_by(starts - 1, |a, b| a.0.total_cmp(&b.0));
     order[..starts].sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
@@ -98,7 +112,10 @@ pub fn project_to_surface(surface: &BSplineSurface, point: &Point3, params: &Pro
         let candidate = project_to_surface_from(surface, point, start, params);
         let better = match &best {
             None => true,
-            Some(b) => candidate.distance < b.distance || (candidate.converged && !b.converged && candidate.distance <= b.distance),
+            Some(b) => {
+                candidate.distance < b.distance
+                    || (candidate.converged && !b.converged && candidate.distance <= b.distance)
+            }
         };
         if better {
             best = Some(candidate);
@@ -108,7 +125,12 @@ pub fn project_to_surface(surface: &BSplineSurface, point: &Point3, params: &Pro
 }
 
 /// Projects `point` onto `surface` by safeguarded Newton from the parameters `start`.
-pub fn project_to_surface_from(surface: &BSplineSurface, point: &Point3, start: (f64, f64), params: &ProjectionParams) -> SurfaceProjection {
+pub fn project_to_surface_from(
+    surface: &BSplineSurface,
+    point: &Point3,
+    start: (f64, f64),
+    params: &ProjectionParams,
+) -> SurfaceProjection {
     let (ua, ub) = surface.domain_u();
     let (va, vb) = surface.domain_v();
     let eps = params.point_tolerance * surface.size().max(f64::MIN_POSITIVE);
@@ -131,11 +153,17 @@ pub fn project_to_surface_from(surface: &BSplineSurface, point: &Point3, start: 
         // at a domain bound, a gradient pointing outward is a KKT multiplier, not a residual
         let free_u = !((u <= ua && gu > 0.0) || (u >= ub && gu < 0.0));
         let free_v = !((v <= va && gv > 0.0) || (v >= vb && gv < 0.0));
-        if (!free_u || cos_u <= params.cosine_tolerance) && (!free_v || cos_v <= params.cosine_tolerance) {
+        if (!free_u || cos_u <= params.cosine_tolerance)
+            && (!free_v || cos_v <= params.cosine_tolerance)
+        {
             converged = true;
             break;
         }
-        let (mut a, mut b, mut c) = (su.dot(&su) + r.dot(&d.duu), su.dot(&sv) + r.dot(&d.duv), sv.dot(&sv) + r.dot(&d.dvv));
+        let (mut a, mut b, mut c) = (
+            su.dot(&su) + r.dot(&d.duu),
+            su.dot(&sv) + r.dot(&d.duv),
+            sv.dot(&sv) + r.dot(&d.dvv),
+        );
         if !(a > 0.0 && a * c - b * b > 0.0) {
             (a, b, c) = (su.dot(&su), su.dot(&sv), sv.dot(&sv));
         }
@@ -179,16 +207,31 @@ pub fn project_to_surface_from(surface: &BSplineSurface, point: &Point3, start: 
             break;
         }
     }
-    SurfaceProjection { u, v, point: d.point, distance: dist, converged, iterations }
+    SurfaceProjection {
+        u,
+        v,
+        point: d.point,
+        distance: dist,
+        converged,
+        iterations,
+    }
 }
 
 /// Projects `point` onto `curve` (same safeguards as for surfaces, in one parameter).
-pub fn project_to_curve(curve: &BSplineCurve, point: &Point3, params: &ProjectionParams) -> CurveProjection {
+pub fn project_to_curve(
+    curve: &BSplineCurve,
+    point: &Point3,
+    params: &ProjectionParams,
+) -> CurveProjection {
     let ts = span_samples(curve.knots(), params.samples_per_span);
-    let mut order: Vec<(f64, f64)> = ts.iter().map(|&t| ((curve.point(t) - point).norm_squared(), t)).collect();
+    let mut order: Vec<(f64, f64)> = ts
+        .iter()
+        .map(|&t| ((curve.point(t) - point).norm_squared(), t))
+        .collect();
     order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.total_cmp(&b.1)));
     let (a, b) = curve.domain();
-    let scale = crate::homogeneous::bounding_diagonal(curve.control_points()).max(f64::MIN_POSITIVE);
+    let scale =
+        crate::homogeneous::bounding_diagonal(curve.control_points()).max(f64::MIN_POSITIVE);
     let eps = params.point_tolerance * scale;
     let mut best: Option<CurveProjection> = None;
     for &(_, t0) in order.iter().take(params.starts.max(1)) {
@@ -236,7 +279,13 @@ pub fn project_to_curve(curve: &BSplineCurve, point: &Point3, params: &Projectio
                 break;
             }
         }
-        let cand = CurveProjection { t, point: Point3::from(d.d[0]), distance: dist, converged, iterations };
+        let cand = CurveProjection {
+            t,
+            point: Point3::from(d.d[0]),
+            distance: dist,
+            converged,
+            iterations,
+        };
         if best.as_ref().is_none_or(|b| cand.distance < b.distance) {
             best = Some(cand);
         }

@@ -45,7 +45,10 @@ impl GaussLegendre {
     /// Nodes and weights mapped to [a, b].
     pub fn on(&self, a: f64, b: f64) -> impl Iterator<Item = (f64, f64)> + '_ {
         let (mid, half) = (0.5 * (a + b), 0.5 * (b - a));
-        self.nodes.iter().zip(&self.weights).map(move |(&x, &w)| (mid + half * x, half * w))
+        self.nodes
+            .iter()
+            .zip(&self.weights)
+            .map(move |(&x, &w)| (mid + half * x, half * w))
     }
 }
 
@@ -74,7 +77,10 @@ mod tests {
             for k in 0..(2 * n) {
                 let integral: f64 = rule.on(0.5, 2.0).map(|(x, w)| w * x.powi(k as i32)).sum();
                 let exact = (2f64.powi(k as i32 + 1) - 0.5f64.powi(k as i32 + 1)) / (k + 1) as f64;
-                assert!((integral - exact).abs() < 1e-12 * exact.abs().max(1.0), "n={n} k={k}");
+                assert!(
+                    (integral - exact).abs() < 1e-12 * exact.abs().max(1.0),
+                    "n={n} k={k}"
+                );
             }
         }
     }

@@ -54,16 +54,28 @@ impl BSplineSurface {
     /// Validates and builds a surface. `points` is the flat control net (i over u, j over v) of
     /// `knots_u.num_basis() × knots_v.num_basis()` points; `weights` (optional) has the same
     /// shape, finite and > 0.
-    pub fn new(knots_u: KnotVector, knots_v: KnotVector, points: Vec<Point3>, weights: Option<Vec<f64>>) -> Result<Self> {
+    pub fn new(
+        knots_u: KnotVector,
+        knots_v: KnotVector,
+        points: Vec<Point3>,
+        weights: Option<Vec<f64>>,
+    ) -> Result<Self> {
         let (nu, nv) = (knots_u.num_basis(), knots_v.num_basis());
         if points.len() != nu * nv {
             return Err(Error::ControlNetShape {
-                detail: format!("{} control points, but the knot vectors need {nu}×{nv} = {}", points.len(), nu * nv),
+                detail: format!(
+                    "{} control points, but the knot vectors need {nu}×{nv} = {}",
+                    points.len(),
+                    nu * nv
+                ),
             });
         }
         for (k, p) in points.iter().enumerate() {
             if !p.coords.iter().all(|c| c.is_finite()) {
-                return Err(Error::NonFiniteControlPoint { i: k / nv, j: k % nv });
+                return Err(Error::NonFiniteControlPoint {
+                    i: k / nv,
+                    j: k % nv,
+                });
             }
         }
         if let Some(w) = &weights {
@@ -74,23 +86,41 @@ impl BSplineSurface {
             }
             for (k, &value) in w.iter().enumerate() {
                 if !(value.is_finite() && value > 0.0) {
-                    return Err(Error::InvalidWeight { i: k / nv, j: k % nv, value });
+                    return Err(Error::InvalidWeight {
+                        i: k / nv,
+                        j: k % nv,
+                        value,
+                    });
                 }
             }
         }
-        Ok(Self { knots_u, knots_v, points, weights })
+        Ok(Self {
+            knots_u,
+            knots_v,
+            points,
+            weights,
+        })
     }
 
     /// Builds a surface from a homogeneous net (w·x, w·y, w·z, w), flat as the control net;
     /// polynomial when every weight is exactly 1.
-    pub fn from_homogeneous(knots_u: KnotVector, knots_v: KnotVector, pw: &[[f64; 4]]) -> Result<Self> {
+    pub fn from_homogeneous(
+        knots_u: KnotVector,
+        knots_v: KnotVector,
+        pw: &[[f64; 4]],
+    ) -> Result<Self> {
         let (points, weights) = crate::homogeneous::split(pw);
         Self::new(knots_u, knots_v, points, weights)
     }
 
     /// Builds a surface from a homogeneous net, rational or polynomial as told (see
     /// [`crate::homogeneous::split_as`]).
-    pub fn from_homogeneous_as(knots_u: KnotVector, knots_v: KnotVector, pw: &[[f64; 4]], rational: bool) -> Result<Self> {
+    pub fn from_homogeneous_as(
+        knots_u: KnotVector,
+        knots_v: KnotVector,
+        pw: &[[f64; 4]],
+        rational: bool,
+    ) -> Result<Self> {
         let (points, weights) = crate::homogeneous::split_as(pw, rational);
         Self::new(knots_u, knots_v, points, weights)
     }
@@ -246,8 +276,10 @@ impl<'a> SurfaceEvaluator<'a> {
             self.basis_u.values(s.knots_u.knots(), su, u, nu_ders);
             self.basis_v.values(s.knots_v.knots(), sv, v, nv_ders);
         } else {
-            self.basis_u.derivatives(s.knots_u.knots(), su, u, order, nu_ders);
-            self.basis_v.derivatives(s.knots_v.knots(), sv, v, order, nv_ders);
+            self.basis_u
+                .derivatives(s.knots_u.knots(), su, u, order, nu_ders);
+            self.basis_v
+                .derivatives(s.knots_v.knots(), sv, v, order, nv_ders);
         }
         let nv = s.num_v();
         let mut a = [[0.0f64; 4]; 6];
@@ -306,7 +338,11 @@ impl<'a> SurfaceEvaluator<'a> {
 
 /// Point and derivatives up to order 2 for compile-time orders P1 = p + 1, Q1 = q + 1.
 #[inline(always)]
-fn derivatives_fixed<const P1: usize, const Q1: usize>(s: &BSplineSurface, u: f64, v: f64) -> SurfaceDerivatives {
+fn derivatives_fixed<const P1: usize, const Q1: usize>(
+    s: &BSplineSurface,
+    u: f64,
+    v: f64,
+) -> SurfaceDerivatives {
     use crate::basis::derivatives2_fixed;
     let u = s.knots_u.clamp_param(u);
     let v = s.knots_v.clamp_param(v);
@@ -321,7 +357,9 @@ fn derivatives_fixed<const P1: usize, const Q1: usize>(s: &BSplineSurface, u: f6
         let mut t = [[0.0f64; 4]; 3];
         match &s.weights {
             None => {
-                let pts: &[Point3; Q1] = s.points[row..row + Q1].try_into().expect("span inside the net");
+                let pts: &[Point3; Q1] = s.points[row..row + Q1]
+                    .try_into()
+                    .expect("span inside the net");
                 for c in 0..Q1 {
                     let h = [pts[c].x, pts[c].y, pts[c].z, 1.0];
                     for l in 0..3 {
@@ -332,7 +370,9 @@ fn derivatives_fixed<const P1: usize, const Q1: usize>(s: &BSplineSurface, u: f6
                 }
             }
             Some(w) => {
-                let pts: &[Point3; Q1] = s.points[row..row + Q1].try_into().expect("span inside the net");
+                let pts: &[Point3; Q1] = s.points[row..row + Q1]
+                    .try_into()
+                    .expect("span inside the net");
                 let ws: &[f64; Q1] = w[row..row + Q1].try_into().expect("span inside the net");
                 for c in 0..Q1 {
                     let h = [pts[c].x * ws[c], pts[c].y * ws[c], pts[c].z * ws[c], ws[c]];
@@ -363,7 +403,14 @@ fn derivatives_fixed<const P1: usize, const Q1: usize>(s: &BSplineSurface, u: f6
 pub(crate) fn quotient_rule(a: &[[f64; 4]; 6], rational: bool) -> SurfaceDerivatives {
     let v = |k: usize| Vector3::new(a[k][0], a[k][1], a[k][2]);
     if !rational {
-        return SurfaceDerivatives { point: Point3::from(v(0)), du: v(1), dv: v(2), duu: v(3), duv: v(4), dvv: v(5) };
+        return SurfaceDerivatives {
+            point: Point3::from(v(0)),
+            du: v(1),
+            dv: v(2),
+            duu: v(3),
+            duv: v(4),
+            dvv: v(5),
+        };
     }
     let w = a[0][3];
     let (wu, wv, wuu, wuv, wvv) = (a[1][3], a[2][3], a[3][3], a[4][3], a[5][3]);
@@ -373,5 +420,12 @@ pub(crate) fn quotient_rule(a: &[[f64; 4]; 6], rational: bool) -> SurfaceDerivat
     let suu = (v(3) - 2.0 * wu * su - wuu * s) / w;
     let suv = (v(4) - wu * sv - wv * su - wuv * s) / w;
     let svv = (v(5) - 2.0 * wv * sv - wvv * s) / w;
-    SurfaceDerivatives { point: Point3::from(s), du: su, dv: sv, duu: suu, duv: suv, dvv: svv }
+    SurfaceDerivatives {
+        point: Point3::from(s),
+        du: su,
+        dv: sv,
+        duu: suu,
+        duv: suv,
+        dvv: svv,
+    }
 }

@@ -37,7 +37,12 @@ fn sphere_patch_curvatures() {
             assert_close(pc.mean().abs(), 1.0 / r, 1e-10, "|H|");
             // normal curvature in any tangent direction is the same
             let dir = d.du * 0.3 + d.dv * 0.7;
-            assert_close(d.normal_curvature(&dir).unwrap(), sign / r, 1e-10, "normal curvature");
+            assert_close(
+                d.normal_curvature(&dir).unwrap(),
+                sign / r,
+                1e-10,
+                "normal curvature",
+            );
         }
     }
 }
@@ -54,14 +59,23 @@ fn cylinder_curvatures_and_directions() {
             let pc = d.principal_curvatures().unwrap();
             let outward = Vector3::new(p.x, p.y, 0.0).dot(&pc.normal) > 0.0;
             let curved = if outward { -1.0 / r } else { 1.0 / r };
-            let (kmax, kmin) = if curved > 0.0 { (curved, 0.0) } else { (0.0, curved) };
+            let (kmax, kmin) = if curved > 0.0 {
+                (curved, 0.0)
+            } else {
+                (0.0, curved)
+            };
             assert_close(pc.k1, kmax, 1e-10, "k1");
             assert_close(pc.k2, kmin, 1e-10, "k2");
             assert_close(pc.gauss(), 0.0, 1e-10, "K");
             // the zero-curvature direction is the axis
             let axis_dir = if curved > 0.0 { pc.dir2 } else { pc.dir1 };
             assert_close(axis_dir.z.abs(), 1.0, 1e-8, "ruling along z");
-            assert_close(d.normal_curvature(&Vector3::z()).unwrap(), 0.0, 1e-10, "axis curvature");
+            assert_close(
+                d.normal_curvature(&Vector3::z()).unwrap(),
+                0.0,
+                1e-10,
+                "axis curvature",
+            );
         }
     }
 }
@@ -78,12 +92,18 @@ fn torus_gauss_and_mean_everywhere() {
             assert_close((rho - big).hypot(p.z), small, 1e-12 * big, "on torus");
             let cos_theta = (rho - big) / small;
             let k_exact = cos_theta / (small * (big + small * cos_theta));
-            let h_exact = (big + 2.0 * small * cos_theta) / (2.0 * small * (big + small * cos_theta));
+            let h_exact =
+                (big + 2.0 * small * cos_theta) / (2.0 * small * (big + small * cos_theta));
             let pc = d.principal_curvatures().unwrap();
             let tube_centre = Point3::new(big * p.x / rho, big * p.y / rho, 0.0);
             let outward = (p - tube_centre).dot(&pc.normal) > 0.0;
             assert_close(pc.gauss(), k_exact, 1e-10, "K");
-            assert_close(pc.mean(), if outward { -h_exact } else { h_exact }, 1e-10, "H");
+            assert_close(
+                pc.mean(),
+                if outward { -h_exact } else { h_exact },
+                1e-10,
+                "H",
+            );
         }
     }
 }
@@ -105,7 +125,12 @@ fn paraboloid_bicubic_is_exact() {
             let pc = d.principal_curvatures().unwrap();
             assert!(pc.normal.z > 0.0);
             assert_close(pc.gauss(), 4.0 / (w * w), 1e-10, "K");
-            assert_close(pc.mean(), (2.0 + 4.0 * x * x + 4.0 * y * y) / w.powf(1.5), 1e-10, "H");
+            assert_close(
+                pc.mean(),
+                (2.0 + 4.0 * x * x + 4.0 * y * y) / w.powf(1.5),
+                1e-10,
+                "H",
+            );
         }
     }
     // the isocurve at u = 0.5 (x = 0) is the parabola z = y²
@@ -116,7 +141,12 @@ fn paraboloid_bicubic_is_exact() {
         let c = iso.point(t);
         assert_close(c.z, y * y, 1e-13, "isocurve z");
         let exact_curv = 2.0 / (1.0 + 4.0 * y * y).powf(1.5);
-        assert_close(iso.curvature(t).unwrap(), exact_curv, 1e-10, "parabola curvature");
+        assert_close(
+            iso.curvature(t).unwrap(),
+            exact_curv,
+            1e-10,
+            "parabola curvature",
+        );
     }
 }
 
@@ -132,11 +162,21 @@ fn poles_have_no_normal() {
     let mut ws = Vec::new();
     for i in 0..3 {
         for j in 0..3 {
-            pts.push(Point3::new(prof[i].0 * rot[j].0, prof[i].0 * rot[j].1, prof[i].1));
+            pts.push(Point3::new(
+                prof[i].0 * rot[j].0,
+                prof[i].0 * rot[j].1,
+                prof[i].1,
+            ));
             ws.push(w[i] * w[j]);
         }
     }
-    let s = BSplineSurface::new(KnotVector::bezier(2).unwrap(), KnotVector::bezier(2).unwrap(), pts, Some(ws)).unwrap();
+    let s = BSplineSurface::new(
+        KnotVector::bezier(2).unwrap(),
+        KnotVector::bezier(2).unwrap(),
+        pts,
+        Some(ws),
+    )
+    .unwrap();
     for b in 0..=10 {
         let d = s.derivatives(1.0, b as f64 / 10.0);
         assert!(d.normal().is_none(), "pole must have no normal");

@@ -1,11 +1,13 @@
 //! Gram integrals, thin-plate energy, least-squares fitting and projection.
 
 use nurbs_core::energy::thin_plate_energy;
-use nurbs_core::fit::{fit_curve, fit_surface, FitParams};
-use nurbs_core::gram::{gram_matrix, ThinPlateGram};
-use nurbs_core::projection::{project_to_curve, project_to_surface, ProjectionParams};
+use nurbs_core::fit::{FitParams, fit_curve, fit_surface};
+use nurbs_core::gram::{ThinPlateGram, gram_matrix};
+use nurbs_core::projection::{ProjectionParams, project_to_curve, project_to_surface};
 use nurbs_core::testing::{assert_close, random_curve, random_param, random_surface, rng};
-use nurbs_core::{basis::basis_function_derivative, ControlMask, Error, Frame, KnotVector, Point3, Side};
+use nurbs_core::{
+    ControlMask, Error, Frame, KnotVector, Point3, Side, basis::basis_function_derivative,
+};
 use proptest::prelude::*;
 
 /// ∫ N_i^(a) N_j^(b) by a fine composite Simpson rule, as an independent reference.
@@ -38,7 +40,12 @@ fn gram_integrals_match_quadrature_reference() {
         for i in 0..kv.num_basis() {
             for j in 0..kv.num_basis() {
                 let reference = simpson(&kv, i, j, a, b);
-                assert_close(g.get(i, j), reference, 1e-6 * (1.0 + reference.abs()), &format!("G^{a}{b}[{i}][{j}]"));
+                assert_close(
+                    g.get(i, j),
+                    reference,
+                    1e-6 * (1.0 + reference.abs()),
+                    &format!("G^{a}{b}[{i}][{j}]"),
+                );
             }
         }
     }
@@ -46,7 +53,12 @@ fn gram_integrals_match_quadrature_reference() {
     let g = gram_matrix(&kv, 0, 0).unwrap();
     for i in 0..kv.num_basis() {
         let row: f64 = (0..kv.num_basis()).map(|j| g.get(i, j)).sum();
-        assert_close(row, (kv.knots()[i + 4] - kv.knots()[i]) / 4.0, 1e-14, "integral of N_i");
+        assert_close(
+            row,
+            (kv.knots()[i + 4] - kv.knots()[i]) / 4.0,
+            1e-14,
+            "integral of N_i",
+        );
     }
 }
 
@@ -62,7 +74,10 @@ fn energy_by_quadrature_equals_gram_quadratic_form() {
                 for k in 0..nu {
                     for l in 0..nv {
                         let kij = gram.stiffness((i, j), (k, l));
-                        form += kij * s.control_point(i, j).coords.dot(&s.control_point(k, l).coords);
+                        form += kij
+                            * s.control_point(i, j)
+                                .coords
+                                .dot(&s.control_point(k, l).coords);
                     }
                 }
             }
@@ -81,13 +96,20 @@ fn fitting_reproduces_a_surface_from_its_samples() {
         let s = random_surface(seed, 1..=4, 8, false);
         let us = s.knots_u().uniform_params(4 * s.num_u());
         let vs = s.knots_v().uniform_params(4 * s.num_v());
-        let params: Vec<(f64, f64)> = us.iter().flat_map(|&u| vs.iter().map(move |&v| (u, v))).collect();
+        let params: Vec<(f64, f64)> = us
+            .iter()
+            .flat_map(|&u| vs.iter().map(move |&v| (u, v)))
+            .collect();
         let points = s.eval_grid_points(&us, &vs);
         // start from a flattened template so the fit has to recover everything
         let mut template = s.clone();
-        template.control_points_mut().iter_mut().for_each(|p| *p = Point3::origin());
+        template
+            .control_points_mut()
+            .iter_mut()
+            .for_each(|p| *p = Point3::origin());
         let mask = ControlMask::for_surface(&s);
-        let (fitted, report) = fit_surface(&template, &mask, &params, &points, &FitParams::default()).unwrap();
+        let (fitted, report) =
+            fit_surface(&template, &mask, &params, &points, &FitParams::default()).unwrap();
         assert!(report.max_error < 1e-9, "seed {seed}: {report:?}");
         for (a, b) in fitted.control_points().iter().zip(s.control_points()) {
             assert!((a - b).norm() < 1e-8);
@@ -96,7 +118,14 @@ fn fitting_reproduces_a_surface_from_its_samples() {
         let mut moved = template.clone();
         moved.control_points_mut()[0] = Point3::new(9.0, 9.0, 9.0);
         let mask = ControlMask::with_boundary_frame(&s, Frame::Positional);
-        let (fitted, _) = fit_surface(&moved, &mask, &params, &points, &FitParams { smoothing: 1e-3 }).unwrap();
+        let (fitted, _) = fit_surface(
+            &moved,
+            &mask,
+            &params,
+            &points,
+            &FitParams { smoothing: 1e-3 },
+        )
+        .unwrap();
         for side in Side::ALL {
             for (i, j) in side.row(0, s.num_u(), s.num_v()) {
                 assert_eq!(fitted.control_point(i, j), moved.control_point(i, j));
@@ -109,13 +138,31 @@ fn fitting_reproduces_a_surface_from_its_samples() {
 fn fitting_reports_singular_systems() {
     let s = random_surface(3, 3..=3, 8, false);
     // all samples in the first half of the u domain: some control points see no data
-    let params: Vec<(f64, f64)> = (0..200).map(|k| (0.3 * (k % 20) as f64 / 19.0, (k / 20) as f64 / 9.0)).collect();
+    let params: Vec<(f64, f64)> = (0..200)
+        .map(|k| (0.3 * (k % 20) as f64 / 19.0, (k / 20) as f64 / 9.0))
+        .collect();
     let points: Vec<Point3> = params.iter().map(|&(u, v)| s.point(u, v)).collect();
-    let err = fit_surface(&s, &ControlMask::for_surface(&s), &params, &points, &FitParams::default()).unwrap_err();
+    let err = fit_surface(
+        &s,
+        &ControlMask::for_surface(&s),
+        &params,
+        &points,
+        &FitParams::default(),
+    )
+    .unwrap_err();
     assert!(matches!(err, Error::SingularSystem { .. }), "{err}");
     assert!(err.to_string().contains("no data point"), "{err}");
     let bad = vec![Point3::new(f64::NAN, 0.0, 0.0); params.len()];
-    assert!(fit_surface(&s, &ControlMask::for_surface(&s), &params, &bad, &FitParams::default()).is_err());
+    assert!(
+        fit_surface(
+            &s,
+            &ControlMask::for_surface(&s),
+            &params,
+            &bad,
+            &FitParams::default()
+        )
+        .is_err()
+    );
 }
 
 #[test]
@@ -131,7 +178,11 @@ fn curve_fit_with_fixed_ends_and_smoothing() {
     assert_eq!(exact.control_points()[0], c.control_points()[0]);
     let (smooth, rep_s) = fit_curve(&c, &free, &ts, &pts, &FitParams { smoothing: 1e-2 }).unwrap();
     assert!(rep_s.max_error > rep.max_error);
-    let bend = |x: &nurbs_core::BSplineCurve| -> f64 { (0..=200).map(|k| x.derivatives(k as f64 / 200.0, 2).d[2].norm_squared()).sum() };
+    let bend = |x: &nurbs_core::BSplineCurve| -> f64 {
+        (0..=200)
+            .map(|k| x.derivatives(k as f64 / 200.0, 2).d[2].norm_squared())
+            .sum()
+    };
     assert!(bend(&smooth) < bend(&exact));
 }
 
@@ -179,7 +230,15 @@ fn projection_survives_far_and_outside_points() {
     let brute = {
         let us = s.knots_u().uniform_params(401);
         let vs = s.knots_v().uniform_params(401);
-        s.eval_grid_points(&us, &vs).iter().map(|x| (x - p).norm()).fold(f64::INFINITY, f64::min)
+        s.eval_grid_points(&us, &vs)
+            .iter()
+            .map(|x| (x - p).norm())
+            .fold(f64::INFINITY, f64::min)
     };
-    assert!(q.distance <= brute + 1e-9, "{} vs brute {}", q.distance, brute);
+    assert!(
+        q.distance <= brute + 1e-9,
+        "{} vs brute {}",
+        q.distance,
+        brute
+    );
 }

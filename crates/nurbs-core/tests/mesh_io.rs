@@ -35,13 +35,26 @@ fn collapsed_sides_are_welded() {
     let mut pts = Vec::new();
     for i in 0..3 {
         for j in 0..3 {
-            pts.push(if i == 0 { Point3::new(0.0, 0.0, 1.0) } else { Point3::new(i as f64, j as f64 - 1.0, 0.0) });
+            pts.push(if i == 0 {
+                Point3::new(0.0, 0.0, 1.0)
+            } else {
+                Point3::new(i as f64, j as f64 - 1.0, 0.0)
+            });
         }
     }
-    let s = BSplineSurface::new(KnotVector::bezier(2).unwrap(), KnotVector::bezier(2).unwrap(), pts, None).unwrap();
+    let s = BSplineSurface::new(
+        KnotVector::bezier(2).unwrap(),
+        KnotVector::bezier(2).unwrap(),
+        pts,
+        None,
+    )
+    .unwrap();
     let m = TriMesh::from_surface(&s, 5, 5);
     assert_eq!(m.positions.len(), 1 + 4 * 5);
-    assert!(m.normals.iter().all(|n| (n.norm() - 1.0).abs() < 1e-12), "every vertex gets a normal");
+    assert!(
+        m.normals.iter().all(|n| (n.norm() - 1.0).abs() < 1e-12),
+        "every vertex gets a normal"
+    );
     assert_eq!(m.boundary_loops().len(), 1);
 }
 
@@ -53,7 +66,11 @@ fn json_round_trip_is_exact() {
         assert_eq!(back, vec![s]);
     }
     let sphere = sphere_patch(2.0).unwrap();
-    let text = format!("{{\"surfaces\": [{}, {}]}}", surface_to_json(&sphere), surface_to_json(&sphere));
+    let text = format!(
+        "{{\"surfaces\": [{}, {}]}}",
+        surface_to_json(&sphere),
+        surface_to_json(&sphere)
+    );
     assert_eq!(surfaces_from_json(&text).unwrap().len(), 2);
 }
 
@@ -68,26 +85,58 @@ fn bezier_patches_without_knots() {
 #[test]
 fn bad_files_name_the_problem() {
     let cases = [
-        (r#"{"degree_u": 1, "degree_v": 1, "knots_u": [0,0,2,1], "control_points": [[[0,0,0],[0,1,0]],[[1,0,0],[1,1,1]]]}"#, "knots_u"),
-        (r#"{"degree_u": 1, "degree_v": 1, "knots_u": [0,0,1,1,1], "control_points": [[[0,0,0],[0,1,0]],[[1,0,0],[1,1,1]]]}"#, "knots_u"),
-        (r#"{"degree_u": 1, "degree_v": 1, "control_points": [[[0,0,0],[0,1,0]],[[1,0,0]]]}"#, "row 1 has 1 points"),
-        (r#"{"degree_u": 1, "degree_v": 1, "control_points": [[[0,0,0],[0,1,0]],[[1,0,0],[1,1,1]]], "weights": [[1,1],[1,-2]]}"#, "weight [1][1] is -2"),
-        (r#"{"degree_u": 0, "degree_v": 1, "control_points": [[[0,0,0],[0,1,0]]]}"#, "degree must be at least 1"),
-        (r#"{"degree_u": 1, "degree_v": 1, "control_points": [[[0,0,0],[0,1,0]],[[1,0,0],[1,1,1e999]]]}"#, "malformed JSON"),
-        (r#"{"degree_u": 1, "degree_v": 1, "control_points": "#, "malformed JSON"),
+        (
+            r#"{"degree_u": 1, "degree_v": 1, "knots_u": [0,0,2,1], "control_points": [[[0,0,0],[0,1,0]],[[1,0,0],[1,1,1]]]}"#,
+            "knots_u",
+        ),
+        (
+            r#"{"degree_u": 1, "degree_v": 1, "knots_u": [0,0,1,1,1], "control_points": [[[0,0,0],[0,1,0]],[[1,0,0],[1,1,1]]]}"#,
+            "knots_u",
+        ),
+        (
+            r#"{"degree_u": 1, "degree_v": 1, "control_points": [[[0,0,0],[0,1,0]],[[1,0,0]]]}"#,
+            "row 1 has 1 points",
+        ),
+        (
+            r#"{"degree_u": 1, "degree_v": 1, "control_points": [[[0,0,0],[0,1,0]],[[1,0,0],[1,1,1]]], "weights": [[1,1],[1,-2]]}"#,
+            "weight [1][1] is -2",
+        ),
+        (
+            r#"{"degree_u": 0, "degree_v": 1, "control_points": [[[0,0,0],[0,1,0]]]}"#,
+            "degree must be at least 1",
+        ),
+        (
+            r#"{"degree_u": 1, "degree_v": 1, "control_points": [[[0,0,0],[0,1,0]],[[1,0,0],[1,1,1e999]]]}"#,
+            "malformed JSON",
+        ),
+        (
+            r#"{"degree_u": 1, "degree_v": 1, "control_points": "#,
+            "malformed JSON",
+        ),
         (r#"[{"degree_u": 1, "control_points": []}]"#, "surface 0"),
     ];
     for (text, expected) in cases {
         let err = surfaces_from_json(text).unwrap_err();
-        assert!(err.to_string().contains(expected), "{text}\n  gave: {err}\n  expected to mention: {expected}");
+        assert!(
+            err.to_string().contains(expected),
+            "{text}\n  gave: {err}\n  expected to mention: {expected}"
+        );
     }
-    assert!(matches!(surfaces_from_json("[]"), Err(Error::Format { .. })));
+    assert!(matches!(
+        surfaces_from_json("[]"),
+        Err(Error::Format { .. })
+    ));
 }
 
 #[test]
 fn teapot_patches_load() {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../../shared/data/teapot.json");
-    let Ok(text) = std::fs::read_to_string(path) else { return };
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../../shared/data/teapot.json"
+    );
+    let Ok(text) = std::fs::read_to_string(path) else {
+        return;
+    };
     let patches = surfaces_from_json(&text).unwrap();
     assert_eq!(patches.len(), 32);
     // lid-top patches have a collapsed first row: no normal there, a welded vertex in the mesh

@@ -9,7 +9,11 @@ use proptest::prelude::*;
 fn max_gap(a: &BSplineSurface, b: &BSplineSurface, n: usize) -> f64 {
     let us = a.knots_u().uniform_params(n);
     let vs = a.knots_v().uniform_params(n);
-    a.eval_grid_points(&us, &vs).iter().zip(b.eval_grid_points(&us, &vs)).map(|(p, q)| (p - q).norm()).fold(0.0, f64::max)
+    a.eval_grid_points(&us, &vs)
+        .iter()
+        .zip(b.eval_grid_points(&us, &vs))
+        .map(|(p, q)| (p - q).norm())
+        .fold(0.0, f64::max)
 }
 
 proptest! {

@@ -1,0 +1,248 @@
+//! The command line as users run it: exit codes, one-line errors, JSON fields.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_hier-fair"))
+}
+
+fn fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fixtures/surfaces")
+        .join(name)
+}
+
+fn run(args: &[&str]) -> Output {
+    bin().args(args).output().expect("binary runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).to_string()
+}
+
+fn write(dir: &tempfile::TempDir, name: &str, text: &str) -> String {
+    let p = dir.path().join(name);
+    std::fs::write(&p, text).unwrap();
+    p.to_string_lossy().to_string()
+}
+
+#[test]
+fn eval_grid_json_fields_and_signs() {
+    let o = run(&[
+        "eval",
+        fixture("sphere_patch_r50.json").to_str().unwrap(),
+        "--grid",
+        "3,4",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let results = v["results"].as_array().unwrap();
+    assert_eq!(results.len(), 12);
+    // u varies slowest, both ends included
+    assert_eq!(results[0]["u"], 0.0);
+    assert_eq!(results[3]["v"], 1.0);
+    assert_eq!(results[4]["u"], 0.5);
+    for r in results {
+        for key in ["point", "du", "dv", "duu", "duv", "dvv", "normal"] {
+            assert_eq!(r[key].as_array().unwrap().len(), 3, "{key}");
+        }
+        let p: Vec<f64> = r["point"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect();
+        let n: Vec<f64> = r["normal"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect();
+        let outward = p[0] * n[0] + p[1] * n[1] + p[2] * n[2] > 0.0;
+        let (k1, k2) = (r["k1"].as_f64().unwrap(), r["k2"].as_f64().unwrap());
+        assert!(k1 >= k2);
+        let expected = if outward { -1.0 / 50.0 } else { 1.0 / 50.0 };
+        assert!(
+            (k1 - expected).abs() < 1e-10 && (k2 - expected).abs() < 1e-10,
+            "{k1} {k2} vs {expected}"
+        );
+        assert!((r["mean"].as_f64().unwrap() - expected).abs() < 1e-10);
+        assert!((r["gauss"].as_f64().unwrap() - 1.0 / 2500.0).abs() < 1e-12);
+    }
+}
+
+#[test]
+fn eval_params_and_summary() {
+    let dir = tempfile::tempdir().unwrap();
+    let params = write(
+        &dir,
+        "p.json",
+        r#"{"params": [[0, 0], [0.5, 0.25], [1, 1]]}"#,
+    );
+    let surface = fixture("hood_panel.json");
+    let o = run(&[
+        "eval",
+        surface.to_str().unwrap(),
+        "--params",
+        &params,
+        "--summary",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["count"], 3);
+    assert!(v["seconds"].as_f64().unwrap() >= 0.0);
+    // corners of a clamped surface are corner control points: (0,0,0) + (100,60,z) + middle
+    let full = run(&["eval", surface.to_str().unwrap(), "--params", &params]);
+    let r: serde_json::Value = serde_json::from_slice(&full.stdout).unwrap();
+    let sum: f64 = r["results"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|x| {
+            x["point"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|c| c.as_f64().unwrap())
+        })
+        .sum();
+    assert!((sum - v["checksum"].as_f64().unwrap()).abs() < 1e-9);
+    assert_eq!(r["results"][0]["point"], serde_json::json!([0.0, 0.0, 0.0]));
+}
+
+#[test]
+fn poles_give_null_normals() {
+    let dir = tempfile::tempdir().unwrap();
+    // a biquadratic with the u = 0 row collapsed to one point
+    let text = r#"{"degree_u": 2, "degree_v": 2, "control_points": [
+        [[0,0,1],[0,0,1],[0,0,1]], [[1,-1,0],[1,0,0],[1,1,0]], [[2,-1,0],[2,0,0],[2,1,0]]]}"#;
+    let s = write(&dir, "cone.json", text);
+    let o = run(&["eval", &s, "--grid", "2,2"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(v["results"][0]["normal"].is_null());
+    assert!(v["results"][0]["k1"].is_null());
+    assert!(!v["results"][3]["normal"].is_null());
+}
+
+#[test]
+fn bad_input_is_one_line_and_non_zero() {
+    let dir = tempfile::tempdir().unwrap();
+    let good = fixture("hood_panel.json");
+    let cases: Vec<(Vec<String>, &str)> = vec![
+        (
+            vec![
+                "eval".into(),
+                dir.path().join("missing.json").to_string_lossy().into(),
+                "--grid".into(),
+                "2,2".into(),
+            ],
+            "cannot read",
+        ),
+        (
+            vec![
+                "eval".into(),
+                write(&dir, "bad.json", "{not json"),
+                "--grid".into(),
+                "2,2".into(),
+            ],
+            "malformed JSON",
+        ),
+        (
+            vec![
+                "eval".into(),
+                write(
+                    &dir,
+                    "knots.json",
+                    r#"{"degree_u":1,"degree_v":1,"knots_u":[0,0,1,0.5],"control_points":[[[0,0,0],[0,1,0]],[[1,0,0],[1,1,0]]]}"#,
+                ),
+                "--grid".into(),
+                "2,2".into(),
+            ],
+            "knots_u",
+        ),
+        (
+            vec![
+                "eval".into(),
+                write(
+                    &dir,
+                    "w.json",
+                    r#"{"degree_u":1,"degree_v":1,"control_points":[[[0,0,0],[0,1,0]],[[1,0,0],[1,1,0]]],"weights":[[1,1],[0,1]]}"#,
+                ),
+                "--grid".into(),
+                "2,2".into(),
+            ],
+            "weight [1][0] is 0",
+        ),
+        (
+            vec![
+                "eval".into(),
+                write(
+                    &dir,
+                    "shape.json",
+                    r#"{"degree_u":2,"degree_v":1,"control_points":[[[0,0,0],[0,1,0]],[[1,0,0],[1,1,0]]]}"#,
+                ),
+                "--grid".into(),
+                "2,2".into(),
+            ],
+            "Bézier patch of degree 2",
+        ),
+        (
+            vec![
+                "eval".into(),
+                good.to_string_lossy().into(),
+                "--grid".into(),
+                "0,3".into(),
+            ],
+            "--grid expects",
+        ),
+        (
+            vec![
+                "eval".into(),
+                good.to_string_lossy().into(),
+                "--params".into(),
+                write(&dir, "p.json", r#"{"params": [[0.5, 2.0]]}"#),
+            ],
+            "params[0] v",
+        ),
+        (
+            vec![
+                "eval".into(),
+                good.to_string_lossy().into(),
+                "--params".into(),
+                write(&dir, "q.json", r#"{"par": []}"#),
+            ],
+            "malformed params",
+        ),
+    ];
+    for (args, expected) in cases {
+        let o = bin().args(&args).output().unwrap();
+        assert_eq!(o.status.code(), Some(2), "{args:?}");
+        let err = stderr(&o);
+        assert_eq!(err.trim_end().lines().count(), 1, "one line: {err}");
+        assert!(
+            err.contains(expected),
+            "{args:?}: {err} should mention {expected}"
+        );
+        assert!(!err.contains("panicked"));
+    }
+}
+
+#[test]
+fn demo_prints_a_readable_summary_and_writes_atomically() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = run(&["demo", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("control net        9 × 8"), "{text}");
+    assert!(text.contains("thin-plate energy"));
+    assert!(out.join("summary.json").exists() && out.join("surface.obj").exists());
+    let leftovers: Vec<_> = std::fs::read_dir(&out)
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().contains(".tmp"))
+        .collect();
+    assert!(leftovers.is_empty());
+}
