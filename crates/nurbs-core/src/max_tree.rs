@@ -11,6 +11,13 @@
 /// Value of a leaf that must never be chosen (fixed control points, empty slots).
 pub const NEVER: f64 = f64::NEG_INFINITY;
 
+/// max(a, b) for non-NaN values: one comparison (f64::max also handles NaN, which costs a blend on
+/// the hot path).
+#[inline(always)]
+fn larger(a: f64, b: f64) -> f64 {
+    if a >= b { a } else { b }
+}
+
 /// A complete binary max-tree over `len` leaves.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MaxTree {
@@ -48,15 +55,17 @@ impl MaxTree {
     }
 
     /// Sets leaf `k` without refreshing its ancestors: call [`MaxTree::refresh`] on the changed
-    /// range afterwards (or use [`MaxTree::update`]). NaN is stored as [`NEVER`].
+    /// range afterwards (or use [`MaxTree::update`]). `value` must not be NaN (the hot path does
+    /// not check; [`MaxTree::update`] maps NaN to [`NEVER`]).
     #[inline]
     pub fn set_leaf(&mut self, k: usize, value: f64) {
-        self.nodes[self.cap + k] = if value.is_nan() { NEVER } else { value };
+        debug_assert!(!value.is_nan(), "NaN leaf");
+        self.nodes[self.cap + k] = value;
     }
 
-    /// Sets leaf `k` and refreshes its ancestors.
+    /// Sets leaf `k` (NaN is stored as [`NEVER`]) and refreshes its ancestors.
     pub fn update(&mut self, k: usize, value: f64) {
-        self.set_leaf(k, value);
+        self.set_leaf(k, if value.is_nan() { NEVER } else { value });
         self.refresh(k, k);
     }
 
@@ -68,17 +77,45 @@ impl MaxTree {
         let (mut a, mut b) = ((self.cap + lo) / 2, (self.cap + hi) / 2);
         while a >= 1 {
             for k in a..=b {
-                self.nodes[k] = self.nodes[2 * k].max(self.nodes[2 * k + 1]);
+                self.nodes[k] = larger(self.nodes[2 * k], self.nodes[2 * k + 1]);
             }
             a /= 2;
             b /= 2;
         }
     }
 
+    /// Recomputes the ancestors of `count` leaf runs `start + k·stride .. start + k·stride + len`
+    /// (k = 0..count, ascending): the rows of a stencil in a grid stored row by row. Runs are
+    /// refreshed level by level, so ancestors shared by several runs are computed once.
+    pub fn refresh_runs(&mut self, start: usize, len: usize, count: usize, stride: usize) {
+        if len == 0 || count == 0 || start + (count - 1) * stride + len > self.len {
+            return;
+        }
+        let mut shift = 1;
+        loop {
+            let mut done = 0;
+            let mut top = usize::MAX;
+            for k in 0..count {
+                let first = self.cap + start + k * stride;
+                let a = (first >> shift).max(done + 1);
+                let b = (first + len - 1) >> shift;
+                for node in a..=b {
+                    self.nodes[node] = larger(self.nodes[2 * node], self.nodes[2 * node + 1]);
+                }
+                done = done.max(b);
+                top = top.min(a);
+            }
+            if top <= 1 {
+                break;
+            }
+            shift += 1;
+        }
+    }
+
     /// Recomputes every inner node (after setting many leaves).
     pub fn rebuild(&mut self) {
         for k in (1..self.cap).rev() {
-            self.nodes[k] = self.nodes[2 * k].max(self.nodes[2 * k + 1]);
+            self.nodes[k] = larger(self.nodes[2 * k], self.nodes[2 * k + 1]);
         }
     }
 
@@ -126,6 +163,11 @@ mod tests {
         }
         tree.refresh(3, 5);
         assert_eq!(tree.arg_max(), Some((5, 15.0)));
+        for k in [0, 3, 6] {
+            tree.set_leaf(k, 20.0 + k as f64);
+        }
+        tree.refresh_runs(0, 1, 3, 3);
+        assert_eq!(tree.arg_max(), Some((6, 26.0)));
         tree.update(6, f64::NAN);
         assert_eq!(tree.get(6), NEVER);
     }
@@ -142,8 +184,18 @@ mod tests {
                 .wrapping_add(1442695040888963407);
             let k = (x >> 33) as usize % n;
             let v = ((x >> 11) % 1000) as f64;
-            tree.update(k, v);
-            plain[k] = v;
+            if x % 3 == 0 {
+                // a run of three leaves (clamped to the end) through refresh_runs
+                let start = k.min(n - 3);
+                for q in start..start + 3 {
+                    tree.set_leaf(q, v + q as f64);
+                    plain[q] = v + q as f64;
+                }
+                tree.refresh_runs(start, 3, 1, 0);
+            } else {
+                tree.update(k, v);
+                plain[k] = v;
+            }
             let best = plain.iter().cloned().fold(NEVER, f64::max);
             let (at, value) = tree.arg_max().expect("non-empty");
             assert_eq!(value, best);

@@ -30,6 +30,9 @@ pub struct ProjectionParams {
     pub samples_per_span: usize,
     /// How many of the best samples Newton starts from (default 3).
     pub starts: usize,
+    /// Cap on start samples per direction (default 64), so that surfaces with many spans do not
+    /// make every projection cost a dense grid; above it the samples are uniform in parameter.
+    pub max_samples_per_direction: usize,
 }
 
 impl Default for ProjectionParams {
@@ -40,6 +43,7 @@ impl Default for ProjectionParams {
             max_iterations: 50,
             samples_per_span: 4,
             starts: 3,
+            max_samples_per_direction: 64,
         }
     }
 }
@@ -76,8 +80,12 @@ pub struct CurveProjection {
     pub iterations: usize,
 }
 
-/// Sample parameters: `per_span` per non-empty span plus the domain end.
-fn span_samples(knots: &crate::KnotVector, per_span: usize) -> Vec<f64> {
+/// Sample parameters: `per_span` per non-empty span plus the domain end, at most `max` (then
+/// uniform in parameter).
+fn span_samples(knots: &crate::KnotVector, per_span: usize, max: usize) -> Vec<f64> {
+    if knots.spans().count() * per_span.max(1) + 1 > max.max(2) {
+        return knots.uniform_params(max.max(2));
+    }
     let k = knots.knots();
     let mut out = Vec::new();
     for s in knots.spans() {
@@ -95,8 +103,16 @@ pub fn project_to_surface(
     point: &Point3,
     params: &ProjectionParams,
 ) -> SurfaceProjection {
-    let us = span_samples(surface.knots_u(), params.samples_per_span);
-    let vs = span_samples(surface.knots_v(), params.samples_per_span);
+    let us = span_samples(
+        surface.knots_u(),
+        params.samples_per_span,
+        params.max_samples_per_direction,
+    );
+    let vs = span_samples(
+        surface.knots_v(),
+        params.samples_per_span,
+        params.max_samples_per_direction,
+    );
     let grid = surface.eval_grid_points(&us, &vs);
     let mut order: Vec<(f64, usize)> = grid
         .iter()
@@ -223,7 +239,11 @@ pub fn project_to_curve(
     point: &Point3,
     params: &ProjectionParams,
 ) -> CurveProjection {
-    let ts = span_samples(curve.knots(), params.samples_per_span);
+    let ts = span_samples(
+        curve.knots(),
+        params.samples_per_span,
+        params.max_samples_per_direction,
+    );
     let mut order: Vec<(f64, f64)> = ts
         .iter()
         .map(|&t| ((curve.point(t) - point).norm_squared(), t))

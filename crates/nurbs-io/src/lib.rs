@@ -1,0 +1,18 @@
+//! # nurbs-io
+//!
+//! IGES 5.3 exchange ([IGES] US PRO/IPO-100-1996) of B-spline geometry: rational B-spline
+//! surfaces (entity 128), curves (126), trimmed surfaces (144, read as their underlying 128 with a
+//! `trimmed` flag) and transformation matrices (124, applied where referenced). Other entities are
+//! counted and skipped. The reader checks the fixed 80-column layout and reports errors by line;
+//! the writer produces files that pass the same checks ([`check_structure`]).
+
+pub mod error;
+pub mod params;
+pub mod reader;
+pub mod structure;
+pub mod writer;
+
+pub use error::IgesError;
+pub use reader::{IgesCurve, IgesFile, IgesSurface, read_iges};
+pub use structure::{StructureReport, check_structure};
+pub use writer::{IgesWriteParams, write_iges};

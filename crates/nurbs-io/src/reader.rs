@@ -1,0 +1,725 @@
+//! The IGES reader: records, sections, global parameters, directory, parameter data, and the
+//! entities 128 (rational B-spline surface), 126 (curve), 144 (trimmed surface) and 124
+//! (transformation matrix) ([IGES] §2, §4.23, §4.24, §4.34, §4.21).
+//!
+//! Control points of entity 128 are stored with the u index varying fastest, W(0,0), W(1,0), …;
+//! here they go to the flat net `P[i * n_v + j]`. Weights that are all equal make a polynomial
+//! surface. Coordinates are divided by the model-space scale of the Global section when it is
+//! not 1 (model units → real-world units).
+
+use std::collections::BTreeMap;
+
+use nurbs_core::{BSplineCurve, BSplineSurface, KnotVector, Point3};
+
+use crate::error::IgesError;
+use crate::params::{Located, Param, parse_params};
+
+/// Columns of a record, the section letter column, the data columns of the P section.
+pub const RECORD_COLUMNS: usize = 80;
+const LETTER_COLUMN: usize = 72;
+const P_DATA_COLUMNS: usize = 64;
+/// Nesting limit of transformation matrices that reference further matrices.
+const MAX_TRANSFORM_CHAIN: usize = 32;
+
+/// A surface read from entity 128.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IgesSurface {
+    /// directory sequence number of the entity
+    pub de: usize,
+    /// entity label and subscript, or `iges<de>`
+    pub name: String,
+    /// the geometry (transformation and scale applied)
+    pub surface: BSplineSurface,
+    /// whether a trimmed surface (144) uses it
+    pub trimmed: bool,
+    /// parameter ranges U0, U1, V0, V1 from the entity
+    pub param_range: [f64; 4],
+}
+
+/// A curve read from entity 126.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IgesCurve {
+    /// directory sequence number of the entity
+    pub de: usize,
+    /// entity label and subscript, or `iges<de>`
+    pub name: String,
+    /// the geometry
+    pub curve: BSplineCurve,
+    /// parameter range V0, V1
+    pub param_range: [f64; 2],
+}
+
+/// What a file held.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IgesFile {
+    /// Start section text
+    pub start: String,
+    /// unit name of the Global section (e.g. "MM")
+    pub units: String,
+    /// unit flag of the Global section
+    pub unit_flag: i64,
+    /// model-space scale of the Global section
+    pub scale: f64,
+    /// entity-128 surfaces in directory order
+    pub surfaces: Vec<IgesSurface>,
+    /// entity-126 curves in directory order
+    pub curves: Vec<IgesCurve>,
+    /// number of trimmed-surface entities (144)
+    pub trimmed_entities: usize,
+    /// entities not read, by type
+    pub skipped: BTreeMap<i64, usize>,
+}
+
+pub(crate) struct Record<'a> {
+    pub(crate) data: &'a [u8],
+    pub(crate) line: usize,
+}
+
+pub(crate) struct Sections<'a> {
+    pub(crate) s: Vec<Record<'a>>,
+    pub(crate) g: Vec<Record<'a>>,
+    pub(crate) d: Vec<Record<'a>>,
+    pub(crate) p: Vec<Record<'a>>,
+    pub(crate) t: Vec<Record<'a>>,
+}
+
+fn layout(line: usize, detail: impl Into<String>) -> IgesError {
+    IgesError::Layout {
+        line,
+        detail: detail.into(),
+    }
+}
+
+pub(crate) fn split_sections(bytes: &[u8]) -> Result<Sections<'_>, IgesError> {
+    let mut sec = Sections {
+        s: vec![],
+        g: vec![],
+        d: vec![],
+        p: vec![],
+        t: vec![],
+    };
+    let order = b"SGDPT";
+    let mut current = 0usize;
+    let mut lines: Vec<&[u8]> = bytes.split(|&b| b == b'\n').collect();
+    if lines
+        .last()
+        .is_some_and(|l| l.is_empty() || l.iter().all(|&b| b == b'\r' || b == b' '))
+    {
+        lines.pop();
+    }
+    for (k, raw) in lines.iter().enumerate() {
+        let line = k + 1;
+        let rec = raw.strip_suffix(b"\r").unwrap_or(raw);
+        if rec.len() <= LETTER_COLUMN {
+            return Err(layout(
+                line,
+                format!(
+                    "record has {} columns; IGES records have {RECORD_COLUMNS} with the section letter in column 73",
+                    rec.len()
+                ),
+            ));
+        }
+        if rec.len() > RECORD_COLUMNS && rec[RECORD_COLUMNS..].iter().any(|&b| b != b' ') {
+            return Err(layout(
+                line,
+                format!(
+                    "record has {} columns, more than {RECORD_COLUMNS}",
+                    rec.len()
+                ),
+            ));
+        }
+        let letter = rec[LETTER_COLUMN];
+        let Some(pos) = order.iter().position(|&c| c == letter) else {
+            let what = if matches!(letter, b'C' | b'B') {
+                "compressed or binary IGES is not supported"
+            } else {
+                "column 73 must hold a section letter S, G, D, P or T"
+            };
+            return Err(layout(line, format!("{what} (found {:?})", letter as char)));
+        };
+        if pos < current {
+            return Err(layout(
+                line,
+                format!(
+                    "section {} after section {}",
+                    letter as char, order[current] as char
+                ),
+            ));
+        }
+        current = pos;
+        let seq_text = std::str::from_utf8(&rec[LETTER_COLUMN + 1..rec.len().min(RECORD_COLUMNS)])
+            .unwrap_or("")
+            .trim();
+        let list = match letter {
+            b'S' => &mut sec.s,
+            b'G' => &mut sec.g,
+            b'D' => &mut sec.d,
+            b'P' => &mut sec.p,
+            _ => &mut sec.t,
+        };
+        let expected = list.len() + 1;
+        match seq_text.parse::<usize>() {
+            Ok(n) if n == expected => {}
+            _ => {
+                return Err(layout(
+                    line,
+                    format!("sequence number {seq_text:?} in columns 74–80, expected {expected}"),
+                ));
+            }
+        }
+        list.push(Record {
+            data: &rec[..LETTER_COLUMN],
+            line,
+        });
+    }
+    if sec.t.len() != 1 {
+        return Err(IgesError::Structure {
+            detail: format!(
+                "the file must end with one Terminate record, found {} (truncated file?)",
+                sec.t.len()
+            ),
+        });
+    }
+    if sec.g.is_empty() {
+        return Err(IgesError::Structure {
+            detail: "the Global section is missing".into(),
+        });
+    }
+    if sec.d.len() % 2 != 0 {
+        return Err(layout(
+            sec.d.last().map_or(0, |r| r.line),
+            "the Directory section has an odd number of records (each entry is two)",
+        ));
+    }
+    Ok(sec)
+}
+
+/// Concatenates the data columns of records, remembering the file line of every byte.
+fn concat(records: &[Record<'_>], columns: usize) -> (Vec<u8>, Vec<usize>) {
+    let mut text = Vec::with_capacity(records.len() * columns);
+    let mut lines = Vec::with_capacity(records.len() * columns);
+    for r in records {
+        let d = &r.data[..columns.min(r.data.len())];
+        text.extend_from_slice(d);
+        lines.extend(std::iter::repeat_n(r.line, d.len()));
+    }
+    (text, lines)
+}
+
+pub(crate) struct Global {
+    pdelim: u8,
+    rdelim: u8,
+    params: Vec<Located>,
+}
+
+pub(crate) fn parse_global(records: &[Record<'_>]) -> Result<Global, IgesError> {
+    let (text, lines) = concat(records, LETTER_COLUMN);
+    let first_line = records[0].line;
+    let mut i = 0;
+    let mut delims = [b',', b';'];
+    for k in 0..2 {
+        while i < text.len() && text[i] == b' ' {
+            i += 1;
+        }
+        if text.get(i..i + 2) == Some(b"1H") || text.get(i..i + 2) == Some(b"1h") {
+            delims[k] = *text
+                .get(i + 2)
+                .ok_or_else(|| layout(first_line, "Global section ends inside a delimiter"))?;
+            i += 3;
+        }
+        // each of the two fields is followed by the parameter delimiter
+        while i < text.len() && text[i] == b' ' {
+            i += 1;
+        }
+        match text.get(i) {
+            Some(&c) if c == delims[0] => i += 1,
+            _ => {
+                return Err(IgesError::Parameter {
+                    line: first_line,
+                    detail: "Global section: parameter and record delimiters are malformed".into(),
+                });
+            }
+        }
+    }
+    let [pdelim, rdelim] = delims;
+    let params = parse_params(&text[i..], &lines[i..], pdelim, rdelim)?;
+    Ok(Global {
+        pdelim,
+        rdelim,
+        params,
+    })
+}
+
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct DirEntry {
+    pub(crate) seq: usize,
+    pub(crate) entity_type: i64,
+    pub(crate) pointer: i64,
+    transform: i64,
+    pub(crate) line_count: i64,
+    label: [u8; 8],
+    subscript: i64,
+}
+
+pub(crate) fn parse_directory(records: &[Record<'_>]) -> Result<Vec<DirEntry>, IgesError> {
+    let field = |r: &Record<'_>, k: usize| -> Result<i64, IgesError> {
+        let raw = std::str::from_utf8(&r.data[8 * k..8 * k + 8])
+            .unwrap_or("")
+            .trim();
+        if raw.is_empty() {
+            return Ok(0);
+        }
+        raw.parse::<i64>().map_err(|_| {
+            layout(
+                r.line,
+                format!("directory field {} is {raw:?}, not an integer", k + 1),
+            )
+        })
+    };
+    let mut out = Vec::with_capacity(records.len() / 2);
+    for (k, pair) in records.chunks(2).enumerate() {
+        let (a, b) = (&pair[0], &pair[1]);
+        let entity_type = field(a, 0)?;
+        if field(b, 0)? != entity_type {
+            return Err(layout(
+                b.line,
+                format!(
+                    "entity type {} differs from {entity_type} on the line before",
+                    field(b, 0)?
+                ),
+            ));
+        }
+        let mut label = [b' '; 8];
+        label.copy_from_slice(&b.data[56..64]);
+        out.push(DirEntry {
+            seq: 2 * k + 1,
+            entity_type,
+            pointer: field(a, 1)?,
+            transform: field(a, 6)?,
+            line_count: field(b, 3)?,
+            label,
+            subscript: field(b, 8).unwrap_or(0),
+        });
+    }
+    Ok(out)
+}
+
+/// Reads the parameters of one entity.
+pub(crate) fn entity_params(
+    e: &DirEntry,
+    p: &[Record<'_>],
+    g: &Global,
+) -> Result<Vec<Located>, IgesError> {
+    let err = |detail: String| IgesError::Entity {
+        de: e.seq,
+        entity_type: e.entity_type,
+        detail,
+    };
+    if e.pointer < 1 || e.line_count < 1 || (e.pointer + e.line_count - 1) as usize > p.len() {
+        return Err(err(format!(
+            "parameter data pointer {} with {} lines is out of range (the P section has {} lines)",
+            e.pointer,
+            e.line_count,
+            p.len()
+        )));
+    }
+    let records = &p[e.pointer as usize - 1..(e.pointer + e.line_count - 1) as usize];
+    for r in records {
+        let back = std::str::from_utf8(&r.data[64..72])
+            .unwrap_or("")
+            .trim()
+            .parse::<usize>()
+            .ok();
+        if back != Some(e.seq) {
+            return Err(layout(
+                r.line,
+                format!(
+                    "parameter line points back to directory entry {back:?}, expected {}",
+                    e.seq
+                ),
+            ));
+        }
+    }
+    let (text, lines) = concat(records, P_DATA_COLUMNS);
+    let params = parse_params(&text, &lines, g.pdelim, g.rdelim)?;
+    match params.first().map(|p| &p.value) {
+        Some(Param::Number(t)) if *t as i64 == e.entity_type => Ok(params),
+        other => Err(err(format!(
+            "parameter data starts with {other:?}, not the entity type"
+        ))),
+    }
+}
+
+/// Sequential access to an entity's parameters with errors that name the entity.
+struct Cursor<'a> {
+    params: &'a [Located],
+    next: usize,
+    e: &'a DirEntry,
+}
+
+impl<'a> Cursor<'a> {
+    fn err(&self, detail: String) -> IgesError {
+        IgesError::Entity {
+            de: self.e.seq,
+            entity_type: self.e.entity_type,
+            detail,
+        }
+    }
+    fn real(&mut self) -> Result<f64, IgesError> {
+        let k = self.next;
+        let p = self.params.get(k).ok_or_else(|| {
+            self.err(format!(
+                "the data ends after {} parameters, but more are needed (count mismatch)",
+                self.params.len()
+            ))
+        })?;
+        self.next += 1;
+        match &p.value {
+            Param::Number(x) => Ok(*x),
+            Param::Empty => Ok(0.0),
+            Param::Text(_) => Err(IgesError::Parameter {
+                line: p.line,
+                detail: format!(
+                    "parameter {k} of entity {} is a string, expected a number",
+                    self.e.seq
+                ),
+            }),
+        }
+    }
+    fn int(&mut self) -> Result<i64, IgesError> {
+        let line = self.params.get(self.next).map_or(0, |p| p.line);
+        let x = self.real()?;
+        if x.fract() != 0.0 || x.abs() > 1e15 {
+            return Err(IgesError::Parameter {
+                line,
+                detail: format!(
+                    "parameter {} of entity {} is {x}, expected an integer",
+                    self.next - 1,
+                    self.e.seq
+                ),
+            });
+        }
+        Ok(x as i64)
+    }
+    fn count(&mut self, what: &str, min: i64) -> Result<usize, IgesError> {
+        let n = self.int()?;
+        if n < min || n > 1_000_000 {
+            return Err(self.err(format!("{what} is {n}")));
+        }
+        Ok(n as usize)
+    }
+    fn reals(&mut self, n: usize) -> Result<Vec<f64>, IgesError> {
+        (0..n).map(|_| self.real()).collect()
+    }
+}
+
+/// An affine map x ↦ R x + t.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Affine {
+    r: [[f64; 3]; 3],
+    t: [f64; 3],
+}
+
+impl Affine {
+    fn apply(&self, p: &Point3) -> Point3 {
+        let c = |k: usize| self.r[k][0] * p.x + self.r[k][1] * p.y + self.r[k][2] * p.z + self.t[k];
+        Point3::new(c(0), c(1), c(2))
+    }
+    fn then(&self, outer: &Affine) -> Affine {
+        let mut r = [[0.0; 3]; 3];
+        let mut t = [0.0; 3];
+        for i in 0..3 {
+            for j in 0..3 {
+                r[i][j] = (0..3).map(|k| outer.r[i][k] * self.r[k][j]).sum();
+            }
+            t[i] = (0..3).map(|k| outer.r[i][k] * self.t[k]).sum::<f64>() + outer.t[i];
+        }
+        Affine { r, t }
+    }
+}
+
+struct Reader<'a> {
+    dir: Vec<DirEntry>,
+    p: Vec<Record<'a>>,
+    global: Global,
+}
+
+impl Reader<'_> {
+    fn entry(&self, pointer: i64, from: &DirEntry) -> Result<&DirEntry, IgesError> {
+        if pointer < 1 || pointer % 2 == 0 || (pointer as usize).div_ceil(2) > self.dir.len() {
+            return Err(IgesError::Entity {
+                de: from.seq,
+                entity_type: from.entity_type,
+                detail: format!("pointer {pointer} does not name a directory entry"),
+            });
+        }
+        Ok(&self.dir[(pointer as usize - 1) / 2])
+    }
+
+    /// The composite transformation of an entity (identity when it has none).
+    fn transform(&self, e: &DirEntry) -> Result<Option<Affine>, IgesError> {
+        let mut total: Option<Affine> = None;
+        let mut pointer = e.transform;
+        let mut depth = 0;
+        while pointer != 0 {
+            depth += 1;
+            if depth > MAX_TRANSFORM_CHAIN {
+                return Err(IgesError::Entity {
+                    de: e.seq,
+                    entity_type: e.entity_type,
+                    detail: "transformation matrices form a cycle".into(),
+                });
+            }
+            let m = self.entry(pointer, e)?;
+            if m.entity_type != 124 {
+                return Err(IgesError::Entity {
+                    de: e.seq,
+                    entity_type: e.entity_type,
+                    detail: format!(
+                        "transformation pointer {pointer} names entity type {}",
+                        m.entity_type
+                    ),
+                });
+            }
+            let params = entity_params(m, &self.p, &self.global)?;
+            let mut c = Cursor {
+                params: &params,
+                next: 1,
+                e: m,
+            };
+            let v = c.reals(12)?;
+            let a = Affine {
+                r: [[v[0], v[1], v[2]], [v[4], v[5], v[6]], [v[8], v[9], v[10]]],
+                t: [v[3], v[7], v[11]],
+            };
+            total = Some(match total {
+                None => a,
+                Some(inner) => inner.then(&a),
+            });
+            pointer = m.transform;
+        }
+        Ok(total)
+    }
+
+    fn name(e: &DirEntry) -> String {
+        let label = String::from_utf8_lossy(&e.label).trim().to_string();
+        match (label.is_empty(), e.subscript) {
+            (true, _) => format!("iges{}", e.seq),
+            (false, 0) => label,
+            (false, s) => format!("{label}_{s}"),
+        }
+    }
+
+    fn geometry_err(e: &DirEntry) -> impl Fn(nurbs_core::Error) -> IgesError + '_ {
+        move |source| IgesError::Geometry {
+            de: e.seq,
+            entity_type: e.entity_type,
+            source,
+        }
+    }
+
+    fn points(&self, e: &DirEntry, coords: &[f64], scale: f64) -> Result<Vec<Point3>, IgesError> {
+        let affine = self.transform(e)?;
+        Ok(coords
+            .chunks(3)
+            .map(|c| {
+                let p = Point3::new(c[0], c[1], c[2]);
+                let p = affine.map_or(p, |a| a.apply(&p));
+                if scale != 1.0 {
+                    Point3::from(p.coords / scale)
+                } else {
+                    p
+                }
+            })
+            .collect())
+    }
+
+    fn surface(&self, e: &DirEntry, scale: f64) -> Result<IgesSurface, IgesError> {
+        let params = entity_params(e, &self.p, &self.global)?;
+        let mut c = Cursor {
+            params: &params,
+            next: 1,
+            e,
+        };
+        let k1 = c.count("K1 (upper index of the u control points)", 1)?;
+        let k2 = c.count("K2 (upper index of the v control points)", 1)?;
+        let m1 = c.count("M1 (u degree)", 1)?;
+        let m2 = c.count("M2 (v degree)", 1)?;
+        let _props = c.reals(5)?;
+        let (nu, nv) = (k1 + 1, k2 + 1);
+        let ku = c.reals(k1 + m1 + 2)?;
+        let kv = c.reals(k2 + m2 + 2)?;
+        let w = c.reals(nu * nv)?;
+        let coords = c.reals(3 * nu * nv)?;
+        let range = c.reals(4)?;
+        let pts = self.points(e, &coords, scale)?;
+        let mut points = vec![Point3::origin(); nu * nv];
+        let mut weights = vec![1.0; nu * nv];
+        for j in 0..nv {
+            for i in 0..nu {
+                points[i * nv + j] = pts[i + nu * j];
+                weights[i * nv + j] = w[i + nu * j];
+            }
+        }
+        let polynomial = weights.iter().all(|&x| x == weights[0]) && weights[0] > 0.0;
+        let g = Self::geometry_err(e);
+        let knots_u = KnotVector::new(m1, ku).map_err(|x| g(x.context("u knots")))?;
+        let knots_v = KnotVector::new(m2, kv).map_err(|x| g(x.context("v knots")))?;
+        let surface =
+            BSplineSurface::new(knots_u, knots_v, points, (!polynomial).then_some(weights))
+                .map_err(&g)?;
+        Ok(IgesSurface {
+            de: e.seq,
+            name: Self::name(e),
+            surface,
+            trimmed: false,
+            param_range: [range[0], range[1], range[2], range[3]],
+        })
+    }
+
+    fn curve(&self, e: &DirEntry, scale: f64) -> Result<IgesCurve, IgesError> {
+        let params = entity_params(e, &self.p, &self.global)?;
+        let mut c = Cursor {
+            params: &params,
+            next: 1,
+            e,
+        };
+        let k = c.count("K (upper index of the control points)", 1)?;
+        let m = c.count("M (degree)", 1)?;
+        let _props = c.reals(4)?;
+        let knots = c.reals(k + m + 2)?;
+        let w = c.reals(k + 1)?;
+        let coords = c.reals(3 * (k + 1))?;
+        let range = c.reals(2)?;
+        let points = self.points(e, &coords, scale)?;
+        let polynomial = w.iter().all(|&x| x == w[0]) && w[0] > 0.0;
+        let g = Self::geometry_err(e);
+        let kv = KnotVector::new(m, knots).map_err(|x| g(x.context("knots")))?;
+        let curve = BSplineCurve::new(kv, points, (!polynomial).then_some(w)).map_err(&g)?;
+        Ok(IgesCurve {
+            de: e.seq,
+            name: Self::name(e),
+            curve,
+            param_range: [range[0], range[1]],
+        })
+    }
+}
+
+/// Reads an IGES file (CRLF or LF line endings).
+pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
+    let sec = split_sections(bytes)?;
+    let global = parse_global(&sec.g)?;
+    let text_param = |k: usize| match global.params.get(k).map(|p| &p.value) {
+        Some(Param::Text(s)) => s.clone(),
+        _ => String::new(),
+    };
+    let num_param = |k: usize, default: f64| match global.params.get(k).map(|p| &p.value) {
+        Some(Param::Number(x)) => *x,
+        _ => default,
+    };
+    // global fields 13, 14, 15 (1-based) are model scale, unit flag, unit name; params start at field 3
+    let scale = num_param(10, 1.0);
+    if !(scale > 0.0) {
+        return Err(IgesError::Parameter {
+            line: global.params.get(10).map_or(0, |p| p.line),
+            detail: format!("model space scale {scale} must be > 0"),
+        });
+    }
+    let unit_flag = num_param(11, 1.0) as i64;
+    let mut units = text_param(12);
+    if units.is_empty() {
+        units = unit_name(unit_flag).to_string();
+    }
+    let start = sec
+        .s
+        .iter()
+        .map(|r| String::from_utf8_lossy(r.data).trim_end().to_string())
+        .collect::<Vec<_>>()
+        .join("\n");
+    check_terminate(&sec)?;
+    let dir = parse_directory(&sec.d)?;
+    let reader = Reader {
+        dir,
+        p: sec.p,
+        global,
+    };
+    let mut file = IgesFile {
+        start,
+        units,
+        unit_flag,
+        scale,
+        surfaces: vec![],
+        curves: vec![],
+        trimmed_entities: 0,
+        skipped: BTreeMap::new(),
+    };
+    let mut trimmed_targets = Vec::new();
+    for e in &reader.dir {
+        match e.entity_type {
+            128 => file.surfaces.push(reader.surface(e, scale)?),
+            126 => file.curves.push(reader.curve(e, scale)?),
+            144 => {
+                let params = entity_params(e, &reader.p, &reader.global)?;
+                let mut c = Cursor {
+                    params: &params,
+                    next: 1,
+                    e,
+                };
+                let pts = c.int()?;
+                let target = reader.entry(pts, e)?;
+                trimmed_targets.push(target.seq);
+                file.trimmed_entities += 1;
+            }
+            124 => {}
+            other => *file.skipped.entry(other).or_default() += 1,
+        }
+    }
+    for s in &mut file.surfaces {
+        s.trimmed = trimmed_targets.contains(&s.de);
+    }
+    Ok(file)
+}
+
+pub(crate) fn check_terminate(sec: &Sections<'_>) -> Result<(), IgesError> {
+    let t = &sec.t[0];
+    let expected = [
+        (b'S', sec.s.len()),
+        (b'G', sec.g.len()),
+        (b'D', sec.d.len()),
+        (b'P', sec.p.len()),
+    ];
+    for (k, (letter, count)) in expected.iter().enumerate() {
+        let field = &t.data[8 * k..8 * k + 8];
+        let n = std::str::from_utf8(&field[1..])
+            .ok()
+            .and_then(|s| s.trim().parse::<usize>().ok());
+        if field[0] != *letter || n != Some(*count) {
+            return Err(layout(
+                t.line,
+                format!(
+                    "Terminate record says {:?} but the {} section has {count} records",
+                    String::from_utf8_lossy(field),
+                    *letter as char
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// The unit name of an IGES unit flag.
+pub fn unit_name(flag: i64) -> &'static str {
+    match flag {
+        1 => "IN",
+        2 => "MM",
+        4 => "FT",
+        5 => "MI",
+        6 => "M",
+        7 => "KM",
+        8 => "MIL",
+        9 => "UM",
+        10 => "CM",
+        11 => "UIN",
+        _ => "unknown",
+    }
+}
