@@ -2,8 +2,13 @@
 //! arguments to output, so that tests and `xtask` drive it without spawning processes.
 //! This crate (with `xtask`) is the only place with argument parsing, files and `anyhow`.
 
+pub mod check;
+pub mod connect;
 pub mod eval;
+pub mod exchange;
+pub mod fair;
 pub mod files;
+pub mod mesh;
 pub mod summary;
 
 /// The surface bundled in the binary: the default model of `hier-fair demo`.

@@ -21,6 +21,64 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Discrete thin-plate fairing of a triangle mesh region (boundary and K rings fixed).
+    FairMesh {
+        /// OBJ mesh (polygons are split into triangles)
+        input: PathBuf,
+        /// OBJ to write
+        #[arg(short = 'o', long = "output")]
+        output: PathBuf,
+        /// Rings fixed beyond the boundary
+        #[arg(long, default_value_t = 2)]
+        fixed_rings: usize,
+        /// JSON list of further vertex indices (0-based) to keep fixed
+        #[arg(long)]
+        fixed: Option<PathBuf>,
+    },
+    /// Reads an IGES file (entities 128, 126, 144, 124) into a model of primary surfaces.
+    Import {
+        /// IGES file
+        input: PathBuf,
+        /// Model JSON to write
+        #[arg(short = 'o', long = "output")]
+        output: PathBuf,
+    },
+    /// Writes the surfaces of a model as IGES 5.3 (entity 128).
+    Export {
+        /// Model JSON (or a bare surface file)
+        input: PathBuf,
+        /// IGES file to write
+        #[arg(short = 'o', long = "output")]
+        output: PathBuf,
+    },
+    /// Measures the continuity of every link of a model (gap, normal angle, curvature).
+    Check {
+        /// Model file (or a bare surface file: then there are no links).
+        model: PathBuf,
+        /// Samples per link, both ends included.
+        #[arg(long, default_value_t = 101)]
+        samples: usize,
+        /// Prints JSON (cli-contract.md) instead of a table.
+        #[arg(long)]
+        json: bool,
+        /// Exits with code 1 when a link exceeds the preset (up to its target continuity).
+        #[arg(long, value_parser = ["class-a", "standard", "exchange"])]
+        fail_above: Option<String>,
+    },
+    /// Sets continuity only (no fairing), slave by slave in hierarchy order.
+    Connect {
+        /// Model file.
+        model: PathBuf,
+        /// Output model file (written atomically; never the input).
+        #[arg(short = 'o', long = "output")]
+        output: PathBuf,
+        /// Highest continuity set (G0, G1 or G2; default: each link's own).
+        #[arg(long, value_parser = parse_keep)]
+        target: Option<nurbs_core::Continuity>,
+        /// Report JSON with before/after continuity per link.
+        #[arg(long)]
+        report: Option<PathBuf>,
+    },
     /// Runs the main job on the bundled default model and prints a readable summary.
     Demo {
         /// Folder for output files (created if missing).
@@ -44,10 +102,97 @@ enum Command {
         #[arg(long = "index")]
         index: Option<usize>,
     },
+    /// Fairs a bare surface file (every surface primary, all four boundary frames kept).
+    Fair {
+        /// Surface file (one surface, a list, {"surfaces": [...]} or {"patches": [...]}).
+        input: PathBuf,
+        /// Output surface file (written atomically; never the input).
+        #[arg(short = 'o', long = "output")]
+        output: PathBuf,
+        /// Fairing method.
+        #[arg(long, value_enum, default_value = "energy")]
+        method: hier_fair_cli::fair::FairMethod,
+        /// Largest control-point move ε (model units; default 0.02, the local energy fairing seed's example).
+        #[arg(long, default_value_t = 0.02)]
+        tolerance: f64,
+        /// Iteration limit (energy, krr: moves; energy-global: local polishing moves after the solve).
+        #[arg(long)]
+        iterations: Option<usize>,
+        /// Boundary data kept on all four sides: G0 (boundary rows), G1 (two rows) or G2 (three rows).
+        #[arg(long, value_parser = parse_keep, default_value = "G0")]
+        keep: nurbs_core::Continuity,
+        /// Report JSON (cli-contract.md).
+        #[arg(long)]
+        report: Option<PathBuf>,
+    },
 }
 
 fn run(cli: Cli) -> Result<()> {
     match cli.command {
+        Command::Check {
+            model,
+            samples,
+            json,
+            fail_above,
+        } => {
+            let text = files::read_text(&model)?;
+            let outcome = hier_fair_cli::check::run(
+                &text,
+                &model.display().to_string(),
+                samples,
+                json,
+                fail_above.as_deref(),
+            )?;
+            print!("{}", outcome.text);
+            if outcome.exceeded {
+                use std::io::Write;
+                let _ = std::io::stdout().flush();
+                std::process::exit(1);
+            }
+            Ok(())
+        }
+        Command::Connect {
+            model,
+            output,
+            target,
+            report,
+        } => {
+            files::refuse_overwrite(&output, &[&model])?;
+            if let Some(r) = &report {
+                files::refuse_overwrite(r, &[&model])?;
+            }
+            let text = files::read_text(&model)?;
+            let outcome = hier_fair_cli::connect::run(&text, &model.display().to_string(), target)?;
+            files::write_atomic(&output, outcome.model_json.as_bytes())?;
+            if let Some(r) = &report {
+                files::write_atomic(
+                    r,
+                    (serde_json::to_string_pretty(&outcome.report)? + "\n").as_bytes(),
+                )?;
+            }
+            print!("{}", outcome.summary);
+            Ok(())
+        }
+        Command::FairMesh {
+            input,
+            output,
+            fixed_rings,
+            fixed,
+        } => {
+            println!(
+                "{}",
+                hier_fair_cli::mesh::run(&input, &output, fixed_rings, fixed.as_deref())?
+            );
+            Ok(())
+        }
+        Command::Import { input, output } => {
+            println!("{}", hier_fair_cli::exchange::import(&input, &output)?);
+            Ok(())
+        }
+        Command::Export { input, output } => {
+            println!("{}", hier_fair_cli::exchange::export(&input, &output)?);
+            Ok(())
+        }
         Command::Demo { out } => {
             let surface =
                 nurbs_core::io::surfaces_from_json(hier_fair_cli::BUNDLED_SURFACE)?.remove(0);
@@ -76,6 +221,27 @@ fn run(cli: Cli) -> Result<()> {
                     dir.display()
                 );
             }
+            Ok(())
+        }
+        Command::Fair {
+            input,
+            output,
+            method,
+            tolerance,
+            iterations,
+            keep,
+            report,
+        } => {
+            let options = hier_fair_cli::fair::FairOptions {
+                method,
+                tolerance,
+                iterations,
+                keep,
+            };
+            print!(
+                "{}",
+                hier_fair_cli::fair::run(&input, &output, report.as_deref(), &options)?
+            );
             Ok(())
         }
         Command::Eval {
@@ -121,6 +287,15 @@ fn run(cli: Cli) -> Result<()> {
             }
             Ok(())
         }
+    }
+}
+
+fn parse_keep(text: &str) -> Result<nurbs_core::Continuity, String> {
+    match text.to_ascii_uppercase().as_str() {
+        "G0" => Ok(nurbs_core::Continuity::G0),
+        "G1" => Ok(nurbs_core::Continuity::G1),
+        "G2" => Ok(nurbs_core::Continuity::G2),
+        _ => Err(format!("expected G0, G1 or G2, got {text}")),
     }
 }
 

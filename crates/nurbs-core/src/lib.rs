@@ -31,6 +31,7 @@ pub mod ops;
 pub mod projection;
 pub mod quadrature;
 pub mod shapes;
+pub mod sparse;
 pub mod surface;
 #[cfg(feature = "testing")]
 pub mod testing;

@@ -4,9 +4,9 @@
 //!
 //! Leaves hold one value per key; every inner node holds the larger of its two children, so the
 //! root is the maximum. Changing leaves and then refreshing their ancestors costs O(log n) per
-//! leaf, less when the changed leaves are contiguous ([`MaxTree::refresh`] walks a whole leaf
-//! range level by level); finding the arg-max walks down from the root in O(log n). No allocation
-//! after construction.
+//! leaf, less when the changed leaves are contiguous ([`MaxTree::refresh`] and
+//! [`MaxTree::refresh_ranges`] walk whole leaf ranges level by level); finding the arg-max walks
+//! down from the root in O(log n). No allocation after construction.
 
 /// Value of a leaf that must never be chosen (fixed control points, empty slots).
 pub const NEVER: f64 = f64::NEG_INFINITY;
@@ -84,31 +84,30 @@ impl MaxTree {
         }
     }
 
-    /// Recomputes the ancestors of `count` leaf runs `start + k·stride .. start + k·stride + len`
-    /// (k = 0..count, ascending): the rows of a stencil in a grid stored row by row. Runs are
-    /// refreshed level by level, so ancestors shared by several runs are computed once.
-    pub fn refresh_runs(&mut self, start: usize, len: usize, count: usize, stride: usize) {
-        if len == 0 || count == 0 || start + (count - 1) * stride + len > self.len {
+    /// Recomputes the ancestors of the leaf ranges `lo..=hi` in `ranges` (ascending, disjoint),
+    /// level by level, so ancestors shared by several ranges are computed once. The slice is used
+    /// as scratch (its contents are changed).
+    pub fn refresh_ranges(&mut self, ranges: &mut [(usize, usize)]) {
+        if ranges.is_empty() || ranges.iter().any(|&(lo, hi)| lo > hi || hi >= self.len) {
             return;
         }
-        let mut shift = 1;
+        for r in ranges.iter_mut() {
+            *r = (self.cap + r.0, self.cap + r.1);
+        }
         loop {
             let mut done = 0;
-            let mut top = usize::MAX;
-            for k in 0..count {
-                let first = self.cap + start + k * stride;
-                let a = (first >> shift).max(done + 1);
-                let b = (first + len - 1) >> shift;
+            for r in ranges.iter_mut() {
+                let a = (r.0 / 2).max(done + 1);
+                let b = r.1 / 2;
                 for node in a..=b {
                     self.nodes[node] = larger(self.nodes[2 * node], self.nodes[2 * node + 1]);
                 }
                 done = done.max(b);
-                top = top.min(a);
+                *r = (r.0 / 2, b);
             }
-            if top <= 1 {
+            if ranges[0].0 <= 1 {
                 break;
             }
-            shift += 1;
         }
     }
 
@@ -163,11 +162,11 @@ mod tests {
         }
         tree.refresh(3, 5);
         assert_eq!(tree.arg_max(), Some((5, 15.0)));
-        for k in [0, 3, 6] {
-            tree.set_leaf(k, 20.0 + k as f64);
-        }
-        tree.refresh_runs(0, 1, 3, 3);
-        assert_eq!(tree.arg_max(), Some((6, 26.0)));
+        tree.set_leaf(1, 30.0);
+        tree.set_leaf(4, 31.0);
+        tree.set_leaf(5, 32.0);
+        tree.refresh_ranges(&mut [(1, 1), (4, 5)]);
+        assert_eq!(tree.arg_max(), Some((5, 32.0)));
         tree.update(6, f64::NAN);
         assert_eq!(tree.get(6), NEVER);
     }
@@ -185,13 +184,13 @@ mod tests {
             let k = (x >> 33) as usize % n;
             let v = ((x >> 11) % 1000) as f64;
             if x % 3 == 0 {
-                // a run of three leaves (clamped to the end) through refresh_runs
-                let start = k.min(n - 3);
-                for q in start..start + 3 {
+                // two runs of leaves (clamped to the end) through refresh_ranges
+                let start = k.min(n - 6);
+                for q in (start..start + 2).chain(start + 4..start + 6) {
                     tree.set_leaf(q, v + q as f64);
                     plain[q] = v + q as f64;
                 }
-                tree.refresh_runs(start, 3, 1, 0);
+                tree.refresh_ranges(&mut [(start, start + 1), (start + 4, start + 5)]);
             } else {
                 tree.update(k, v);
                 plain[k] = v;

@@ -197,6 +197,70 @@ impl TriMesh {
             .collect()
     }
 
+    /// Parses Wavefront OBJ text: `v` records in order (so vertex indices stay those of the
+    /// file, 0-based here), `f` records with 1-based or negative indices (`a`, `a/t`, `a/t/n`,
+    /// `a//n`), polygons split into fans. Other records are ignored.
+    pub fn from_obj_str(text: &str) -> crate::Result<Self> {
+        let err = |line: usize, detail: String| crate::Error::Format {
+            detail: format!("OBJ line {line}: {detail}"),
+        };
+        let mut mesh = TriMesh::default();
+        let mut polygon: Vec<usize> = Vec::with_capacity(8);
+        for (k, raw) in text.lines().enumerate() {
+            let line = k + 1;
+            let mut it = raw.split_whitespace();
+            match it.next() {
+                Some("v") => {
+                    let mut c = [0.0; 3];
+                    for slot in &mut c {
+                        let field = it
+                            .next()
+                            .ok_or_else(|| err(line, "a vertex needs three coordinates".into()))?;
+                        *slot = field
+                            .parse::<f64>()
+                            .ok()
+                            .filter(|x| x.is_finite())
+                            .ok_or_else(|| {
+                                err(line, format!("{field:?} is not a finite number"))
+                            })?;
+                    }
+                    mesh.positions.push(Point3::new(c[0], c[1], c[2]));
+                }
+                Some("f") => {
+                    polygon.clear();
+                    for field in it {
+                        let first = field.split('/').next().unwrap_or("");
+                        let index: i64 = first
+                            .parse()
+                            .map_err(|_| err(line, format!("{field:?} is not a vertex index")))?;
+                        let n = mesh.positions.len() as i64;
+                        let resolved = if index > 0 { index - 1 } else { n + index };
+                        if index == 0 || resolved < 0 || resolved >= n {
+                            return Err(err(
+                                line,
+                                format!(
+                                    "vertex index {index} is out of range ({n} vertices so far)"
+                                ),
+                            ));
+                        }
+                        polygon.push(resolved as usize);
+                    }
+                    if polygon.len() < 3 {
+                        return Err(err(
+                            line,
+                            format!("a face needs at least 3 vertices, got {}", polygon.len()),
+                        ));
+                    }
+                    for j in 1..polygon.len() - 1 {
+                        mesh.faces.push([polygon[0], polygon[j], polygon[j + 1]]);
+                    }
+                }
+                _ => {}
+            }
+        }
+        Ok(mesh)
+    }
+
     /// Writes the mesh as Wavefront OBJ (positions, normals when present, 1-based faces).
     pub fn write_obj(&self, out: &mut impl Write) -> std::io::Result<()> {
         for p in &self.positions {

@@ -145,3 +145,29 @@ fn teapot_patches_load() {
     let mesh = TriMesh::from_surface(lid, 9, 9);
     assert_eq!(mesh.positions.len(), 1 + 8 * 9);
 }
+
+#[test]
+fn obj_reading_keeps_vertex_order() {
+    let text = "# comment\nv 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//1 3//1 4//1\nf -4 -2 -1\n";
+    let m = TriMesh::from_obj_str(text).unwrap();
+    assert_eq!(m.positions.len(), 4);
+    assert_eq!(m.positions[2], Point3::new(1.0, 1.0, 0.0));
+    assert_eq!(m.faces, vec![[0, 1, 2], [0, 2, 3], [0, 2, 3]]);
+    for (bad, what) in [
+        ("v 0 0\n", "three coordinates"),
+        ("v 0 0 nan\n", "finite"),
+        ("v 0 0 0\nf 1 2 3\n", "out of range"),
+        ("v 0 0 0\nf 1\n", "at least 3"),
+    ] {
+        let e = TriMesh::from_obj_str(bad).unwrap_err().to_string();
+        assert!(e.contains(what) && e.contains("OBJ line"), "{e}");
+    }
+    let mut bytes = Vec::new();
+    m.write_obj(&mut bytes).unwrap();
+    assert_eq!(
+        TriMesh::from_obj_str(std::str::from_utf8(&bytes).unwrap())
+            .unwrap()
+            .positions,
+        m.positions
+    );
+}

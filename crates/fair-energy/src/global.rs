@@ -1,0 +1,386 @@
+//! The global variant `energy-global`: all free control points at once.
+//!
+//! Minimize E(d) + w Σ_{r free} |d_r − o_r|² with E(d) = Σ_c x_cᵀ K x_c (the thin plate of
+//! [`crate::stiffness`]) and o the original points. Writing d = o + δ (δ = 0 on fixed points) and
+//! g = K o, the normal equations are (K_ff + w I) δ_f = −g_f, one right-hand side per coordinate,
+//! symmetric positive definite for w > 0, solved by a sparse Cholesky factorization with a
+//! fill-reducing order ([`SparseSolver`]).
+//!
+//! Afterwards every displacement is clamped to the ball of radius ε, and a line search along
+//! d(t) = o + t Δ (Δ the clamped displacement; E(t) = E₀ + 2t Δ·g + t² ΔᵀKΔ is a parabola,
+//! t ∈ [0, 1] keeps every point in its ball) makes sure the energy never exceeds the original.
+//! Optionally the local scheme of [`crate::local`] polishes the result inside the same balls.
+//!
+//! # Deviation from the paper
+//! [SV] §5.2 minimizes the energy of all free points at once without the deviation term; w
+//! keeps the system definite when the mask frees whole regions and pulls the result towards the
+//! original, so that clamping to ε changes it less.
+//!
+//! # Tolerance
+//! w = `deviation_weight` × the mean diagonal entry of K_ff: a relative, unit-free weight.
+
+use std::time::Instant;
+
+use nalgebra::DMatrix;
+use nurbs_core::{BSplineSurface, ControlMask, FairingReport, Point3, SurfaceFairing, Vector3};
+
+use crate::error::{EnergyError, Result, check_tolerance};
+use crate::local::{BALL_SHRINK, LocalSettings, NULL_DIAGONAL_REL, StopReason, run_local};
+use crate::ordering::nested_dissection;
+use crate::stiffness::{MAX_TERMS, SeparableStiffness, kron};
+
+/// The sparse Cholesky implementation of the global solve.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SparseSolver {
+    /// nalgebra-sparse's left-looking Cholesky after our nested-dissection order
+    /// ([`crate::ordering`])
+    NalgebraSparse,
+    /// faer's supernodal/simplicial Cholesky with its AMD order (feature `faer`)
+    #[cfg(feature = "faer")]
+    Faer,
+}
+
+impl SparseSolver {
+    /// The faster solver on the benchmarks of `docs/benchmarks.md`.
+    pub const FASTEST: SparseSolver = {
+        #[cfg(feature = "faer")]
+        {
+            SparseSolver::Faer
+        }
+        #[cfg(not(feature = "faer"))]
+        {
+            SparseSolver::NalgebraSparse
+        }
+    };
+
+    fn name(self) -> &'static str {
+        match self {
+            SparseSolver::NalgebraSparse => "nalgebra-sparse",
+            #[cfg(feature = "faer")]
+            SparseSolver::Faer => "faer",
+        }
+    }
+}
+
+/// Settings of the global variant.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GlobalParams {
+    /// w relative to the mean diagonal of K_ff (unit-free, > 0). Default 1e-3: small enough that
+    /// noise at the control-point scale is smoothed away, large enough to keep the overall shape;
+    /// on the seed's 52×52 example (ε = 0.02) no move needs clamping (`docs/benchmarks.md`).
+    pub deviation_weight: f64,
+    /// Which sparse Cholesky. Default: [`SparseSolver::FASTEST`].
+    pub solver: SparseSolver,
+    /// Local-scheme moves after the solve (inside the same ε-balls). Default 0.
+    pub polish_iterations: usize,
+}
+
+impl Default for GlobalParams {
+    fn default() -> Self {
+        Self {
+            deviation_weight: 1e-3,
+            solver: SparseSolver::FASTEST,
+            polish_iterations: 0,
+        }
+    }
+}
+
+/// What a global run achieved (thin-plate energies).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct GlobalReport {
+    /// number of unknown control points
+    pub free_points: usize,
+    /// energy before
+    pub energy_before: f64,
+    /// energy after clamping, line search and polishing
+    pub energy_after: f64,
+    /// how many points the ε-clamp moved back
+    pub clamped_points: usize,
+    /// the line-search step t ∈ [0, 1] (1 = clamped solution kept as is)
+    pub step: f64,
+    /// local moves made while polishing
+    pub polish_iterations: usize,
+    /// largest control-point displacement (model units)
+    pub max_control_move: f64,
+}
+
+/// A symmetric matrix in compressed sparse columns (both triangles, rows sorted per column).
+struct Csc {
+    n: usize,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    values: Vec<f64>,
+}
+
+/// Solves A x = b (A symmetric positive definite, unknowns already in elimination order).
+fn solve(solver: SparseSolver, a: Csc, rhs: DMatrix<f64>) -> Result<DMatrix<f64>> {
+    let failed = |reason: String| EnergyError::SolveFailed {
+        solver: solver.name(),
+        reason,
+    };
+    match solver {
+        SparseSolver::NalgebraSparse => {
+            let csc = nalgebra_sparse::CscMatrix::try_from_csc_data(
+                a.n, a.n, a.col_ptr, a.row_idx, a.values,
+            )
+            .map_err(|e| failed(format!("{e:?}")))?;
+            let chol = nalgebra_sparse::factorization::CscCholesky::factor(&csc)
+                .map_err(|e| failed(format!("{e:?}")))?;
+            Ok(chol.solve(&rhs))
+        }
+        #[cfg(feature = "faer")]
+        SparseSolver::Faer => solve_faer(&a, rhs).map_err(failed),
+    }
+}
+
+/// faer's sparse Cholesky on the upper triangle, sequential, in the given (nested-dissection)
+/// order: [`FAER_ORDERING`] says whether faer reorders it again with its AMD.
+#[cfg(feature = "faer")]
+fn solve_faer(a: &Csc, rhs: DMatrix<f64>) -> std::result::Result<DMatrix<f64>, String> {
+    use faer::dyn_stack::{MemBuffer, MemStack};
+    use faer::sparse::linalg::cholesky::{SymmetricOrdering, factorize_symbolic_cholesky};
+    use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+    // the upper triangle: rows ≤ column (rows are sorted, so a prefix of every column)
+    let n = a.n;
+    let mut col_ptr = Vec::with_capacity(n + 1);
+    let mut row_idx = Vec::with_capacity(a.row_idx.len() / 2 + n);
+    let mut values = Vec::with_capacity(a.row_idx.len() / 2 + n);
+    col_ptr.push(0);
+    for c in 0..n {
+        for k in a.col_ptr[c]..a.col_ptr[c + 1] {
+            if a.row_idx[k] <= c {
+                row_idx.push(a.row_idx[k]);
+                values.push(a.values[k]);
+            }
+        }
+        col_ptr.push(row_idx.len());
+    }
+    let pattern = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
+    let upper = SparseColMatRef::new(pattern, &values);
+    let ordering = if FAER_ORDERING_AMD {
+        SymmetricOrdering::Amd
+    } else {
+        SymmetricOrdering::Identity
+    };
+    let symbolic =
+        factorize_symbolic_cholesky(pattern, faer::Side::Upper, ordering, Default::default())
+            .map_err(|e| format!("{e:?}"))?;
+    let par = faer::Par::Seq;
+    let mut factor = vec![0.0; symbolic.len_val()];
+    let mut buffer =
+        MemBuffer::try_new(symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()))
+            .map_err(|e| format!("{e:?}"))?;
+    let llt = symbolic
+        .factorize_numeric_llt::<f64>(
+            &mut factor,
+            upper,
+            faer::Side::Upper,
+            Default::default(),
+            par,
+            MemStack::new(&mut buffer),
+            Default::default(),
+        )
+        .map_err(|e| format!("{e:?}"))?;
+    let mut b = faer::Mat::<f64>::from_fn(n, rhs.ncols(), |i, j| rhs[(i, j)]);
+    let mut buffer = MemBuffer::try_new(symbolic.solve_in_place_scratch::<f64>(rhs.ncols(), par))
+        .map_err(|e| format!("{e:?}"))?;
+    llt.solve_in_place_with_conj(faer::Conj::No, b.as_mut(), par, MemStack::new(&mut buffer));
+    Ok(DMatrix::from_fn(n, rhs.ncols(), |i, j| b[(i, j)]))
+}
+
+/// Whether faer reorders with AMD (true) or keeps our nested-dissection order (false); see
+/// `docs/benchmarks.md` for the measurement that chose it.
+#[cfg(feature = "faer")]
+const FAER_ORDERING_AMD: bool = false;
+
+/// Fairs `surface` by one global solve, moving only points `mask` frees, each within `tolerance`
+/// (model units) of its original; energy never increases.
+pub fn fair_surface_global(
+    surface: &BSplineSurface,
+    mask: &ControlMask,
+    tolerance: f64,
+    params: &GlobalParams,
+) -> Result<(BSplineSurface, GlobalReport)> {
+    check_tolerance(tolerance)?;
+    if !(params.deviation_weight.is_finite() && params.deviation_weight > 0.0) {
+        return Err(EnergyError::InvalidParameter {
+            name: "deviation_weight",
+            value: params.deviation_weight,
+            expected: "finite and > 0",
+        });
+    }
+    mask.check_shape(surface)?;
+    if surface.is_rational() {
+        return Err(EnergyError::Rational { what: "surface" });
+    }
+    let k = SeparableStiffness::thin_plate(surface.knots_u(), surface.knots_v())?;
+    let (nu, nv) = (surface.num_u(), surface.num_v());
+    let n = nu * nv;
+    let origin = surface.control_points();
+    let mut g = vec![Vector3::zeros(); n];
+    k.multiply(origin, &mut g);
+    let energy_before: f64 = origin.iter().zip(&g).map(|(p, v)| p.coords.dot(v)).sum();
+    let free = mask.as_slice();
+    let diag: Vec<f64> = (0..n)
+        .map(|r| k.entry((r / nv, r % nv), (r / nv, r % nv)))
+        .collect();
+    let diag_cut = NULL_DIAGONAL_REL * diag.iter().cloned().fold(0.0, f64::max);
+    let movable: Vec<bool> = (0..n).map(|r| free[r] && diag[r] > diag_cut).collect();
+    let order = nested_dissection(nu, nv, &movable, k.stencil());
+    let nf = order.len();
+    let mut out = surface.clone();
+    let mut report = GlobalReport {
+        free_points: nf,
+        energy_before,
+        energy_after: energy_before,
+        clamped_points: 0,
+        step: 0.0,
+        polish_iterations: 0,
+        max_control_move: 0.0,
+    };
+    if nf == 0 {
+        return Ok((out, report));
+    }
+    let mut col = vec![usize::MAX; n];
+    for (c, &r) in order.iter().enumerate() {
+        col[r] = c;
+    }
+    let w = params.deviation_weight * order.iter().map(|&r| diag[r]).sum::<f64>() / nf as f64;
+    let (wu, wv) = k.stencil();
+    let stencil = (2 * wu + 1) * (2 * wv + 1);
+    let mut a = Csc {
+        n: nf,
+        col_ptr: Vec::with_capacity(nf + 1),
+        row_idx: Vec::with_capacity(nf * stencil),
+        values: Vec::with_capacity(nf * stencil),
+    };
+    a.col_ptr.push(0);
+    let mut fa = vec![[0.0; MAX_TERMS]; 2 * wu + 1];
+    let mut fb = vec![[0.0; MAX_TERMS]; 2 * wv + 1];
+    let mut column: Vec<(usize, f64)> = Vec::with_capacity(stencil);
+    let mut rhs = DMatrix::zeros(nf, 3);
+    for (c, &r) in order.iter().enumerate() {
+        let (i, j) = (r / nv, r % nv);
+        k.factors_u(i, &mut fa);
+        k.factors_v(j, &mut fb);
+        let ((i0, i1), (j0, j1)) = (k.range_u(i), k.range_v(j));
+        column.clear();
+        for (a_, fi) in (i0..=i1).zip(&fa) {
+            for (b_, fj) in (j0..=j1).zip(&fb) {
+                let s_ = a_ * nv + b_;
+                if movable[s_] {
+                    let value = kron(fi, fj) + if s_ == r { w } else { 0.0 };
+                    if value != 0.0 {
+                        column.push((col[s_], value));
+                    }
+                }
+            }
+        }
+        column.sort_unstable_by_key(|e| e.0);
+        for &(row, value) in &column {
+            a.row_idx.push(row);
+            a.values.push(value);
+        }
+        a.col_ptr.push(a.row_idx.len());
+        for d in 0..3 {
+            rhs[(c, d)] = -g[r][d];
+        }
+    }
+    let delta = solve(params.solver, a, rhs)?;
+    // the clamped displacement Δ
+    let mut step_points = vec![Point3::origin(); n];
+    for (c, &r) in order.iter().enumerate() {
+        let v = Vector3::new(delta[(c, 0)], delta[(c, 1)], delta[(c, 2)]);
+        let len = v.norm();
+        let v = if len > tolerance * BALL_SHRINK {
+            report.clamped_points += 1;
+            v * (tolerance * BALL_SHRINK / len)
+        } else {
+            v
+        };
+        step_points[r] = Point3::from(v);
+    }
+    let mut kd = vec![Vector3::zeros(); n];
+    k.multiply(&step_points, &mut kd);
+    let lin: f64 = step_points
+        .iter()
+        .zip(&g)
+        .map(|(p, v)| p.coords.dot(v))
+        .sum();
+    let quad: f64 = step_points
+        .iter()
+        .zip(&kd)
+        .map(|(p, v)| p.coords.dot(v))
+        .sum();
+    let t = if quad > 0.0 {
+        (-lin / quad).clamp(0.0, 1.0)
+    } else if lin < 0.0 {
+        1.0
+    } else {
+        0.0
+    };
+    report.step = t;
+    {
+        let points = out.control_points_mut();
+        for &r in &order {
+            points[r] = origin[r] + t * step_points[r].coords;
+        }
+    }
+    // E(t) = E₀ + 2t Δ·g + t² ΔᵀKΔ
+    report.energy_after = energy_before + 2.0 * t * lin + t * t * quad;
+    if params.polish_iterations > 0 {
+        let settings = LocalSettings {
+            tolerance,
+            max_iterations: params.polish_iterations,
+            min_relative_decrease: 0.0,
+        };
+        let outcome = run_local(&k, origin, out.control_points_mut(), &movable, settings);
+        if outcome.stop != StopReason::NothingFree {
+            report.polish_iterations = outcome.iterations;
+            report.energy_after = outcome.energy_after;
+        }
+    }
+    report.max_control_move = out
+        .control_points()
+        .iter()
+        .zip(origin)
+        .map(|(a, b)| (a - b).norm())
+        .fold(0.0, f64::max);
+    Ok((out, report))
+}
+
+/// The global energy fairing method (`energy-global`) for the framework.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct GlobalEnergyFairing {
+    /// its settings
+    pub params: GlobalParams,
+}
+
+/// Name of the global method.
+pub const GLOBAL_METHOD: &str = "energy-global";
+
+impl SurfaceFairing for GlobalEnergyFairing {
+    fn name(&self) -> &str {
+        GLOBAL_METHOD
+    }
+
+    fn fair(
+        &self,
+        surface: &BSplineSurface,
+        mask: &ControlMask,
+        tolerance: f64,
+    ) -> nurbs_core::Result<(BSplineSurface, FairingReport)> {
+        let start = Instant::now();
+        let (out, r) = fair_surface_global(surface, mask, tolerance, &self.params)
+            .map_err(|e| e.into_core(GLOBAL_METHOD))?;
+        let seconds = start.elapsed().as_secs_f64();
+        // one solve plus the polishing moves; nothing free means nothing was done
+        let iterations = if r.free_points == 0 {
+            0
+        } else {
+            1 + r.polish_iterations
+        };
+        let report = FairingReport::measure(GLOBAL_METHOD, surface, &out, iterations, seconds);
+        Ok((out, report))
+    }
+}

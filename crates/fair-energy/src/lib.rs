@@ -1,0 +1,34 @@
+//! # fair-energy
+//!
+//! Hadenfeld's local energy fairing of B-spline curves and surfaces ([H]), frame-preserving
+//! ([SV] §3.1, §5.2), and a global variant that solves for all free points at once.
+//!
+//! The functional is the linearized thin-plate energy Π = ∬ |X_uu|² + 2|X_uv|² + |X_vv|² du dv
+//! (curves ∫ |x''|² + β |x'''|²), a quadratic form in the control points built from nurbs-core's
+//! Gram integrals ([`stiffness`]). The local scheme ([`local`]) repeatedly moves the free control
+//! point with the largest energy decrease to its optimal position, clamped to a ball of radius ε
+//! around its original. [`global`] minimizes Π + w Σ |d − d_orig|² over all free points with a sparse
+//! Cholesky factorization and then clamps to ε.
+//!
+//! Entry points: [`fair_surface`], [`fair_curve`], [`fair_surface_global`] and the
+//! [`nurbs_core::SurfaceFairing`] methods [`LocalEnergyFairing`] (`energy`) and
+//! [`GlobalEnergyFairing`] (`energy-global`).
+
+pub mod error;
+pub mod local;
+pub mod stiffness;
+pub mod surface;
+
+pub use error::{EnergyError, Result};
+pub use local::{LocalOutcome, StopReason};
+pub use stiffness::SeparableStiffness;
+pub use surface::{EnergyParams, EnergyReport, LOCAL_METHOD, LocalEnergyFairing, fair_surface};
+pub mod curve;
+pub mod global;
+mod ordering;
+
+pub use curve::{CurveEnergyParams, fair_curve};
+pub use global::{
+    GLOBAL_METHOD, GlobalEnergyFairing, GlobalParams, GlobalReport, SparseSolver,
+    fair_surface_global,
+};

@@ -1,0 +1,259 @@
+//! KRR fairing of surfaces ([SV] §5.1, Hahmann): the single-point solve of [`crate::jump`]
+//! along the u-column, the v-row, or the average of both through P_ij.
+//!
+//! Rank of a free point: the largest jump of the p-th (q-th) derivative at its central knot in the
+//! chosen direction(s); the best-ranked point moves to its target, clamped to the ball of radius ε
+//! around its original. Moving P_ij changes only the jumps of the points within p + 1 rows in its
+//! column and q + 1 columns in its row, so only those ranks are recomputed (a [`MaxTree`] holds
+//! them). Only points the [`ControlMask`] frees move: the frames of [SV] §3.1 stay bit-identical.
+
+use std::time::Instant;
+
+use nurbs_core::max_tree::{MaxTree, NEVER};
+use nurbs_core::{BSplineSurface, ControlMask, FairingReport, Point3, SurfaceFairing};
+
+use crate::curve::{KrrReport, KrrStop, MIN_MOVE_REL, check_params, clamp_to_ball};
+use crate::error::{KrrError, Result, check_tolerance};
+use crate::jump::KnotJumps;
+
+/// Which isocurve directions KRR works along ([SV] §5.1).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum KrrDirection {
+    /// along u (the column through P_ij)
+    U,
+    /// along v (the row through P_ij)
+    V,
+    /// the average of the u and v targets (one of them where only one exists)
+    Average,
+}
+
+/// Settings of surface KRR.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct KrrParams {
+    /// Largest number of single-point moves. Default 10,000, the budget of the energy method's
+    /// seed example ([H] "Examples (1)").
+    pub max_iterations: usize,
+    /// Direction(s). Default [`KrrDirection::Average`]: independent of the parametrization's
+    /// orientation ([SV] §5.1 "average the two values").
+    pub direction: KrrDirection,
+    /// How many of the last moved points are skipped. Default 2.
+    pub taboo: usize,
+    /// Stop when the largest jump falls below this fraction of the largest jump at the start.
+    /// Default 1e-6.
+    pub min_relative_jump: f64,
+}
+
+impl Default for KrrParams {
+    fn default() -> Self {
+        Self {
+            max_iterations: 10_000,
+            direction: KrrDirection::Average,
+            taboo: 2,
+            min_relative_jump: 1e-6,
+        }
+    }
+}
+
+struct Ranker<'a> {
+    ju: KnotJumps,
+    jv: KnotJumps,
+    nv: usize,
+    direction: KrrDirection,
+    origin: &'a [Point3],
+    tolerance: f64,
+}
+
+impl Ranker<'_> {
+    /// Jump size and clamped target of point r; `None` when it has no knot in the direction(s).
+    #[inline]
+    fn evaluate(&self, p: &[Point3], r: usize) -> Option<(f64, Point3)> {
+        let (i, j, nv) = (r / self.nv, r % self.nv, self.nv);
+        let along_u = || {
+            Some((
+                self.ju.jump(i, |a| p[a * nv + j])?.norm(),
+                self.ju.target(i, |a| p[a * nv + j])?,
+            ))
+        };
+        let along_v = || {
+            Some((
+                self.jv.jump(j, |b| p[i * nv + b])?.norm(),
+                self.jv.target(j, |b| p[i * nv + b])?,
+            ))
+        };
+        let (size, target) = match self.direction {
+            KrrDirection::U => along_u()?,
+            KrrDirection::V => along_v()?,
+            KrrDirection::Average => match (along_u(), along_v()) {
+                (Some((a, ta)), Some((b, tb))) => {
+                    (a.max(b), Point3::from((ta.coords + tb.coords) * 0.5))
+                }
+                (Some(x), None) | (None, Some(x)) => x,
+                (None, None) => return None,
+            },
+        };
+        Some((size, clamp_to_ball(target, &self.origin[r], self.tolerance)))
+    }
+
+    /// Largest jump over the free points.
+    fn max_jump(&self, p: &[Point3], free: &[bool]) -> f64 {
+        (0..p.len())
+            .filter(|&r| free[r])
+            .filter_map(|r| self.evaluate(p, r))
+            .map(|(s, _)| s)
+            .fold(0.0, f64::max)
+    }
+}
+
+/// Fairs `surface` by KRR, moving only points `mask` frees, each within `tolerance` (model units)
+/// of its original. A mask that frees no fairable point returns the surface unchanged with
+/// [`KrrStop::NothingFree`].
+pub fn fair_surface(
+    surface: &BSplineSurface,
+    mask: &ControlMask,
+    tolerance: f64,
+    params: &KrrParams,
+) -> Result<(BSplineSurface, KrrReport)> {
+    check_tolerance(tolerance)?;
+    check_params(params.min_relative_jump)?;
+    mask.check_shape(surface)?;
+    if surface.is_rational() {
+        return Err(KrrError::Rational { what: "surface" });
+    }
+    let (nu, nv) = (surface.num_u(), surface.num_v());
+    let n = nu * nv;
+    let origin = surface.control_points();
+    let ranker = Ranker {
+        ju: KnotJumps::new(surface.knots_u()),
+        jv: KnotJumps::new(surface.knots_v()),
+        nv,
+        direction: params.direction,
+        origin,
+        tolerance,
+    };
+    let free = mask.as_slice();
+    let mut out = surface.clone();
+    let before = ranker.max_jump(origin, free);
+    let threshold = params.min_relative_jump * before;
+    let min_move = MIN_MOVE_REL * tolerance;
+    let mut target = origin.to_vec();
+    let mut tree = MaxTree::new(n);
+    let mut in_taboo = vec![false; n];
+    let mut taboo: Vec<usize> = Vec::with_capacity(params.taboo + 1);
+    let rank = |p: &[Point3], r: usize, target: &mut [Point3]| -> f64 {
+        match ranker.evaluate(p, r) {
+            Some((size, t)) if (t - p[r]).norm() > min_move => {
+                target[r] = t;
+                size
+            }
+            _ => NEVER,
+        }
+    };
+    let mut fairable = 0;
+    for r in (0..n).filter(|&r| free[r]) {
+        if ranker.evaluate(origin, r).is_some() {
+            fairable += 1;
+        }
+        tree.set_leaf(r, rank(origin, r, &mut target));
+    }
+    tree.rebuild();
+    let (p_deg, q_deg) = (surface.degree_u(), surface.degree_v());
+    let mut stop = if fairable == 0 {
+        KrrStop::NothingFree
+    } else {
+        KrrStop::IterationLimit
+    };
+    let mut iterations = 0;
+    while iterations < params.max_iterations && stop == KrrStop::IterationLimit {
+        let best = tree.arg_max().filter(|&(_, s)| s > threshold);
+        let Some((r, _)) = best else {
+            stop = KrrStop::Converged;
+            break;
+        };
+        let points = out.control_points_mut();
+        points[r] = target[r];
+        iterations += 1;
+        taboo.push(r);
+        in_taboo[r] = true;
+        let released = if taboo.len() > params.taboo {
+            Some(taboo.remove(0))
+        } else {
+            None
+        };
+        if let Some(q) = released {
+            in_taboo[q] = false;
+        }
+        let (i, j) = (r / nv, r % nv);
+        let (a0, a1) = (i.saturating_sub(p_deg + 1), (i + p_deg + 1).min(nu - 1));
+        let (b0, b1) = (j.saturating_sub(q_deg + 1), (j + q_deg + 1).min(nv - 1));
+        for a in a0..=a1 {
+            let s = a * nv + j;
+            if free[s] {
+                let v = if in_taboo[s] {
+                    NEVER
+                } else {
+                    rank(points, s, &mut target)
+                };
+                tree.update(s, v);
+            }
+        }
+        for b in b0..=b1 {
+            let s = i * nv + b;
+            if free[s] {
+                let v = if in_taboo[s] {
+                    NEVER
+                } else {
+                    rank(points, s, &mut target)
+                };
+                tree.set_leaf(s, v);
+            }
+        }
+        tree.refresh(i * nv + b0, i * nv + b1);
+        if let Some(q) = released.filter(|&q| free[q]) {
+            let v = rank(points, q, &mut target);
+            tree.update(q, v);
+        }
+    }
+    let p = out.control_points();
+    let report = KrrReport {
+        iterations,
+        max_jump_before: before,
+        max_jump_after: ranker.max_jump(p, free),
+        max_control_move: p
+            .iter()
+            .zip(origin)
+            .map(|(a, b)| (a - b).norm())
+            .fold(0.0, f64::max),
+        stop,
+    };
+    Ok((out, report))
+}
+
+/// The KRR method (`krr`) for the framework.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct KrrFairing {
+    /// its settings
+    pub params: KrrParams,
+}
+
+/// Name of the method.
+pub const KRR_METHOD: &str = "krr";
+
+impl SurfaceFairing for KrrFairing {
+    fn name(&self) -> &str {
+        KRR_METHOD
+    }
+
+    fn fair(
+        &self,
+        surface: &BSplineSurface,
+        mask: &ControlMask,
+        tolerance: f64,
+    ) -> nurbs_core::Result<(BSplineSurface, FairingReport)> {
+        let start = Instant::now();
+        let (out, r) = fair_surface(surface, mask, tolerance, &self.params)
+            .map_err(|e| e.into_core(KRR_METHOD))?;
+        let seconds = start.elapsed().as_secs_f64();
+        let report = FairingReport::measure(KRR_METHOD, surface, &out, r.iterations, seconds);
+        Ok((out, report))
+    }
+}

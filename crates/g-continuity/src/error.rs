@@ -1,0 +1,69 @@
+//! The error type of g-continuity: bad input kept apart from numerical failure.
+
+use nurbs_core::{Continuity, Side};
+use thiserror::Error;
+
+/// Everything that can go wrong while measuring or setting continuity.
+#[derive(Debug, Clone, PartialEq, Error)]
+pub enum Error {
+    /// An error of the kernel (knot operations, evaluation set-up).
+    #[error(transparent)]
+    Core(#[from] nurbs_core::Error),
+    /// Fewer samples than a measurement or solve needs.
+    #[error("{samples} samples are too few (at least {min} needed)")]
+    TooFewSamples {
+        /// samples asked for
+        samples: usize,
+        /// the minimum
+        min: usize,
+    },
+    /// The same side of the slave appears in two links.
+    #[error("side {side} of the slave is linked twice")]
+    DuplicateSide {
+        /// the side
+        side: Side,
+    },
+    /// A rational slave that no polynomial re-approximation meets within the tolerance.
+    #[error(
+        "the slave is rational (weights {min_weight}..{max_weight}) and its polynomial re-approximation stays above {tolerance}"
+    )]
+    RationalSlave {
+        /// smallest weight
+        min_weight: f64,
+        /// largest weight
+        max_weight: f64,
+        /// the tolerance asked for (model units)
+        tolerance: f64,
+    },
+    /// A setting parameter outside its range.
+    #[error("invalid parameter {name} = {value}: {reason}")]
+    InvalidParameter {
+        /// the field
+        name: &'static str,
+        /// the value given
+        value: f64,
+        /// the allowed range
+        reason: &'static str,
+    },
+    /// The least-squares system of one side could not be solved.
+    #[error("side {side}, {target:?} step: the least-squares system is singular ({reason})")]
+    SingularSystem {
+        /// the side
+        side: Side,
+        /// the step (G0 = position row, G1 tangential row, G2 curvature row)
+        target: Continuity,
+        /// why
+        reason: String,
+    },
+    /// The solution came out non-finite (NaN or infinite control points).
+    #[error("side {side}, {target:?} step: the solution is not finite")]
+    NonFiniteSolution {
+        /// the side
+        side: Side,
+        /// the step
+        target: Continuity,
+    },
+}
+
+/// Result alias of the crate.
+pub type Result<T, E = Error> = std::result::Result<T, E>;

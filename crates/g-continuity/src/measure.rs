@@ -1,0 +1,247 @@
+//! Measuring the numerical continuity of a link: a slave side on its master ([SV] §1.2, §4).
+//!
+//! At K samples t_k along the slave side (both ends included), with slave point S_k and master
+//! point M_k = the closest point of the master (projection; the master may be trimmed):
+//! - G0: the gap |S_k − M_k|;
+//! - G1: the angle between the unit normals, atan2(|n_s × n_m|, |n_s · n_m|) in degrees, which
+//!   does not depend on how either normal is oriented;
+//! - G2: the normal curvatures in the slave's cross-boundary direction d = S_u (u sides) or S_v
+//!   (v sides): κ_s = II_s(d, d)/I_s(d, d) and κ_m = II_m(d, d)/I_m(d, d) of the master in the same
+//!   3D direction (its tangential part), signed with respect to n_s (κ_m flips when n_m · n_s < 0);
+//!   g2_abs = |κ_s − κ_m| and g2_rel = |κ_s − κ_m| / max(|κ_s|, |κ_m|), taken as 0 when both are
+//!   below the flatness cut-off (the measure of CATIA's connect checker, model-format.md).
+//!   Normal curvature is even in d, so the direction of d (into the slave) needs no sign fix.
+//!
+//! By the linkage curve theorem (Pegna–Wolter, [SV] §2) equal normal curvature in one
+//! non-tangent direction along a G1 join means G2.
+//!
+//! Samples where a normal is undefined (poles, degenerate points) are counted, not measured; a
+//! side whose boundary is a single point is reported as collapsed with no G1/G2 value.
+//!
+//! # Tolerance
+//! [`COLLAPSED_SIDE_RELATIVE`]: a side is collapsed when its control row spans less than this
+//! times the slave size. [`FLAT_RADIUS_FACTOR`]: the default flatness cut-off is a curvature
+//! radius of this many slave sizes.
+
+use nurbs_core::{BSplineSurface, Direction, ProjectionParams, Side, SurfaceDerivatives, Vector3};
+
+use crate::error::{Error, Result};
+use crate::sampling::{MasterTracker, uniform_side_params};
+
+/// A side whose control row spans less than this fraction of the slave size is a point.
+pub const COLLAPSED_SIDE_RELATIVE: f64 = 1e-9;
+
+/// Default flatness cut-off: curvatures below 1/(FLAT_RADIUS_FACTOR × slave size) count as zero
+/// (a radius a thousand times the part is flat for every practical reflection line).
+pub const FLAT_RADIUS_FACTOR: f64 = 1e3;
+
+/// Default number of samples per side (the K = 101: every 1 % of the side).
+pub const DEFAULT_SAMPLES: usize = 101;
+
+/// Settings of a measurement.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MeasureParams {
+    /// Samples along the side, both ends included (default [`DEFAULT_SAMPLES`]).
+    pub samples: usize,
+    /// Curvature (1/model unit) below which a normal curvature counts as zero for g2_rel;
+    /// `None`: 1/([`FLAT_RADIUS_FACTOR`] × slave size).
+    pub flat_curvature: Option<f64>,
+    /// Projection onto the master (kernel defaults).
+    pub projection: ProjectionParams,
+}
+
+impl Default for MeasureParams {
+    fn default() -> Self {
+        Self {
+            samples: DEFAULT_SAMPLES,
+            flat_curvature: None,
+            projection: ProjectionParams::default(),
+        }
+    }
+}
+
+/// One sample of a measurement.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SampleMeasure {
+    /// parameter along the slave side
+    pub t: f64,
+    /// master parameters (u, v) of the foot point
+    pub master_params: (f64, f64),
+    /// gap |S − M| (model units)
+    pub gap: f64,
+    /// normal angle in degrees, `None` where a normal is undefined
+    pub angle_deg: Option<f64>,
+    /// slave normal curvature in the cross direction (1/unit), signed w.r.t. the slave normal
+    pub kappa_slave: Option<f64>,
+    /// master normal curvature in the same direction, signed w.r.t. the slave normal
+    pub kappa_master: Option<f64>,
+}
+
+/// Continuity of one link: the worst sample of each measure.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinkMeasure {
+    /// the slave side
+    pub side: Side,
+    /// number of samples
+    pub samples: usize,
+    /// true when the slave side is a single point (no G1/G2 there)
+    pub collapsed: bool,
+    /// largest gap (model units)
+    pub g0: f64,
+    /// parameter of the largest gap
+    pub worst_g0_t: f64,
+    /// largest normal angle (degrees); `None` when no sample has both normals
+    pub g1_deg: Option<f64>,
+    /// parameter of the largest angle
+    pub worst_g1_t: Option<f64>,
+    /// largest relative curvature difference; `None` when no sample has both curvatures
+    pub g2_rel: Option<f64>,
+    /// largest absolute curvature difference (1/unit)
+    pub g2_abs: Option<f64>,
+    /// parameter of the largest relative difference
+    pub worst_g2_t: Option<f64>,
+    /// samples where a normal (slave or master) is undefined
+    pub undefined_normals: usize,
+    /// samples where a normal curvature is undefined
+    pub undefined_curvatures: usize,
+    /// the samples themselves
+    pub detail: Vec<SampleMeasure>,
+}
+
+impl LinkMeasure {
+    /// Whether the link meets the tolerances up to `target` (G0: gap; G1: plus angle; G2: plus
+    /// relative curvature). Undefined values (collapsed sides, poles) do not count against it.
+    pub fn meets(&self, target: nurbs_core::Continuity, g0: f64, g1_deg: f64, g2_rel: f64) -> bool {
+        use nurbs_core::Continuity::*;
+        let ok0 = self.g0 <= g0;
+        let ok1 = self.g1_deg.is_none_or(|a| a <= g1_deg);
+        let ok2 = self.g2_rel.is_none_or(|r| r <= g2_rel);
+        match target {
+            G0 => ok0,
+            G1 => ok0 && ok1,
+            G2 => ok0 && ok1 && ok2,
+        }
+    }
+}
+
+/// Spread of the control row of `side` (largest distance from its first point).
+pub fn side_extent(slave: &BSplineSurface, side: Side) -> f64 {
+    let row = side.row(0, slave.num_u(), slave.num_v());
+    let first = slave.control_point(row[0].0, row[0].1);
+    row.iter()
+        .map(|&(i, j)| (slave.control_point(i, j) - first).norm())
+        .fold(0.0, f64::max)
+}
+
+/// Whether `side` of `slave` is collapsed to a point.
+pub fn is_collapsed(slave: &BSplineSurface, side: Side) -> bool {
+    side_extent(slave, side) <= COLLAPSED_SIDE_RELATIVE * slave.size()
+}
+
+/// The slave's cross-boundary derivative on `side` (S_u or S_v).
+pub(crate) fn cross_derivative(d: &SurfaceDerivatives, side: Side) -> Vector3 {
+    match side.cross_direction() {
+        Direction::U => d.du,
+        Direction::V => d.dv,
+    }
+}
+
+/// Measures the link of `side` of `slave` on `master`.
+pub fn measure_link(
+    master: &BSplineSurface,
+    slave: &BSplineSurface,
+    side: Side,
+    params: &MeasureParams,
+) -> Result<LinkMeasure> {
+    let ts = uniform_side_params(slave, side, params.samples)?;
+    let flat = params
+        .flat_curvature
+        .unwrap_or(1.0 / (FLAT_RADIUS_FACTOR * slave.size().max(f64::MIN_POSITIVE)));
+    if !(flat >= 0.0) {
+        return Err(Error::InvalidParameter {
+            name: "flat_curvature",
+            value: flat,
+            reason: "must be ≥ 0",
+        });
+    }
+    let collapsed = is_collapsed(slave, side);
+    let mut tracker = MasterTracker::new(master, params.projection);
+    let mut slave_eval = slave.evaluator();
+    let mut master_eval = master.evaluator();
+    let mut m = LinkMeasure {
+        side,
+        samples: ts.len(),
+        collapsed,
+        g0: 0.0,
+        worst_g0_t: ts[0],
+        g1_deg: None,
+        worst_g1_t: None,
+        g2_rel: None,
+        g2_abs: None,
+        worst_g2_t: None,
+        undefined_normals: 0,
+        undefined_curvatures: 0,
+        detail: Vec::with_capacity(ts.len()),
+    };
+    for &t in &ts {
+        let (u, v) = side.params(slave, t);
+        let ds = slave_eval.derivatives(u, v);
+        let proj = tracker.project(&ds.point);
+        let dm = master_eval.derivatives(proj.u, proj.v);
+        let mut sample = SampleMeasure {
+            t,
+            master_params: (proj.u, proj.v),
+            gap: proj.distance,
+            angle_deg: None,
+            kappa_slave: None,
+            kappa_master: None,
+        };
+        if proj.distance > m.g0 {
+            m.g0 = proj.distance;
+            m.worst_g0_t = t;
+        }
+        let normals = if collapsed {
+            None
+        } else {
+            ds.normal().zip(dm.normal())
+        };
+        match normals {
+            None => {
+                m.undefined_normals += 1;
+                if !collapsed {
+                    m.undefined_curvatures += 1;
+                }
+            }
+            Some((ns, nm)) => {
+                let dot = ns.dot(&nm);
+                let angle = ns.cross(&nm).norm().atan2(dot.abs()).to_degrees();
+                sample.angle_deg = Some(angle);
+                if m.g1_deg.is_none_or(|a| angle > a) {
+                    m.g1_deg = Some(angle);
+                    m.worst_g1_t = Some(t);
+                }
+                let dir = cross_derivative(&ds, side);
+                match (ds.normal_curvature(&dir), dm.normal_curvature(&dir)) {
+                    (Some(ks), Some(km)) => {
+                        let km = if dot < 0.0 { -km } else { km };
+                        sample.kappa_slave = Some(ks);
+                        sample.kappa_master = Some(km);
+                        let abs = (ks - km).abs();
+                        let big = ks.abs().max(km.abs());
+                        let rel = if big < flat { 0.0 } else { abs / big };
+                        if m.g2_abs.is_none_or(|a| abs > a) {
+                            m.g2_abs = Some(abs);
+                        }
+                        if m.g2_rel.is_none_or(|r| rel > r) {
+                            m.g2_rel = Some(rel);
+                            m.worst_g2_t = Some(t);
+                        }
+                    }
+                    _ => m.undefined_curvatures += 1,
+                }
+            }
+        }
+        m.detail.push(sample);
+    }
+    Ok(m)
+}

@@ -1,0 +1,111 @@
+//! Settings of continuity setting ([SV] §4) and their defaults.
+
+use nurbs_core::ProjectionParams;
+
+use crate::measure::MeasureParams;
+
+/// How the G2 row equations are solved ([SV] §4.2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum G2Method {
+    /// Each curvature-row point moves along the slave normal at its Greville abscissa (the
+    /// paper's "solution by fixed directions"); QR.
+    FixedDirections,
+    /// Each point moves freely in 3D, minimum total movement (the paper's "solution by minimal
+    /// deviation", solved as a minimum-norm least-squares problem); SVD.
+    #[default]
+    MinimalDeviation,
+}
+
+/// Settings of the row solves.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SetParams {
+    /// Solve samples per knot span along the side (default 10: for bicubic pieces with matching
+    /// parametrization the G1 condition (M_u × M_v) · S_u is a polynomial of degree 8 per span, so
+    /// 9 samples make it vanish on the whole span, not only at the samples).
+    pub samples_per_span: usize,
+    /// At least this many solve samples per side (default 101, as [`MeasureParams::samples`]).
+    pub min_samples: usize,
+    /// G2 variant (default minimal deviation: exact where an exact join exists).
+    pub g2_method: G2Method,
+    /// Whether the end points of a row may move when the neighbouring side of the slave is not
+    /// linked (they then change that free boundary slightly). Default true: otherwise the corner
+    /// samples keep their original error.
+    pub move_unlinked_boundaries: bool,
+    /// Weight of the rows that keep the tangential part of the cross derivative in the G1 solve,
+    /// relative to the G1 condition (default [`crate::rows::G1_TANGENTIAL_WEIGHT`]).
+    pub g1_tangential_weight: f64,
+    /// G1 passes, each from the previous result (default [`crate::rows::G1_PASSES`]).
+    pub g1_passes: usize,
+    /// C0 passes (each re-projects the boundary onto the master; default 4, the foot points
+    /// converge linearly with a factor of the gap curvature, so 2–3 usually suffice).
+    pub c0_iterations: usize,
+    /// Projection onto the masters (kernel defaults).
+    pub projection: ProjectionParams,
+}
+
+impl Default for SetParams {
+    fn default() -> Self {
+        Self {
+            samples_per_span: 10,
+            min_samples: crate::measure::DEFAULT_SAMPLES,
+            g2_method: G2Method::default(),
+            move_unlinked_boundaries: true,
+            g1_tangential_weight: crate::rows::G1_TANGENTIAL_WEIGHT,
+            g1_passes: crate::rows::G1_PASSES,
+            c0_iterations: 4,
+            projection: ProjectionParams::default(),
+        }
+    }
+}
+
+/// Continuity tolerances: the targets that decide whether more freedom (knot insertion) is
+/// needed. Defaults: the Class-A values of the issue (0.001 mm, 0.01°, 0.02).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Tolerances {
+    /// largest gap (model units)
+    pub g0: f64,
+    /// largest normal angle (degrees)
+    pub g1_deg: f64,
+    /// largest relative normal-curvature difference
+    pub g2_rel: f64,
+}
+
+impl Default for Tolerances {
+    fn default() -> Self {
+        Self {
+            g0: 1e-3,
+            g1_deg: 1e-2,
+            g2_rel: 2e-2,
+        }
+    }
+}
+
+/// Settings of [`crate::connect_slave`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ConnectParams {
+    /// the row solves
+    pub set: SetParams,
+    /// measurement before/after (and of the refinement test)
+    pub measure: MeasureParams,
+    /// targets; a side above them gets knots inserted and is solved again
+    pub tolerances: Tolerances,
+    /// rounds of knot insertion along failing sides (default 6: each halves the spans where the
+    /// tolerance is missed, so a span can shrink to 1/64; the trimmed-master test needs 4–6)
+    pub max_refinements: usize,
+    /// Largest sampled deviation (model units) of the polynomial re-approximation of a rational
+    /// slave (default 1e-4: a tenth of the Class-A gap, so the re-approximation never decides a
+    /// G0 check).
+    pub rational_tolerance: f64,
+}
+
+impl Default for ConnectParams {
+    fn default() -> Self {
+        Self {
+            set: SetParams::default(),
+            measure: MeasureParams::default(),
+            tolerances: Tolerances::default(),
+            max_refinements: 6,
+            rational_tolerance: 1e-4,
+        }
+    }
+}

@@ -1,0 +1,251 @@
+//! Samples along a slave side and their master points ([SV] §4: "take K parameter points along
+//! the border").
+//!
+//! For a side of the slave S (say `u0`, boundary parameter c = u_min) and a sample t_k of the
+//! parameter running along it, the slave point is S(c, t_k) and the master point is its closest
+//! point on the master M: masters may be trimmed, so their parameters are found by projection
+//! ([NB] §6.1), never assumed to match the slave's. Consecutive samples are close, so each
+//! projection starts from the previous foot point; a global (sampled) projection is used for the
+//! first sample and whenever the warm start lands clearly farther away than its neighbour.
+//!
+//! [`SideBasis`] holds what the row equations of [SV] §4 need about the slave: the coefficient
+//! a_r = N_r^{(r)}(c) of control row r in the r-th cross-boundary derivative at the side
+//! (for a clamped knot vector a_1 = p/(t_{p+1} − t_1), a_2 = p(p−1)/((t_{p+1} − t_2)(t_{p+2} − t_2)),
+//! with the signs of the u1/v1 sides included), and the along-side basis values M_j(t_k).
+//!
+//! # Tolerance
+//! [`WARM_START_JUMP`]: a warm-started foot point farther than this factor times the previous
+//! sample's distance (plus [`WARM_START_SLACK`] × master size) is re-done globally.
+
+use nurbs_core::basis::basis_derivatives;
+use nurbs_core::{
+    BSplineSurface, BasisEvaluator, Direction, KnotVector, Point3, ProjectionParams, Side,
+    SurfaceProjection, project_to_surface, project_to_surface_from,
+};
+
+use crate::error::{Error, Result};
+
+/// Factor by which a warm-started projection may exceed the previous distance before the
+/// projection is redone from global starts.
+pub const WARM_START_JUMP: f64 = 4.0;
+
+/// Absolute slack of the warm-start test, relative to the master size: distances of 1e-6 of the
+/// model size are "touching" anyway.
+pub const WARM_START_SLACK: f64 = 1e-6;
+
+/// Start samples per knot span of the global projection of a side's first sample (the kernel
+/// default is 4; the side's later samples are warm-started, so the first one only needs the right
+/// basin: 2 per span cut the start grid — the dominant cost of a measurement — by 4).
+pub const GLOBAL_START_SAMPLES_PER_SPAN: usize = 2;
+
+/// `count` parameters spread uniformly over the side's domain, both ends included.
+pub fn uniform_side_params(slave: &BSplineSurface, side: Side, count: usize) -> Result<Vec<f64>> {
+    if count < 2 {
+        return Err(Error::TooFewSamples {
+            samples: count,
+            min: 2,
+        });
+    }
+    let (a, b) = side.along_domain(slave);
+    Ok((0..count)
+        .map(|i| a + (b - a) * i as f64 / (count - 1) as f64)
+        .collect())
+}
+
+/// Parameters for solving: `per_span` samples in every non-empty knot span of the along direction
+/// (the span start included) plus the domain end, and never fewer than `min_total` (then uniform).
+pub fn solve_side_params(
+    slave: &BSplineSurface,
+    side: Side,
+    per_span: usize,
+    min_total: usize,
+) -> Vec<f64> {
+    let kv = along_knots(slave, side);
+    let k = kv.knots();
+    let mut out = Vec::new();
+    for s in kv.spans() {
+        for i in 0..per_span.max(1) {
+            out.push(k[s] + (k[s + 1] - k[s]) * i as f64 / per_span.max(1) as f64);
+        }
+    }
+    out.push(kv.domain().1);
+    if out.len() < min_total {
+        let (a, b) = kv.domain();
+        out = (0..min_total)
+            .map(|i| a + (b - a) * i as f64 / (min_total - 1).max(1) as f64)
+            .collect();
+    }
+    out
+}
+
+/// The knot vector running along `side`.
+pub fn along_knots(surface: &BSplineSurface, side: Side) -> &KnotVector {
+    match side.along_direction() {
+        Direction::U => surface.knots_u(),
+        Direction::V => surface.knots_v(),
+    }
+}
+
+/// The knot vector across `side`.
+pub fn cross_knots(surface: &BSplineSurface, side: Side) -> &KnotVector {
+    match side.cross_direction() {
+        Direction::U => surface.knots_u(),
+        Direction::V => surface.knots_v(),
+    }
+}
+
+/// Row coefficients and along-side basis of one side of a clamped polynomial slave.
+#[derive(Debug, Clone)]
+pub struct SideBasis {
+    /// the side
+    pub side: Side,
+    /// a_r = N^{(r)}_{row r}(c), r = 0, 1, 2: coefficient of control row r (counted inward) in the
+    /// r-th cross-boundary derivative on the side (0 where r exceeds the degree)
+    pub row_coefficient: [f64; 3],
+    along: KnotVector,
+    evaluator: BasisEvaluator,
+}
+
+impl SideBasis {
+    /// Coefficients for `side` of `slave` (the cross knot vector must be clamped at that side).
+    pub fn new(slave: &BSplineSurface, side: Side) -> Self {
+        let cross = cross_knots(slave, side);
+        let p = cross.degree();
+        let c = side.boundary_param(slave);
+        let (span, ders) = basis_derivatives(cross, c, 2);
+        let n = cross.num_basis();
+        let mut row_coefficient = [0.0; 3];
+        for (r, coef) in row_coefficient.iter_mut().enumerate() {
+            let index = if side.is_start() { r } else { n - 1 - r };
+            if index + p >= span && index <= span && r <= p {
+                *coef = ders[r * (p + 1) + index + p - span];
+            }
+        }
+        let along = along_knots(slave, side).clone();
+        let evaluator = BasisEvaluator::new(along.degree());
+        Self {
+            side,
+            row_coefficient,
+            along,
+            evaluator,
+        }
+    }
+
+    /// Degree along the side.
+    pub fn along_degree(&self) -> usize {
+        self.along.degree()
+    }
+
+    /// The along-side basis at `t`: the first along index and the q + 1 values into `out`.
+    pub fn along_basis(&mut self, t: f64, out: &mut [f64]) -> usize {
+        let t = self.along.clamp_param(t);
+        let span = self.along.span(t);
+        self.evaluator.values(self.along.knots(), span, t, out);
+        span - self.along.degree()
+    }
+
+    /// Greville abscissa of along index j: (t_{j+1} + … + t_{j+q}) / q.
+    pub fn greville(&self, j: usize) -> f64 {
+        let q = self.along.degree();
+        let k = self.along.knots();
+        k[j + 1..=j + q].iter().sum::<f64>() / q as f64
+    }
+}
+
+/// Finds master points for consecutive slave points, warm-starting each projection.
+#[derive(Debug, Clone)]
+pub struct MasterTracker<'m> {
+    master: &'m BSplineSurface,
+    params: ProjectionParams,
+    last: Option<SurfaceProjection>,
+    slack: f64,
+}
+
+impl<'m> MasterTracker<'m> {
+    /// A tracker on `master`.
+    pub fn new(master: &'m BSplineSurface, params: ProjectionParams) -> Self {
+        Self {
+            master,
+            params,
+            last: None,
+            slack: WARM_START_SLACK * master.size(),
+        }
+    }
+
+    fn global(&self, point: &Point3) -> SurfaceProjection {
+        let coarse = ProjectionParams {
+            samples_per_span: self
+                .params
+                .samples_per_span
+                .min(GLOBAL_START_SAMPLES_PER_SPAN),
+            ..self.params
+        };
+        project_to_surface(self.master, point, &coarse)
+    }
+
+    /// Forgets the previous foot point (the next projection is global).
+    pub fn reset(&mut self) {
+        self.last = None;
+    }
+
+    /// The master point of `point`.
+    pub fn project(&mut self, point: &Point3) -> SurfaceProjection {
+        let result = match self.last {
+            Some(prev) => {
+                let warm =
+                    project_to_surface_from(self.master, point, (prev.u, prev.v), &self.params);
+                if warm.converged && warm.distance <= WARM_START_JUMP * prev.distance + self.slack {
+                    warm
+                } else {
+                    let global = self.global(point);
+                    if global.distance < warm.distance {
+                        global
+                    } else {
+                        warm
+                    }
+                }
+            }
+            None => self.global(point),
+        };
+        self.last = Some(result);
+        result
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nurbs_core::Point3;
+
+    #[test]
+    fn row_coefficients_match_the_end_derivative_formulas() {
+        // cubic in u with non-uniform knots; the v direction is irrelevant here
+        let ku = KnotVector::new(
+            3,
+            vec![0.0, 0.0, 0.0, 0.0, 0.2, 0.5, 0.7, 1.0, 1.0, 1.0, 1.0],
+        )
+        .unwrap();
+        let kv = KnotVector::bezier(1).unwrap();
+        let pts = (0..7)
+            .flat_map(|i| (0..2).map(move |j| Point3::new(i as f64, j as f64, 0.0)))
+            .collect();
+        let s = BSplineSurface::new(ku.clone(), kv, pts, None).unwrap();
+        let t = ku.knots();
+        let p = 3.0;
+        let start = SideBasis::new(&s, Side::U0).row_coefficient;
+        assert!((start[0] - 1.0).abs() < 1e-14);
+        assert!((start[1] - p / (t[4] - t[1])).abs() < 1e-12, "{start:?}");
+        assert!(
+            (start[2] - p * (p - 1.0) / ((t[4] - t[2]) * (t[5] - t[2]))).abs() < 1e-12,
+            "{start:?}"
+        );
+        // at u_max the row-1 coefficient of S_u is −p/(t_{n+p} − t_n) (n = 6, last index)
+        let end = SideBasis::new(&s, Side::U1).row_coefficient;
+        assert!((end[0] - 1.0).abs() < 1e-14);
+        assert!((end[1] + p / (t[9] - t[6])).abs() < 1e-12, "{end:?}");
+        assert!(
+            (end[2] - p * (p - 1.0) / ((t[9] - t[6]) * (t[9] - t[5]))).abs() < 1e-12,
+            "{end:?}"
+        );
+    }
+}

@@ -1,0 +1,591 @@
+//! Setting continuity of one slave to all its masters: C0, then G1, then G2, side by side with
+//! consistent twists ([SV] §3.3, §4), knot insertion when the tolerances are missed.
+//!
+//! Order ([SV] §3.1): the cross derivative of order r on a clamped side depends on rows 0..=r
+//! only, so C0 (row 0) is set first on every linked side, then G1 (row 1), then G2 (row 2); a
+//! later step never touches the rows of an earlier one, which therefore stay bit-identical.
+//!
+//! Row k of a side, at along index e from one end, is row e of the neighbouring side at that end.
+//! Such a point is
+//! - *fixed* when e < k and the neighbour is linked with a target ≥ G_e (its frame is set);
+//! - *shared* (a twist, [SV] §3.3; for k = 0 a common corner) when e = k and the neighbour's
+//!   target is ≥ G_k: both sides propose a position, the candidates are averaged, and every side
+//!   is solved again with the shared points pinned;
+//! - *free* otherwise (for an unlinked neighbour with e = 0 only when
+//!   [`SetParams::move_unlinked_boundaries`] allows it).
+//!
+//! More freedom ([SV] §3.2 step 1): a slave whose degree across a G_r side is below r is degree
+//! elevated; one with too few control rows for the frames of two opposite sides gets knots across;
+//! a rational slave is made polynomial: equal weights are dropped, otherwise it is re-approximated
+//! by least squares on its own knots, halving all spans until the sampled deviation is within
+//! [`ConnectParams::rational_tolerance`] (an error when it is not reached).
+//! When a side misses the tolerances after setting, the knot spans along it that hold failing
+//! samples are halved and the whole slave is set again, up to
+//! [`ConnectParams::max_refinements`] rounds.
+//!
+//! # Tolerance
+//! [`C0_CONVERGED`]: the C0 passes stop when no row point moves by more than this times the
+//! slave size; [`C0_EXACT`]: a row already this close to its master is not refitted.
+
+use std::collections::BTreeMap;
+
+use nurbs_core::{BSplineSurface, Continuity, Direction, Point3, Side, Vector3};
+
+use crate::error::{Error, Result};
+use crate::measure::{LinkMeasure, is_collapsed, measure_link};
+use crate::params::{ConnectParams, SetParams};
+use crate::rows::{RowMove, row_of, solve_row};
+use crate::sampling::along_knots;
+
+/// C0 passes stop when the largest row movement is below this fraction of the slave size.
+pub const C0_CONVERGED: f64 = 1e-12;
+
+/// A row whose samples all lie within this fraction of the slave size from the master is left
+/// alone in the C0 step (bit-identical): gaps of this size are rounding from knot insertion or
+/// extraction (~1e4 units of 1e-16), not geometry.
+pub const C0_EXACT: f64 = 1e-11;
+
+/// Largest number of control points per direction knot insertion may create (a guard against
+/// runaway refinement on joins that cannot be made continuous).
+pub const MAX_CONTROL_POINTS: usize = 1024;
+
+/// One linked side of a slave: which side, onto which master, with what target.
+#[derive(Debug, Clone, Copy)]
+pub struct SideLink<'a> {
+    /// the slave's side
+    pub side: Side,
+    /// the master surface (never modified)
+    pub master: &'a BSplineSurface,
+    /// the continuity to reach
+    pub target: Continuity,
+}
+
+/// Before/after of one linked side.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SideReport {
+    /// the side
+    pub side: Side,
+    /// its target
+    pub target: Continuity,
+    /// continuity of the input slave
+    pub before: LinkMeasure,
+    /// continuity of the result
+    pub after: LinkMeasure,
+    /// whether `after` meets the tolerances up to the target
+    pub met: bool,
+}
+
+/// What [`connect_slave`] did.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ConnectReport {
+    /// per linked side
+    pub sides: Vec<SideReport>,
+    /// knots inserted in total (across for row room, along for accuracy)
+    pub knots_inserted: usize,
+    /// rounds of knot insertion along failing sides
+    pub refinements: usize,
+    /// degree elevation (u, v)
+    pub degree_elevation: (usize, usize),
+    /// whether the slave was made polynomial (equal weights dropped, or re-approximated)
+    pub made_polynomial: bool,
+    /// sampled deviation of the polynomial re-approximation of a rational slave (model units)
+    pub rational_fit_error: Option<f64>,
+    /// twist (and shared corner) points set by averaging
+    pub twists_averaged: usize,
+    /// largest control point movement against the input refined the same way (model units)
+    pub max_control_movement: f64,
+}
+
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Status {
+    Free,
+    Shared,
+    Fixed,
+}
+
+fn side_index(side: Side) -> usize {
+    match side {
+        Side::U0 => 0,
+        Side::U1 => 1,
+        Side::V0 => 2,
+        Side::V1 => 3,
+    }
+}
+
+/// The neighbouring sides at the start and end of `side`'s along direction.
+fn neighbours(side: Side) -> (Side, Side) {
+    match side.along_direction() {
+        Direction::U => (Side::U0, Side::U1),
+        Direction::V => (Side::V0, Side::V1),
+    }
+}
+
+fn classify(
+    side: Side,
+    k: usize,
+    m: usize,
+    levels: &[Option<usize>; 4],
+    move_unlinked: bool,
+) -> Vec<Status> {
+    let (start, end) = neighbours(side);
+    (0..m)
+        .map(|j| {
+            let mut status = Status::Free;
+            for (e, adj) in [(j, start), (m - 1 - j, end)] {
+                let s = match levels[side_index(adj)] {
+                    Some(la) if e < k && la >= e => Status::Fixed,
+                    Some(la) if e == k && la >= k => Status::Shared,
+                    None if e == 0 && k > 0 && !move_unlinked => Status::Fixed,
+                    _ => Status::Free,
+                };
+                status = match (status, s) {
+                    (Status::Fixed, _) | (_, Status::Fixed) => Status::Fixed,
+                    (Status::Shared, _) | (_, Status::Shared) => Status::Shared,
+                    _ => Status::Free,
+                };
+            }
+            status
+        })
+        .collect()
+}
+
+fn level(c: Continuity) -> usize {
+    row_of(c)
+}
+
+fn levels_of(links: &[SideLink]) -> [Option<usize>; 4] {
+    let mut levels = [None; 4];
+    for l in links {
+        levels[side_index(l.side)] = Some(level(l.target));
+    }
+    levels
+}
+
+/// Outcome of one step over all sides.
+#[derive(Debug, Clone, Copy, Default)]
+struct StepOutcome {
+    twists: usize,
+    max_move: f64,
+}
+
+/// One step (row k) on every linked side with target ≥ `step`, with twist averaging.
+fn step_all(
+    slave: &mut BSplineSurface,
+    links: &[SideLink],
+    step: Continuity,
+    params: &SetParams,
+) -> Result<StepOutcome> {
+    let k = row_of(step);
+    let levels = levels_of(links);
+    let active: Vec<&SideLink> = links
+        .iter()
+        .filter(|l| l.target >= step && !is_collapsed(slave, l.side))
+        .collect();
+    if active.is_empty() {
+        return Ok(StepOutcome::default());
+    }
+    let (nu, nv) = (slave.num_u(), slave.num_v());
+    let base = slave.clone();
+    let mut statuses = Vec::with_capacity(active.len());
+    let mut moves = Vec::with_capacity(active.len());
+    for l in &active {
+        let m = l.side.row(k, nu, nv).len();
+        let status = classify(l.side, k, m, &levels, params.move_unlinked_boundaries);
+        let movable: Vec<bool> = status.iter().map(|s| *s != Status::Fixed).collect();
+        moves.push(solve_row(l.master, &base, l.side, step, &movable, params)?);
+        statuses.push(status);
+    }
+    // average the candidates of shared points
+    let mut shared: BTreeMap<(usize, usize), (Vector3, usize)> = BTreeMap::new();
+    for (l, (status, mv)) in active.iter().zip(statuses.iter().zip(&moves)) {
+        let row = l.side.row(k, nu, nv);
+        for (ij, d) in mv.indices.iter().zip(&mv.displacements) {
+            let j = row.iter().position(|x| x == ij).unwrap_or(0);
+            if status[j] == Status::Shared {
+                let e = shared.entry(*ij).or_insert((Vector3::zeros(), 0));
+                e.0 += d;
+                e.1 += 1;
+            }
+        }
+    }
+    let mut outcome = StepOutcome {
+        twists: shared.len(),
+        max_move: 0.0,
+    };
+    if shared.is_empty() {
+        for mv in &moves {
+            mv.apply(slave);
+            outcome.max_move = outcome.max_move.max(mv.max_displacement());
+        }
+        return Ok(outcome);
+    }
+    let mut pinned = base;
+    for (&(i, j), &(sum, count)) in &shared {
+        let idx = pinned.index(i, j);
+        let d = sum / count as f64;
+        pinned.control_points_mut()[idx] += d;
+        outcome.max_move = outcome.max_move.max(d.norm());
+    }
+    let second: Vec<RowMove> = active
+        .iter()
+        .zip(&statuses)
+        .map(|(l, status)| {
+            let movable: Vec<bool> = status.iter().map(|s| *s == Status::Free).collect();
+            solve_row(l.master, &pinned, l.side, step, &movable, params)
+        })
+        .collect::<Result<_>>()?;
+    for mv in &second {
+        mv.apply(&mut pinned);
+        outcome.max_move = outcome.max_move.max(mv.max_displacement());
+    }
+    *slave = pinned;
+    Ok(outcome)
+}
+
+/// Sets C0, then G1, then G2 (as far as each link's target asks) on a prepared slave (clamped,
+/// polynomial, enough rows); returns the number of averaged twists.
+pub fn set_rows(
+    slave: &mut BSplineSurface,
+    links: &[SideLink],
+    params: &SetParams,
+) -> Result<usize> {
+    check_links(links)?;
+    let mut twists = 0;
+    let size = slave.size();
+    for _ in 0..params.c0_iterations.max(1) {
+        let o = step_all(slave, links, Continuity::G0, params)?;
+        twists = twists.max(o.twists);
+        if o.max_move <= C0_CONVERGED * size {
+            break;
+        }
+    }
+    twists += step_all(slave, links, Continuity::G1, params)?.twists;
+    twists += step_all(slave, links, Continuity::G2, params)?.twists;
+    Ok(twists)
+}
+
+fn check_links(links: &[SideLink]) -> Result<()> {
+    for (a, la) in links.iter().enumerate() {
+        if links[..a].iter().any(|lb| lb.side == la.side) {
+            return Err(Error::DuplicateSide { side: la.side });
+        }
+    }
+    Ok(())
+}
+
+fn single(
+    master: &BSplineSurface,
+    slave: &mut BSplineSurface,
+    side: Side,
+    step: Continuity,
+    params: &SetParams,
+) -> Result<f64> {
+    let links = [SideLink {
+        side,
+        master,
+        target: step,
+    }];
+    if step == Continuity::G0 {
+        let mut moved = 0.0f64;
+        for _ in 0..params.c0_iterations.max(1) {
+            let o = step_all(slave, &links, step, params)?;
+            moved = moved.max(o.max_move);
+            if o.max_move <= C0_CONVERGED * slave.size() {
+                break;
+            }
+        }
+        Ok(moved)
+    } else {
+        Ok(step_all(slave, &links, step, params)?.max_move)
+    }
+}
+
+/// Fits the positional row of `side` to the master (C0); returns the largest row movement. The
+/// slave must be clamped and polynomial.
+pub fn set_g0(
+    master: &BSplineSurface,
+    slave: &mut BSplineSurface,
+    side: Side,
+    params: &SetParams,
+) -> Result<f64> {
+    single(master, slave, side, Continuity::G0, params)
+}
+
+/// Sets G1 across `side` by moving its tangential row ([SV] §4.1); the positional row is not
+/// touched. Returns the largest movement.
+pub fn set_g1(
+    master: &BSplineSurface,
+    slave: &mut BSplineSurface,
+    side: Side,
+    params: &SetParams,
+) -> Result<f64> {
+    single(master, slave, side, Continuity::G1, params)
+}
+
+/// Sets G2 across `side` by moving its curvature row ([SV] §4.2); rows 0–1 are not touched.
+/// Returns the largest movement.
+pub fn set_g2(
+    master: &BSplineSurface,
+    slave: &mut BSplineSurface,
+    side: Side,
+    params: &SetParams,
+) -> Result<f64> {
+    single(master, slave, side, Continuity::G2, params)
+}
+
+/// Rounds of knot refinement (all spans halved) a rational slave's polynomial re-approximation
+/// may take.
+pub const RATIONAL_REFINEMENTS: usize = 6;
+
+/// Least degree of the polynomial re-approximation of a rational slave.
+pub const RATIONAL_MIN_DEGREE: usize = 3;
+
+/// Samples per knot span and direction of the re-approximation fit (4 for a cubic span: one
+/// more than its degree, so the fit is well determined even after refinement).
+pub const RATIONAL_FIT_SAMPLES: usize = 5;
+
+/// Grid of the deviation check of the re-approximation (per direction).
+pub const RATIONAL_CHECK_GRID: usize = 61;
+
+fn span_params(kv: &nurbs_core::KnotVector, per_span: usize) -> Vec<f64> {
+    let k = kv.knots();
+    let mut out: Vec<f64> = kv
+        .spans()
+        .flat_map(|s| {
+            (0..per_span).map(move |i| k[s] + (k[s + 1] - k[s]) * i as f64 / per_span as f64)
+        })
+        .collect();
+    out.push(kv.domain().1);
+    out
+}
+
+/// Least-squares polynomial approximation of a rational surface on its own knots, refined until
+/// the sampled deviation is within `tolerance`; `None` when it never gets there.
+fn reapproximate(
+    rational: &BSplineSurface,
+    mut template: BSplineSurface,
+    tolerance: f64,
+) -> Option<(BSplineSurface, f64)> {
+    for round in 0..=RATIONAL_REFINEMENTS {
+        if round > 0 {
+            let mids = |kv: &nurbs_core::KnotVector| -> Vec<f64> {
+                kv.spans()
+                    .map(|s| 0.5 * (kv.knots()[s] + kv.knots()[s + 1]))
+                    .collect()
+            };
+            let (mu, mv) = (mids(template.knots_u()), mids(template.knots_v()));
+            template = template
+                .refine(Direction::U, &mu)
+                .ok()?
+                .refine(Direction::V, &mv)
+                .ok()?;
+        }
+        let (us, vs) = (
+            span_params(template.knots_u(), RATIONAL_FIT_SAMPLES),
+            span_params(template.knots_v(), RATIONAL_FIT_SAMPLES),
+        );
+        let params: Vec<(f64, f64)> = us
+            .iter()
+            .flat_map(|&u| vs.iter().map(move |&v| (u, v)))
+            .collect();
+        let points: Vec<Point3> = params.iter().map(|&(u, v)| rational.point(u, v)).collect();
+        let mask = nurbs_core::ControlMask::for_surface(&template);
+        let Ok((fitted, _)) = nurbs_core::fit_surface(
+            &template,
+            &mask,
+            &params,
+            &points,
+            &nurbs_core::FitParams::default(),
+        ) else {
+            continue;
+        };
+        let error = nurbs_core::energy::max_deviation(rational, &fitted, RATIONAL_CHECK_GRID);
+        if error <= tolerance {
+            return Some((fitted, error));
+        }
+    }
+    None
+}
+
+/// Makes the slave clamped, polynomial, of sufficient degree and with enough control rows.
+fn prepare(
+    slave: &BSplineSurface,
+    links: &[SideLink],
+    rational_tolerance: f64,
+    report: &mut ConnectReport,
+) -> Result<BSplineSurface> {
+    let mut s = slave.clamped()?;
+    if let Some(w) = s.weights() {
+        let (lo, hi) = w
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                (a.min(x), b.max(x))
+            });
+        let polynomial = BSplineSurface::new(
+            s.knots_u().clone(),
+            s.knots_v().clone(),
+            s.control_points().to_vec(),
+            None,
+        )?;
+        if lo == hi {
+            s = polynomial;
+        } else {
+            let (fitted, error) =
+                reapproximate(&s, polynomial, rational_tolerance).ok_or(Error::RationalSlave {
+                    min_weight: lo,
+                    max_weight: hi,
+                    tolerance: rational_tolerance,
+                })?;
+            report.rational_fit_error = Some(error);
+            s = fitted;
+        }
+        report.made_polynomial = true;
+    }
+    for dir in [Direction::U, Direction::V] {
+        let need_degree = links
+            .iter()
+            .filter(|l| l.side.cross_direction() == dir)
+            .map(|l| level(l.target))
+            .max()
+            .unwrap_or(0);
+        let degree = match dir {
+            Direction::U => s.degree_u(),
+            Direction::V => s.degree_v(),
+        };
+        if need_degree > degree {
+            s = s.elevate_degree(dir, need_degree - degree)?;
+            match dir {
+                Direction::U => report.degree_elevation.0 += need_degree - degree,
+                Direction::V => report.degree_elevation.1 += need_degree - degree,
+            }
+        }
+    }
+    let levels = levels_of(links);
+    for (dir, a, b) in [
+        (Direction::U, Side::U0, Side::U1),
+        (Direction::V, Side::V0, Side::V1),
+    ] {
+        let need =
+            levels[side_index(a)].map_or(1, |l| l + 1) + levels[side_index(b)].map_or(1, |l| l + 1);
+        loop {
+            let (count, kv) = match dir {
+                Direction::U => (s.num_u(), s.knots_u()),
+                Direction::V => (s.num_v(), s.knots_v()),
+            };
+            if count >= need {
+                break;
+            }
+            let k = kv.knots();
+            let widest = kv
+                .spans()
+                .max_by(|&x, &y| (k[x + 1] - k[x]).total_cmp(&(k[y + 1] - k[y])))
+                .unwrap_or(kv.degree());
+            let mid = 0.5 * (k[widest] + k[widest + 1]);
+            s = s.insert_knot(dir, mid, 1)?;
+            report.knots_inserted += 1;
+        }
+    }
+    Ok(s)
+}
+
+/// Midpoints of the along-side knot spans that hold a sample above the tolerances.
+fn failing_spans(
+    surface: &BSplineSurface,
+    m: &LinkMeasure,
+    target: Continuity,
+    tol: &crate::params::Tolerances,
+) -> Vec<f64> {
+    let kv = along_knots(surface, m.side);
+    let k = kv.knots();
+    let mut mids: Vec<f64> = Vec::new();
+    for s in &m.detail {
+        let bad = s.gap > tol.g0
+            || (target >= Continuity::G1 && s.angle_deg.is_some_and(|a| a > tol.g1_deg))
+            || (target >= Continuity::G2
+                && match (s.kappa_slave, s.kappa_master) {
+                    (Some(a), Some(b)) => (a - b).abs() > tol.g2_rel * a.abs().max(b.abs()),
+                    _ => false,
+                });
+        if bad {
+            let span = kv.span(s.t);
+            let mid = 0.5 * (k[span] + k[span + 1]);
+            if !mids.contains(&mid) {
+                mids.push(mid);
+            }
+        }
+    }
+    mids
+}
+
+/// Sets continuity of `slave` to all its `links` (C0 → G1 → G2, twists averaged), inserting knots
+/// along sides that miss the tolerances; returns the new slave and the report. Masters are never
+/// modified.
+pub fn connect_slave(
+    slave: &BSplineSurface,
+    links: &[SideLink],
+    params: &ConnectParams,
+) -> Result<(BSplineSurface, ConnectReport)> {
+    check_links(links)?;
+    let mut report = ConnectReport::default();
+    let before: Vec<LinkMeasure> = links
+        .iter()
+        .map(|l| measure_link(l.master, slave, l.side, &params.measure))
+        .collect::<Result<_>>()?;
+    let mut work = prepare(slave, links, params.rational_tolerance, &mut report)?;
+    let mut reference = work.clone();
+    let (result, after) = loop {
+        let mut s = work.clone();
+        report.twists_averaged = set_rows(&mut s, links, &params.set)?;
+        let after: Vec<LinkMeasure> = links
+            .iter()
+            .map(|l| measure_link(l.master, &s, l.side, &params.measure))
+            .collect::<Result<_>>()?;
+        if report.refinements >= params.max_refinements {
+            break (s, after);
+        }
+        let mut inserted = false;
+        for (l, m) in links.iter().zip(&after) {
+            let mids = failing_spans(&s, m, l.target, &params.tolerances);
+            let dir = l.side.along_direction();
+            let count = match dir {
+                Direction::U => work.num_u(),
+                Direction::V => work.num_v(),
+            };
+            if mids.is_empty() || count + mids.len() > MAX_CONTROL_POINTS {
+                continue;
+            }
+            let mut xs = mids;
+            xs.sort_by(f64::total_cmp);
+            work = work.refine(dir, &xs)?;
+            reference = reference.refine(dir, &xs)?;
+            report.knots_inserted += xs.len();
+            inserted = true;
+        }
+        if !inserted {
+            break (s, after);
+        }
+        report.refinements += 1;
+    };
+    report.max_control_movement = result
+        .control_points()
+        .iter()
+        .zip(reference.control_points())
+        .map(|(a, b): (&Point3, &Point3)| (a - b).norm())
+        .fold(0.0, f64::max);
+    report.sides = links
+        .iter()
+        .zip(before.into_iter().zip(after))
+        .map(|(l, (before, after))| {
+            let t = &params.tolerances;
+            let met = after.meets(l.target, t.g0, t.g1_deg, t.g2_rel);
+            SideReport {
+                side: l.side,
+                target: l.target,
+                before,
+                after,
+                met,
+            }
+        })
+        .collect();
+    Ok((result, report))
+}

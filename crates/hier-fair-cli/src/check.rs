@@ -1,0 +1,173 @@
+//! `hier-fair check MODEL.json [--samples K] [--json] [--fail-above PRESET]`: measures the
+//! continuity of every link (cli-contract.md) as a readable table or JSON.
+
+use anyhow::{Result, anyhow};
+use g_continuity::{LinkMeasure, MeasureParams};
+use hier_fair::{LinkCheck, Model, Preset, check_model};
+use serde_json::{Value, json};
+
+/// What `check` prints and whether a preset was exceeded (exit code 1).
+#[derive(Debug, Clone)]
+pub struct CheckOutcome {
+    /// the table or JSON text
+    pub text: String,
+    /// true when a link exceeds the `--fail-above` preset
+    pub exceeded: bool,
+}
+
+/// Runs `check` on the text of a model (or bare surface) file; `source` names it in errors.
+pub fn run(
+    model_text: &str,
+    source: &str,
+    samples: usize,
+    as_json: bool,
+    fail_above: Option<&str>,
+) -> Result<CheckOutcome> {
+    let preset = match fail_above {
+        None => None,
+        Some(name) => Some(Preset::named(name).ok_or_else(|| {
+            anyhow!(
+                "unknown preset {name:?} (expected one of {})",
+                Preset::NAMES.join(", ")
+            )
+        })?),
+    };
+    let model = Model::from_json(model_text).map_err(|e| anyhow!("{source}: {e}"))?;
+    let params = MeasureParams {
+        samples,
+        ..MeasureParams::default()
+    };
+    let checks = check_model(&model, &params).map_err(|e| anyhow!("{source}: {e}"))?;
+    let flags: Vec<bool> = checks
+        .iter()
+        .map(|c| preset.is_some_and(|p| p.exceeded_by(c)))
+        .collect();
+    let exceeded = flags.iter().any(|&f| f);
+    let text = if as_json {
+        serde_json::to_string_pretty(&checks_json(
+            &model,
+            &checks,
+            preset.map(|_| flags.as_slice()),
+        ))? + "\n"
+    } else {
+        table(
+            &model,
+            &checks,
+            preset.map(|_| flags.as_slice()),
+            fail_above,
+        )
+    };
+    Ok(CheckOutcome { text, exceeded })
+}
+
+fn opt(x: Option<f64>) -> Value {
+    x.map_or(Value::Null, |v| json!(v))
+}
+
+/// The measurements as a JSON object (the fields of a `check --json` link entry).
+pub fn measure_json(m: &LinkMeasure) -> Value {
+    json!({
+        "samples": m.samples,
+        "g0": m.g0,
+        "g1_deg": opt(m.g1_deg),
+        "g2_rel": opt(m.g2_rel),
+        "g2_abs": opt(m.g2_abs),
+        "worst_g0": {"t": m.worst_g0_t},
+        "worst_g1": {"t": opt(m.worst_g1_t)},
+        "worst_g2": {"t": opt(m.worst_g2_t)},
+        "collapsed": m.collapsed,
+        "undefined_normals": m.undefined_normals,
+        "undefined_curvatures": m.undefined_curvatures,
+    })
+}
+
+/// Continuity name as in the model format.
+pub fn continuity_name(c: nurbs_core::Continuity) -> &'static str {
+    match c {
+        nurbs_core::Continuity::G0 => "G0",
+        nurbs_core::Continuity::G1 => "G1",
+        nurbs_core::Continuity::G2 => "G2",
+    }
+}
+
+fn checks_json(model: &Model, checks: &[LinkCheck], flags: Option<&[bool]>) -> Value {
+    let links: Vec<Value> = checks
+        .iter()
+        .enumerate()
+        .map(|(k, c)| {
+            let l = &model.links[c.link];
+            let mut v = measure_json(&c.measure);
+            let o = v.as_object_mut().expect("object");
+            o.insert("slave".into(), json!(model.surfaces[l.slave].name));
+            o.insert("side".into(), json!(l.side.name()));
+            o.insert("master".into(), json!(model.surfaces[l.master].name));
+            o.insert("target".into(), json!(continuity_name(l.continuity)));
+            if let Some(f) = flags {
+                o.insert("exceeded".into(), json!(f[k]));
+            }
+            v
+        })
+        .collect();
+    json!({ "links": links })
+}
+
+fn fmt_opt(x: Option<f64>, prec: usize) -> String {
+    match x {
+        Some(v) => format!("{v:.prec$e}"),
+        None => "-".into(),
+    }
+}
+
+fn table(
+    model: &Model,
+    checks: &[LinkCheck],
+    flags: Option<&[bool]>,
+    preset: Option<&str>,
+) -> String {
+    let width = checks
+        .iter()
+        .map(|c| c.label.len())
+        .max()
+        .unwrap_or(4)
+        .max(4);
+    let mut out = format!(
+        "{:width$}  {:6}  {:>7}  {:>10}  {:>10}  {:>10}  {:>10}  {}\n",
+        "link", "target", "samples", "gap", "angle°", "g2 rel", "g2 abs", "note"
+    );
+    for (k, c) in checks.iter().enumerate() {
+        let m = &c.measure;
+        let mut note = Vec::new();
+        if m.collapsed {
+            note.push("collapsed side".to_string());
+        } else if m.undefined_normals > 0 {
+            note.push(format!("{} samples without normal", m.undefined_normals));
+        }
+        if let (Some(f), Some(p)) = (flags, preset) {
+            note.push(if f[k] {
+                format!("EXCEEDS {p}")
+            } else {
+                format!("ok for {p}")
+            });
+        }
+        out += &format!(
+            "{:width$}  {:6}  {:>7}  {:>10.3e}  {:>10}  {:>10}  {:>10}  {}\n",
+            c.label,
+            continuity_name(c.target),
+            m.samples,
+            m.g0,
+            fmt_opt(m.g1_deg, 3),
+            fmt_opt(m.g2_rel, 3),
+            fmt_opt(m.g2_abs, 3),
+            note.join("; ")
+        );
+    }
+    if checks.is_empty() {
+        out += "(the model has no links)\n";
+    }
+    let t = &model.tolerances;
+    out += &format!(
+        "model tolerances: g0 {} · g1 {}° · g2 {}\n",
+        t.g0, t.g1_deg, t.g2_rel
+    );
+    out
+}

@@ -1,0 +1,107 @@
+//! `hier-fair connect MODEL.json -o OUT.json [--target G1|G2] [--report R.json]`: sets
+//! continuity only (no fairing), slave by slave in hierarchy order (cli-contract.md).
+
+use anyhow::{Result, anyhow};
+use hier_fair::{ConnectOptions, Model, ModelConnectReport, connect};
+use nurbs_core::Continuity;
+use serde_json::{Value, json};
+
+use crate::check::continuity_name;
+
+/// What `connect` produces.
+#[derive(Debug, Clone)]
+pub struct ConnectOutcome {
+    /// the output model (JSON)
+    pub model_json: String,
+    /// the report (cli-contract.md `--report`)
+    pub report: Value,
+    /// a readable summary for stdout
+    pub summary: String,
+}
+
+/// Runs `connect` on the text of a model (or bare surface) file; `source` names it in errors.
+pub fn run(model_text: &str, source: &str, target: Option<Continuity>) -> Result<ConnectOutcome> {
+    let model = Model::from_json(model_text).map_err(|e| anyhow!("{source}: {e}"))?;
+    let options = ConnectOptions {
+        target,
+        ..ConnectOptions::default()
+    };
+    let (out, report) = connect(&model, &options).map_err(|e| anyhow!("{source}: {e}"))?;
+    Ok(ConnectOutcome {
+        model_json: out.to_json(),
+        report: report_json(&model, &report),
+        summary: summary(&report),
+    })
+}
+
+fn brief(m: &g_continuity::LinkMeasure) -> Value {
+    json!({ "g0": m.g0, "g1_deg": m.g1_deg, "g2_rel": m.g2_rel })
+}
+
+/// The report JSON of cli-contract.md (plus connect's own fields).
+pub fn report_json(model: &Model, r: &ModelConnectReport) -> Value {
+    let surfaces: Vec<Value> = r
+        .surfaces
+        .iter()
+        .map(|s| {
+            json!({
+                "name": s.name, "role": s.role.name(), "method": "connect",
+                "energy_before": s.energy_before, "energy_after": s.energy_after,
+                "max_deviation": s.max_deviation, "iterations": s.refinements, "seconds": s.seconds,
+                "max_control_movement": s.max_control_movement, "knots_inserted": s.knots_inserted,
+                "twists_averaged": s.twists_averaged,
+            })
+        })
+        .collect();
+    let links: Vec<Value> = r
+        .links
+        .iter()
+        .map(|l| {
+            let link = &model.links[l.link];
+            json!({
+                "slave": model.surfaces[link.slave].name, "side": link.side.name(),
+                "master": model.surfaces[link.master].name, "target": continuity_name(l.target),
+                "before": brief(&l.before), "after": brief(&l.after),
+            })
+        })
+        .collect();
+    json!({ "seconds_total": r.seconds_total, "surfaces": surfaces, "links": links })
+}
+
+fn summary(r: &ModelConnectReport) -> String {
+    let width = r
+        .links
+        .iter()
+        .map(|l| l.label.len())
+        .max()
+        .unwrap_or(4)
+        .max(4);
+    let mut out = format!(
+        "{:width$}  {:6}  {:>10} {:>10}  {:>10} {:>10}\n",
+        "link", "target", "gap before", "after", "angle° bef", "after"
+    );
+    let f = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.3e}"));
+    for l in &r.links {
+        out += &format!(
+            "{:width$}  {:6}  {:>10.3e} {:>10.3e}  {:>10} {:>10}\n",
+            l.label,
+            continuity_name(l.target),
+            l.before.g0,
+            l.after.g0,
+            f(l.before.g1_deg),
+            f(l.after.g1_deg)
+        );
+    }
+    let moved = r
+        .surfaces
+        .iter()
+        .map(|s| s.max_control_movement)
+        .fold(0.0, f64::max);
+    let knots: usize = r.surfaces.iter().map(|s| s.knots_inserted).sum();
+    out += &format!(
+        "{} slaves connected in {:.2} s; largest control point movement {moved:.3e}; {knots} knots inserted\n",
+        r.surfaces.len(),
+        r.seconds_total
+    );
+    out
+}

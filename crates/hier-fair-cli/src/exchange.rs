@@ -1,0 +1,134 @@
+//! `hier-fair import FILE.igs -o MODEL.json` and `hier-fair export MODEL.json -o FILE.igs`
+//! (cli-contract.md): IGES exchange through `nurbs-io`. An imported file becomes a model whose
+//! surfaces are all primary with no links; the user adds roles and links.
+
+use std::collections::HashSet;
+use std::path::Path;
+
+use anyhow::{Context, Result, anyhow, bail};
+use hier_fair::Model;
+use nurbs_io::{IgesWriteParams, read_iges, write_iges};
+
+use crate::files::{read_text, refuse_overwrite, write_atomic};
+
+/// Reads `input` (IGES) and writes the model JSON to `output`; returns a one-paragraph summary.
+pub fn import(input: &Path, output: &Path) -> Result<String> {
+    refuse_overwrite(output, &[input])?;
+    let bytes = std::fs::read(input).with_context(|| format!("cannot read {}", input.display()))?;
+    let file = read_iges(&bytes).map_err(|e| anyhow!("{}: {e}", input.display()))?;
+    if file.surfaces.is_empty() {
+        bail!(
+            "{}: the file holds no B-spline surface (entity 128)",
+            input.display()
+        );
+    }
+    let mut model =
+        Model::from_primaries(file.surfaces.iter().map(|s| s.surface.clone()).collect());
+    let mut used = HashSet::new();
+    for (m, s) in model.surfaces.iter_mut().zip(&file.surfaces) {
+        let mut name = s.name.clone();
+        if !used.insert(name.clone()) {
+            name = format!("{}_de{}", s.name, s.de);
+            used.insert(name.clone());
+        }
+        m.name = name;
+    }
+    model.units = Some(file.units.to_lowercase());
+    write_atomic(output, model.to_json().as_bytes())?;
+    let trimmed = file.surfaces.iter().filter(|s| s.trimmed).count();
+    let skipped: Vec<String> = file
+        .skipped
+        .iter()
+        .map(|(t, n)| format!("{n}×{t}"))
+        .collect();
+    Ok(format!(
+        "imported {} surfaces as primaries ({} trimmed by entity 144: the underlying surfaces are kept untrimmed); {} curves (126) not imported; other entities skipped: {}; wrote {}",
+        file.surfaces.len(),
+        trimmed,
+        file.curves.len(),
+        if skipped.is_empty() {
+            "none".to_string()
+        } else {
+            skipped.join(", ")
+        },
+        output.display()
+    ))
+}
+
+/// IGES unit flag and name for a model's unit text.
+fn unit(units: Option<&str>) -> (i64, String) {
+    match units.map(|u| u.trim().to_lowercase()).as_deref() {
+        None | Some("") | Some("mm") | Some("unknown") => (2, "MM".into()),
+        Some("in") | Some("inch") => (1, "IN".into()),
+        Some("ft") => (4, "FT".into()),
+        Some("m") => (6, "M".into()),
+        Some("km") => (7, "KM".into()),
+        Some("um") => (9, "UM".into()),
+        Some("cm") => (10, "CM".into()),
+        Some(other) => (3, other.to_uppercase()),
+    }
+}
+
+/// `YYYYMMDD.HHNNSS` of now (UTC), as the Global section wants it.
+fn iges_date_now() -> String {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs()) as i64;
+    let (days, rem) = (secs.div_euclid(86_400), secs.rem_euclid(86_400));
+    // civil date from days since 1970-01-01 (H. Hinnant's algorithm)
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!(
+        "{y:04}{m:02}{d:02}.{:02}{:02}{:02}",
+        rem / 3600,
+        rem / 60 % 60,
+        rem % 60
+    )
+}
+
+/// Reads the model `input` and writes its surfaces as IGES to `output`; returns a summary line.
+pub fn export(input: &Path, output: &Path) -> Result<String> {
+    refuse_overwrite(output, &[input])?;
+    let model =
+        Model::from_json(&read_text(input)?).map_err(|e| anyhow!("{}: {e}", input.display()))?;
+    let (unit_flag, units) = unit(model.units.as_deref());
+    let params = IgesWriteParams {
+        unit_flag,
+        units,
+        file_name: output
+            .file_name()
+            .map_or_else(|| "model.igs".into(), |n| n.to_string_lossy().into_owned()),
+        date: iges_date_now(),
+        ..IgesWriteParams::default()
+    };
+    let surfaces: Vec<(&str, &nurbs_core::BSplineSurface)> = model
+        .surfaces
+        .iter()
+        .map(|s| (s.name.as_str(), &s.surface))
+        .collect();
+    let text =
+        write_iges(&surfaces, &[], &params).map_err(|e| anyhow!("{}: {e}", input.display()))?;
+    write_atomic(output, text.as_bytes())?;
+    Ok(format!(
+        "exported {} surfaces (entity 128) to {}",
+        surfaces.len(),
+        output.display()
+    ))
+}
+
+#[cfg(test)]
+mod tests {
+    #[test]
+    fn dates_are_well_formed() {
+        let d = super::iges_date_now();
+        assert_eq!(d.len(), 15);
+        assert!(d.starts_with("20") && d.as_bytes()[8] == b'.');
+    }
+}

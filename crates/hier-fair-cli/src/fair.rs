@@ -1,0 +1,348 @@
+//! `hier-fair fair` on a bare surface file: every surface is a primary surface with no links, its
+//! boundary frames fixed ([SV] §3.1), faired by one [`SurfaceFairing`] method.
+//!
+//! The model-level driver (hierarchy, links, continuity) lives in the `hier-fair` crate; this file
+//! only builds masks and methods from command-line options and writes the result and report.
+
+use std::path::Path;
+use std::time::Instant;
+
+use anyhow::{Result, bail};
+use nurbs_core::{BSplineSurface, Continuity, ControlMask, FairingReport, SurfaceFairing};
+use serde::Serialize;
+
+use crate::files;
+
+/// The fairing methods of the command line.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum FairMethod {
+    /// Hadenfeld's local energy fairing
+    Energy,
+    /// one sparse global solve of the thin-plate energy, clamped to the tolerance
+    #[value(name = "energy-global")]
+    EnergyGlobal,
+    /// knot removal and reinsertion
+    Krr,
+}
+
+/// Options of `fair`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FairOptions {
+    /// the method
+    pub method: FairMethod,
+    /// ε: largest control-point move (model units)
+    pub tolerance: f64,
+    /// iteration limit (local methods: moves; energy-global: polishing moves); `None` = the
+    /// method's default
+    pub iterations: Option<usize>,
+    /// boundary data kept on all four sides: G0 fixes the boundary rows, G1 two rows, G2 three
+    pub keep: Continuity,
+}
+
+/// The mask that fixes the frame of `keep` on all four sides; an error when no control point
+/// would be left free.
+pub fn boundary_mask(surface: &BSplineSurface, keep: Continuity) -> Result<ControlMask> {
+    let rows = keep.frame().rows();
+    let need = 2 * rows + 1;
+    if surface.num_u() < need || surface.num_v() < need {
+        bail!(
+            "the surface has {}×{} control points: too few to keep {keep:?} on all four sides ({need}×{need} needed to leave a point free)",
+            surface.num_u(),
+            surface.num_v()
+        );
+    }
+    Ok(ControlMask::with_boundary_frame(surface, keep.frame()))
+}
+
+/// The method object for `options`.
+/// Never fails today; a `Result` so that methods with stricter option checks can join.
+pub fn method(options: &FairOptions) -> Result<Box<dyn SurfaceFairing>> {
+    Ok(match options.method {
+        FairMethod::Energy => {
+            let mut params = fair_energy::EnergyParams::default();
+            if let Some(n) = options.iterations {
+                params.max_iterations = n;
+            }
+            Box::new(fair_energy::LocalEnergyFairing { params })
+        }
+        FairMethod::EnergyGlobal => {
+            let mut params = fair_energy::GlobalParams::default();
+            if let Some(n) = options.iterations {
+                params.polish_iterations = n;
+            }
+            Box::new(fair_energy::GlobalEnergyFairing { params })
+        }
+        FairMethod::Krr => {
+            let mut params = fair_krr::KrrParams::default();
+            if let Some(n) = options.iterations {
+                params.max_iterations = n;
+            }
+            Box::new(fair_krr::KrrFairing { params })
+        }
+    })
+}
+
+/// One surface's line of the report (cli-contract.md).
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct SurfaceLine {
+    /// surface name
+    pub name: String,
+    /// "primary" for a bare surface
+    pub role: String,
+    /// method name
+    pub method: String,
+    /// thin-plate energy before
+    pub energy_before: f64,
+    /// thin-plate energy after
+    pub energy_after: f64,
+    /// largest sampled distance from the original (model units)
+    pub max_deviation: f64,
+    /// iterations performed
+    pub iterations: usize,
+    /// seconds of this surface
+    pub seconds: f64,
+}
+
+/// The `--report` JSON of `fair` (cli-contract.md); `links` is empty for bare surfaces.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct FairRunReport {
+    /// wall-clock seconds of the whole run
+    pub seconds_total: f64,
+    /// one line per surface
+    pub surfaces: Vec<SurfaceLine>,
+    /// links (none for bare surfaces)
+    pub links: Vec<serde_json::Value>,
+}
+
+/// Fairs every surface of a bare surface file; returns the faired surfaces and the report.
+pub fn fair_surfaces(
+    surfaces: &[BSplineSurface],
+    options: &FairOptions,
+) -> Result<(Vec<BSplineSurface>, FairRunReport)> {
+    if !(options.tolerance.is_finite() && options.tolerance > 0.0) {
+        bail!(
+            "--tolerance must be a finite length > 0, got {}",
+            options.tolerance
+        );
+    }
+    let start = Instant::now();
+    let method = method(options)?;
+    let mut out = Vec::with_capacity(surfaces.len());
+    let mut lines = Vec::with_capacity(surfaces.len());
+    for (k, s) in surfaces.iter().enumerate() {
+        let name = if surfaces.len() == 1 {
+            "surface".to_string()
+        } else {
+            format!("surface{k}")
+        };
+        let mask = boundary_mask(s, options.keep).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+        let (faired, r): (BSplineSurface, FairingReport) = method
+            .fair(s, &mask, options.tolerance)
+            .map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+        lines.push(SurfaceLine {
+            name,
+            role: "primary".into(),
+            method: r.method,
+            energy_before: r.energy_before,
+            energy_after: r.energy_after,
+            max_deviation: r.max_deviation,
+            iterations: r.iterations,
+            seconds: r.seconds,
+        });
+        out.push(faired);
+    }
+    Ok((
+        out,
+        FairRunReport {
+            seconds_total: start.elapsed().as_secs_f64(),
+            surfaces: lines,
+            links: Vec::new(),
+        },
+    ))
+}
+
+/// JSON of the faired surfaces: one record for one surface, `{"surfaces": [...]}` for several.
+pub fn surfaces_json(surfaces: &[BSplineSurface]) -> Result<String> {
+    if let [one] = surfaces {
+        return Ok(nurbs_core::io::surface_to_json(one));
+    }
+    let records: Vec<_> = surfaces
+        .iter()
+        .map(nurbs_core::io::SurfaceRecord::from_surface)
+        .collect();
+    Ok(serde_json::to_string(
+        &serde_json::json!({ "surfaces": records }),
+    )?)
+}
+
+/// The whole subcommand: read, fair, write the output (and report) atomically; returns the
+/// one-line-per-surface summary to print.
+pub fn run(
+    input: &Path,
+    output: &Path,
+    report: Option<&Path>,
+    options: &FairOptions,
+) -> Result<String> {
+    files::refuse_overwrite(output, &[input])?;
+    if let Some(r) = report {
+        files::refuse_overwrite(r, &[input])?;
+        if std::fs::canonicalize(r)
+            .ok()
+            .is_some_and(|c| std::fs::canonicalize(output).ok() == Some(c))
+            || r == output
+        {
+            bail!("--report and -o name the same file {}", r.display());
+        }
+    }
+    let surfaces = files::read_surfaces(input)?;
+    let (faired, run) = fair_surfaces(&surfaces, options)?;
+    files::write_atomic(output, surfaces_json(&faired)?.as_bytes())?;
+    if let Some(r) = report {
+        files::write_atomic(r, serde_json::to_string_pretty(&run)?.as_bytes())?;
+    }
+    let mut text = String::new();
+    for line in &run.surfaces {
+        let note = if line.iterations == 0 {
+            " (nothing could move)"
+        } else {
+            ""
+        };
+        text += &format!(
+            "{}: {} energy {:.6e} -> {:.6e}, max deviation {:.3e}, {} iterations, {:.3} s{note}\n",
+            line.name,
+            line.method,
+            line.energy_before,
+            line.energy_after,
+            line.max_deviation,
+            line.iterations,
+            line.seconds
+        );
+    }
+    text += &format!("wrote {}\n", output.display());
+    Ok(text)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn surface(n: usize) -> BSplineSurface {
+        let k = nurbs_core::KnotVector::clamped_uniform(3, n).expect("knots");
+        let points = (0..n * n)
+            .map(|r| {
+                nurbs_core::Point3::new(
+                    (r / n) as f64,
+                    (r % n) as f64,
+                    ((r * 7919) % 13) as f64 * 0.01,
+                )
+            })
+            .collect();
+        BSplineSurface::new(k.clone(), k, points, None).expect("surface")
+    }
+
+    #[test]
+    fn too_small_for_the_frames_is_an_error() {
+        assert!(boundary_mask(&surface(4), Continuity::G1).is_err());
+        assert!(boundary_mask(&surface(5), Continuity::G1).is_ok());
+        assert_eq!(
+            boundary_mask(&surface(7), Continuity::G2)
+                .expect("mask")
+                .free_count(),
+            1
+        );
+    }
+
+    #[test]
+    fn report_has_the_contract_fields() {
+        let options = FairOptions {
+            method: FairMethod::Energy,
+            tolerance: 0.05,
+            iterations: Some(100),
+            keep: Continuity::G0,
+        };
+        let (out, report) = fair_surfaces(&[surface(8)], &options).expect("fairs");
+        assert_eq!(out.len(), 1);
+        let v = serde_json::to_value(&report).expect("json");
+        for key in [
+            "name",
+            "role",
+            "method",
+            "energy_before",
+            "energy_after",
+            "max_deviation",
+            "iterations",
+            "seconds",
+        ] {
+            assert!(v["surfaces"][0].get(key).is_some(), "missing {key}");
+        }
+        assert!(
+            v["seconds_total"].is_number() && v["links"].as_array().is_some_and(|l| l.is_empty())
+        );
+        let bad = FairOptions {
+            tolerance: 0.0,
+            ..options
+        };
+        assert!(fair_surfaces(&[surface(8)], &bad).is_err());
+    }
+
+    #[test]
+    fn run_writes_output_and_report_and_never_the_input() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let input = dir.path().join("in.json");
+        std::fs::write(&input, nurbs_core::io::surface_to_json(&surface(9))).expect("write input");
+        let output = dir.path().join("out.json");
+        let report = dir.path().join("report.json");
+        for method in [
+            FairMethod::Energy,
+            FairMethod::EnergyGlobal,
+            FairMethod::Krr,
+        ] {
+            let options = FairOptions {
+                method,
+                tolerance: 0.05,
+                iterations: None,
+                keep: Continuity::G1,
+            };
+            let text = run(&input, &output, Some(&report), &options).expect("runs");
+            assert!(text.contains("wrote"));
+            let faired = files::read_surfaces(&output).expect("output parses");
+            let original = files::read_surfaces(&input).expect("input parses");
+            let mask = boundary_mask(&original[0], Continuity::G1).expect("mask");
+            for (r, (a, b)) in original[0]
+                .control_points()
+                .iter()
+                .zip(faired[0].control_points())
+                .enumerate()
+            {
+                if !mask.as_slice()[r] {
+                    assert_eq!(a, b, "{method:?}: kept frame point {r} changed");
+                }
+                assert!((a - b).norm() <= 0.05 + 1e-12);
+            }
+            let json: serde_json::Value =
+                serde_json::from_str(&files::read_text(&report).expect("report"))
+                    .expect("report parses");
+            assert_eq!(json["surfaces"][0]["role"], "primary");
+            if method != FairMethod::Krr {
+                // the energy methods never increase the energy (KRR does not promise it)
+                assert!(
+                    json["surfaces"][0]["energy_after"].as_f64()
+                        <= json["surfaces"][0]["energy_before"].as_f64()
+                );
+            }
+        }
+        let options = FairOptions {
+            method: FairMethod::Energy,
+            tolerance: 0.05,
+            iterations: None,
+            keep: Continuity::G0,
+        };
+        let before = std::fs::read(&input).expect("read");
+        assert!(run(&input, &input, None, &options).is_err());
+        assert_eq!(
+            std::fs::read(&input).expect("read"),
+            before,
+            "input untouched"
+        );
+    }
+}

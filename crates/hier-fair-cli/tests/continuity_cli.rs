@@ -1,0 +1,166 @@
+//! `hier-fair check` and `hier-fair connect` through the library functions and the binary
+//! (exit codes, atomic outputs, never overwriting the input).
+
+use std::process::Command;
+
+use serde_json::{Value, json};
+
+/// A model: a flat primary and a connecting patch on its side x = 1 with a `kink_deg` kink.
+fn kinked_model(kink_deg: f64) -> String {
+    let r = kink_deg.to_radians();
+    let flat: Vec<Vec<[f64; 3]>> = (0..4)
+        .map(|i| {
+            (0..4)
+                .map(|j| [i as f64 / 3.0, j as f64 / 3.0, 0.0])
+                .collect()
+        })
+        .collect();
+    let bent: Vec<Vec<[f64; 3]>> = (0..4)
+        .map(|i| {
+            (0..4)
+                .map(|j| {
+                    [
+                        1.0 + r.cos() * i as f64 / 3.0,
+                        j as f64 / 3.0,
+                        r.sin() * i as f64 / 3.0,
+                    ]
+                })
+                .collect()
+        })
+        .collect();
+    json!({
+        "units": "mm",
+        "surfaces": [
+            {"name": "top", "role": "primary", "surface": {"degree_u": 3, "degree_v": 3, "control_points": flat}},
+            {"name": "fillet", "role": "connecting", "surface": {"degree_u": 3, "degree_v": 3, "control_points": bent}}
+        ],
+        "links": [{"slave": "fillet", "side": "u0", "master": "top", "continuity": "G1"}]
+    })
+    .to_string()
+}
+
+#[test]
+fn check_table_json_and_presets() {
+    let text = kinked_model(0.05);
+    let out = hier_fair_cli::check::run(&text, "m.json", 21, false, None).unwrap();
+    assert!(
+        out.text.contains("fillet.u0 -> top") && !out.exceeded,
+        "{}",
+        out.text
+    );
+    let out = hier_fair_cli::check::run(&text, "m.json", 21, true, Some("class-a")).unwrap();
+    assert!(out.exceeded, "0.05° exceeds class-a (0.01°)");
+    let v: Value = serde_json::from_str(&out.text).unwrap();
+    let l = &v["links"][0];
+    for key in [
+        "slave", "side", "master", "target", "samples", "g0", "g1_deg", "g2_rel", "g2_abs",
+    ] {
+        assert!(l.get(key).is_some(), "missing {key}");
+    }
+    assert_eq!(l["samples"], 21);
+    assert!((l["g1_deg"].as_f64().unwrap() - 0.05).abs() < 1e-9);
+    assert!(l["worst_g1"]["t"].is_number() && l["worst_g2"].get("t").is_some());
+    // 0.05° is fine for the standard (0.1°) and exchange (0.5°) presets
+    assert!(
+        !hier_fair_cli::check::run(&text, "m.json", 21, false, Some("standard"))
+            .unwrap()
+            .exceeded
+    );
+    assert!(
+        !hier_fair_cli::check::run(&text, "m.json", 21, false, Some("exchange"))
+            .unwrap()
+            .exceeded
+    );
+    assert!(hier_fair_cli::check::run(&text, "m.json", 21, false, Some("strict")).is_err());
+}
+
+#[test]
+fn binary_check_exit_codes_and_connect_outputs() {
+    let bin = env!("CARGO_BIN_EXE_hier-fair");
+    let dir = tempfile::tempdir().unwrap();
+    let model = dir.path().join("model.json");
+    std::fs::write(&model, kinked_model(10.0)).unwrap();
+    let status = Command::new(bin)
+        .args(["check", model.to_str().unwrap(), "--fail-above", "class-a"])
+        .output()
+        .unwrap();
+    assert_eq!(
+        status.status.code(),
+        Some(1),
+        "{}",
+        String::from_utf8_lossy(&status.stderr)
+    );
+    let status = Command::new(bin)
+        .args(["check", model.to_str().unwrap()])
+        .output()
+        .unwrap();
+    assert_eq!(status.status.code(), Some(0));
+
+    // connect never overwrites its input
+    let status = Command::new(bin)
+        .args([
+            "connect",
+            model.to_str().unwrap(),
+            "-o",
+            model.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_ne!(status.status.code(), Some(0));
+    assert!(String::from_utf8_lossy(&status.stderr).contains("refusing to overwrite"));
+
+    let out = dir.path().join("out.json");
+    let report = dir.path().join("report.json");
+    let status = Command::new(bin)
+        .args([
+            "connect",
+            model.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--target",
+            "G1",
+            "--report",
+            report.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(
+        status.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&status.stderr)
+    );
+    let r: Value = serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let link = &r["links"][0];
+    assert!(link["before"]["g1_deg"].as_f64().unwrap() > 9.9);
+    assert!(link["after"]["g1_deg"].as_f64().unwrap() <= 1e-6, "{link}");
+    assert_eq!(r["surfaces"][0]["name"], "fillet");
+    assert!(r["seconds_total"].is_number());
+    // the written model passes the class-a check
+    let status = Command::new(bin)
+        .args(["check", out.to_str().unwrap(), "--fail-above", "class-a"])
+        .output()
+        .unwrap();
+    assert_eq!(
+        status.status.code(),
+        Some(0),
+        "{}",
+        String::from_utf8_lossy(&status.stdout)
+    );
+    // bad input: one line, non-zero, no panic
+    std::fs::write(
+        &model,
+        kinked_model(10.0).replace("\"master\":\"top\"", "\"master\":\"roof\""),
+    )
+    .unwrap();
+    let status = Command::new(bin)
+        .args(["check", model.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&status.stderr);
+    assert_eq!(status.status.code(), Some(2));
+    assert!(
+        err.contains("fillet.u0 -> roof") && err.lines().count() == 1 && !err.contains("panicked"),
+        "{err}"
+    );
+}

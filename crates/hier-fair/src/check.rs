@@ -1,0 +1,116 @@
+//! Measuring every link of a model (the analyzer users run first) and the presets of the
+//! `--fail-above` option.
+//!
+//! Each link is measured by [`g_continuity::measure_link`] (gap, normal angle, relative and
+//! absolute normal-curvature difference, the worst sample of each). A link whose largest gap is
+//! above [`TOUCH_FACTOR`] × the model's g0 tolerance does not touch its master: that is bad input,
+//! reported as an error naming the link and the gap.
+
+use g_continuity::{LinkMeasure, MeasureParams, measure_link};
+use nurbs_core::Continuity;
+use rayon::prelude::*;
+
+use crate::error::{Error, Result};
+use crate::model::Model;
+
+/// A link side farther than this many g0 tolerances from its master does not touch it.
+pub const TOUCH_FACTOR: f64 = 100.0;
+
+/// The measurement of one link.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinkCheck {
+    /// index into `model.links`
+    pub link: usize,
+    /// "slave.side -> master"
+    pub label: String,
+    /// the link's target
+    pub target: Continuity,
+    /// what was measured
+    pub measure: LinkMeasure,
+}
+
+/// Continuity limits a link must not exceed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Preset {
+    /// largest gap (model units)
+    pub g0: f64,
+    /// largest normal angle (degrees)
+    pub g1_deg: f64,
+    /// largest relative curvature difference; `None`: not checked
+    pub g2_rel: Option<f64>,
+}
+
+impl Preset {
+    /// The named presets of the CLI contract: class-a 0.001 / 0.01° / 0.02, standard 0.01 / 0.1° /
+    /// 0.05, exchange 0.01 / 0.5° / none.
+    pub fn named(name: &str) -> Option<Preset> {
+        match name {
+            "class-a" => Some(Preset {
+                g0: 1e-3,
+                g1_deg: 1e-2,
+                g2_rel: Some(2e-2),
+            }),
+            "standard" => Some(Preset {
+                g0: 1e-2,
+                g1_deg: 1e-1,
+                g2_rel: Some(5e-2),
+            }),
+            "exchange" => Some(Preset {
+                g0: 1e-2,
+                g1_deg: 0.5,
+                g2_rel: None,
+            }),
+            _ => None,
+        }
+    }
+
+    /// Names of the presets.
+    pub const NAMES: [&'static str; 3] = ["class-a", "standard", "exchange"];
+
+    /// Whether `check` exceeds the preset up to its link's target continuity (a G1 link is not
+    /// judged on curvature). Undefined values (collapsed sides, poles) do not count.
+    pub fn exceeded_by(&self, check: &LinkCheck) -> bool {
+        let m = &check.measure;
+        let g0 = m.g0 > self.g0;
+        let g1 = check.target >= Continuity::G1 && m.g1_deg.is_some_and(|a| a > self.g1_deg);
+        let g2 = check.target >= Continuity::G2
+            && matches!((m.g2_rel, self.g2_rel), (Some(r), Some(limit)) if r > limit);
+        g0 || g1 || g2
+    }
+}
+
+/// Measures every link of `model` (in parallel); errors on a link that does not touch its master.
+pub fn check_model(model: &Model, params: &MeasureParams) -> Result<Vec<LinkCheck>> {
+    let checks: Vec<LinkCheck> = (0..model.links.len())
+        .into_par_iter()
+        .map(|k| {
+            let l = &model.links[k];
+            let label = model.link_label(k);
+            let measure = measure_link(
+                &model.surfaces[l.master].surface,
+                &model.surfaces[l.slave].surface,
+                l.side,
+                params,
+            )
+            .map_err(|source| Error::Continuity {
+                place: format!("link {label}"),
+                source,
+            })?;
+            Ok(LinkCheck {
+                link: k,
+                label,
+                target: l.continuity,
+                measure,
+            })
+        })
+        .collect::<Result<_>>()?;
+    let limit = TOUCH_FACTOR * model.tolerances.g0;
+    if let Some(c) = checks.iter().find(|c| c.measure.g0 > limit) {
+        return Err(Error::LinkNotTouching {
+            link: c.label.clone(),
+            gap: c.measure.g0,
+            limit,
+        });
+    }
+    Ok(checks)
+}

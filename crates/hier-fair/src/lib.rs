@@ -1,0 +1,20 @@
+//! # hier-fair
+//!
+//! The model of `model-format.md` — primary, connecting and corner surfaces with continuity links,
+//! corner groups and tolerances — and the framework order of Salvi–Várady ([SV] §1.1, §3.2):
+//! masters before slaves, primaries first. [`check_model`] measures every link;
+//! [`connect`] sets continuity slave by slave (no fairing) with g-continuity.
+//!
+//! This crate alone knows the hierarchy order and the model format; it takes and returns values
+//! (JSON text, models, reports), never paths. References (keys in brackets) are listed in
+//! `docs/references.md`.
+
+pub mod check;
+pub mod connect;
+pub mod error;
+pub mod model;
+
+pub use check::{LinkCheck, Preset, TOUCH_FACTOR, check_model};
+pub use connect::{ConnectOptions, LinkConnect, ModelConnectReport, SurfaceConnect, connect};
+pub use error::{Error, Result};
+pub use model::{CornerGroup, Link, Model, ModelSurface, ModelTolerances, Role, parse_continuity};

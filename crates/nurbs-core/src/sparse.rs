@@ -1,0 +1,279 @@
+//! Sparse symmetric positive definite systems A X = B: assembly from triplets and a sparse
+//! Cholesky factorization, shared by the fitting, energy and discrete-fairing crates.
+//!
+//! Two back ends: nalgebra-sparse's `CscCholesky` (no reordering: fill follows the given
+//! numbering) and faer's sparse Cholesky (feature `faer`, on by default) with an optional AMD
+//! fill-reducing ordering. `docs/benchmarks.md` records which is faster on which problem.
+
+use nalgebra::DMatrix;
+
+use crate::error::{Error, Result};
+
+/// Which sparse Cholesky to use.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SpdSolver {
+    /// nalgebra-sparse, natural order
+    NalgebraSparse,
+    /// faer, with the ordering given
+    #[cfg(feature = "faer")]
+    Faer(FillOrdering),
+}
+
+/// Fill-reducing ordering of the faer back end.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum FillOrdering {
+    /// keep the caller's numbering (good when it is already banded)
+    Natural,
+    /// approximate minimum degree
+    Amd,
+}
+
+impl SpdSolver {
+    /// faer with AMD where available, otherwise nalgebra-sparse.
+    pub const DEFAULT: SpdSolver = {
+        #[cfg(feature = "faer")]
+        {
+            SpdSolver::Faer(FillOrdering::Amd)
+        }
+        #[cfg(not(feature = "faer"))]
+        {
+            SpdSolver::NalgebraSparse
+        }
+    };
+}
+
+/// A symmetric matrix in compressed sparse columns, both triangles, rows sorted per column.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SparseSpd {
+    n: usize,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    values: Vec<f64>,
+}
+
+impl SparseSpd {
+    /// Assembles an n × n matrix from (row, column, value) triplets; duplicates are summed. The
+    /// caller supplies both (i, j) and (j, i) for off-diagonal entries.
+    pub fn from_triplets(n: usize, triplets: &[(usize, usize, f64)]) -> Result<Self> {
+        let mut count = vec![0usize; n + 1];
+        for &(i, j, v) in triplets {
+            if i >= n || j >= n {
+                return Err(Error::ControlNetShape {
+                    detail: format!("sparse entry ({i}, {j}) outside a {n}×{n} matrix"),
+                });
+            }
+            if !v.is_finite() {
+                return Err(Error::SingularSystem {
+                    reason: format!("entry ({i}, {j}) is {v}"),
+                });
+            }
+            count[j + 1] += 1;
+        }
+        for j in 0..n {
+            count[j + 1] += count[j];
+        }
+        let mut rows = vec![0usize; triplets.len()];
+        let mut vals = vec![0.0; triplets.len()];
+        let mut next = count.clone();
+        for &(i, j, v) in triplets {
+            rows[next[j]] = i;
+            vals[next[j]] = v;
+            next[j] += 1;
+        }
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::with_capacity(triplets.len());
+        let mut values = Vec::with_capacity(triplets.len());
+        col_ptr.push(0);
+        let mut order: Vec<usize> = Vec::new();
+        for j in 0..n {
+            order.clear();
+            order.extend(count[j]..count[j + 1]);
+            order.sort_by_key(|&k| rows[k]);
+            for &k in &order {
+                if row_idx.len() > col_ptr[j] && *row_idx.last().expect("non-empty") == rows[k] {
+                    *values.last_mut().expect("non-empty") += vals[k];
+                } else {
+                    row_idx.push(rows[k]);
+                    values.push(vals[k]);
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        Ok(Self {
+            n,
+            col_ptr,
+            row_idx,
+            values,
+        })
+    }
+
+    /// Dimension n.
+    pub fn dim(&self) -> usize {
+        self.n
+    }
+
+    /// Stored entries (both triangles).
+    pub fn nnz(&self) -> usize {
+        self.values.len()
+    }
+
+    /// y = A x for one column.
+    pub fn mul_vec(&self, x: &[f64]) -> Vec<f64> {
+        let mut y = vec![0.0; self.n];
+        for j in 0..self.n {
+            for k in self.col_ptr[j]..self.col_ptr[j + 1] {
+                y[self.row_idx[k]] += self.values[k] * x[j];
+            }
+        }
+        y
+    }
+
+    /// Solves A X = B by sparse Cholesky; a matrix that is not positive definite is
+    /// [`Error::SingularSystem`].
+    pub fn solve(&self, rhs: &DMatrix<f64>, solver: SpdSolver) -> Result<DMatrix<f64>> {
+        if rhs.nrows() != self.n {
+            return Err(Error::LengthMismatch {
+                what: "right-hand side rows vs matrix size",
+                left: rhs.nrows(),
+                right: self.n,
+            });
+        }
+        match solver {
+            SpdSolver::NalgebraSparse => {
+                let csc = nalgebra_sparse::CscMatrix::try_from_csc_data(
+                    self.n,
+                    self.n,
+                    self.col_ptr.clone(),
+                    self.row_idx.clone(),
+                    self.values.clone(),
+                )
+                .map_err(|e| Error::SingularSystem {
+                    reason: format!("bad sparse structure: {e}"),
+                })?;
+                let chol =
+                    nalgebra_sparse::factorization::CscCholesky::factor(&csc).map_err(|e| {
+                        Error::SingularSystem {
+                            reason: format!("matrix is not positive definite ({e:?})"),
+                        }
+                    })?;
+                Ok(chol.solve(rhs))
+            }
+            #[cfg(feature = "faer")]
+            SpdSolver::Faer(ordering) => self.solve_faer(rhs, ordering),
+        }
+    }
+
+    #[cfg(feature = "faer")]
+    fn solve_faer(&self, rhs: &DMatrix<f64>, ordering: FillOrdering) -> Result<DMatrix<f64>> {
+        use faer::dyn_stack::{MemBuffer, MemStack};
+        use faer::sparse::linalg::cholesky::{SymmetricOrdering, factorize_symbolic_cholesky};
+        use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+        let fail = |what: &str, e: String| Error::SingularSystem {
+            reason: format!("{what}: {e}"),
+        };
+        let n = self.n;
+        // the upper triangle: rows ≤ column, a prefix of every sorted column
+        let mut col_ptr = Vec::with_capacity(n + 1);
+        let mut row_idx = Vec::with_capacity(self.row_idx.len() / 2 + n);
+        let mut values = Vec::with_capacity(self.row_idx.len() / 2 + n);
+        col_ptr.push(0);
+        for c in 0..n {
+            for k in self.col_ptr[c]..self.col_ptr[c + 1] {
+                if self.row_idx[k] <= c {
+                    row_idx.push(self.row_idx[k]);
+                    values.push(self.values[k]);
+                }
+            }
+            col_ptr.push(row_idx.len());
+        }
+        let pattern = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
+        let upper = SparseColMatRef::new(pattern, &values);
+        let order = match ordering {
+            FillOrdering::Natural => SymmetricOrdering::Identity,
+            FillOrdering::Amd => SymmetricOrdering::Amd,
+        };
+        let symbolic =
+            factorize_symbolic_cholesky(pattern, faer::Side::Upper, order, Default::default())
+                .map_err(|e| fail("symbolic factorization", format!("{e:?}")))?;
+        let par = faer::Par::Seq;
+        let mut factor = vec![0.0; symbolic.len_val()];
+        let mut buffer = MemBuffer::try_new(
+            symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
+        )
+        .map_err(|e| fail("memory", format!("{e:?}")))?;
+        let llt = symbolic
+            .factorize_numeric_llt::<f64>(
+                &mut factor,
+                upper,
+                faer::Side::Upper,
+                Default::default(),
+                par,
+                MemStack::new(&mut buffer),
+                Default::default(),
+            )
+            .map_err(|e| fail("matrix is not positive definite", format!("{e:?}")))?;
+        let mut b = faer::Mat::<f64>::from_fn(n, rhs.ncols(), |i, j| rhs[(i, j)]);
+        let mut buffer =
+            MemBuffer::try_new(symbolic.solve_in_place_scratch::<f64>(rhs.ncols(), par))
+                .map_err(|e| fail("memory", format!("{e:?}")))?;
+        llt.solve_in_place_with_conj(faer::Conj::No, b.as_mut(), par, MemStack::new(&mut buffer));
+        Ok(DMatrix::from_fn(n, rhs.ncols(), |i, j| b[(i, j)]))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn laplacian_1d(n: usize) -> SparseSpd {
+        let mut t = Vec::new();
+        for i in 0..n {
+            t.push((i, i, 2.0));
+            if i + 1 < n {
+                t.push((i, i + 1, -1.0));
+                t.push((i + 1, i, -1.0));
+            }
+        }
+        SparseSpd::from_triplets(n, &t).unwrap()
+    }
+
+    #[test]
+    fn solvers_agree_and_solve() {
+        let a = laplacian_1d(50);
+        let rhs = DMatrix::from_fn(50, 2, |i, j| (i + j) as f64);
+        let mut solvers = vec![SpdSolver::NalgebraSparse];
+        #[cfg(feature = "faer")]
+        solvers.extend([
+            SpdSolver::Faer(FillOrdering::Natural),
+            SpdSolver::Faer(FillOrdering::Amd),
+        ]);
+        for s in solvers {
+            let x = a.solve(&rhs, s).unwrap();
+            for c in 0..2 {
+                let col: Vec<f64> = x.column(c).iter().copied().collect();
+                let y = a.mul_vec(&col);
+                for i in 0..50 {
+                    assert!((y[i] - rhs[(i, c)]).abs() < 1e-9, "{s:?}");
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn singular_is_an_error() {
+        // the Neumann Laplacian (constant null space)
+        let mut t = vec![(0, 0, 1.0), (1, 1, 1.0), (0, 1, -1.0), (1, 0, -1.0)];
+        t.push((1, 1, 0.0));
+        let a = SparseSpd::from_triplets(2, &t).unwrap();
+        let rhs = DMatrix::from_element(2, 1, 1.0);
+        assert!(matches!(
+            a.solve(&rhs, SpdSolver::NalgebraSparse),
+            Err(Error::SingularSystem { .. })
+        ));
+        #[cfg(feature = "faer")]
+        assert!(matches!(
+            a.solve(&rhs, SpdSolver::Faer(FillOrdering::Amd)),
+            Err(Error::SingularSystem { .. })
+        ));
+    }
+}
