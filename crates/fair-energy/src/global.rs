@@ -112,80 +112,28 @@ struct Csc {
     values: Vec<f64>,
 }
 
-/// Solves A x = b (A symmetric positive definite, unknowns already in elimination order).
+/// Solves A x = b (A symmetric positive definite, unknowns already in elimination order) with
+/// the shared sparse Cholesky of nurbs-core.
 fn solve(solver: SparseSolver, a: Csc, rhs: DMatrix<f64>) -> Result<DMatrix<f64>> {
-    let failed = |reason: String| EnergyError::SolveFailed {
+    use nurbs_core::sparse::{SparseSpd, SpdSolver};
+    let failed = |e: nurbs_core::Error| EnergyError::SolveFailed {
         solver: solver.name(),
-        reason,
+        reason: e.to_string(),
     };
-    match solver {
-        SparseSolver::NalgebraSparse => {
-            let csc = nalgebra_sparse::CscMatrix::try_from_csc_data(
-                a.n, a.n, a.col_ptr, a.row_idx, a.values,
-            )
-            .map_err(|e| failed(format!("{e:?}")))?;
-            let chol = nalgebra_sparse::factorization::CscCholesky::factor(&csc)
-                .map_err(|e| failed(format!("{e:?}")))?;
-            Ok(chol.solve(&rhs))
-        }
+    let matrix = SparseSpd::from_csc(a.n, a.col_ptr, a.row_idx, a.values).map_err(failed)?;
+    let backend = match solver {
+        SparseSolver::NalgebraSparse => SpdSolver::NalgebraSparse,
         #[cfg(feature = "faer")]
-        SparseSolver::Faer => solve_faer(&a, rhs).map_err(failed),
-    }
-}
-
-/// faer's sparse Cholesky on the upper triangle, sequential, in the given (nested-dissection)
-/// order: [`FAER_ORDERING`] says whether faer reorders it again with its AMD.
-#[cfg(feature = "faer")]
-fn solve_faer(a: &Csc, rhs: DMatrix<f64>) -> std::result::Result<DMatrix<f64>, String> {
-    use faer::dyn_stack::{MemBuffer, MemStack};
-    use faer::sparse::linalg::cholesky::{SymmetricOrdering, factorize_symbolic_cholesky};
-    use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-    // the upper triangle: rows ≤ column (rows are sorted, so a prefix of every column)
-    let n = a.n;
-    let mut col_ptr = Vec::with_capacity(n + 1);
-    let mut row_idx = Vec::with_capacity(a.row_idx.len() / 2 + n);
-    let mut values = Vec::with_capacity(a.row_idx.len() / 2 + n);
-    col_ptr.push(0);
-    for c in 0..n {
-        for k in a.col_ptr[c]..a.col_ptr[c + 1] {
-            if a.row_idx[k] <= c {
-                row_idx.push(a.row_idx[k]);
-                values.push(a.values[k]);
-            }
+        SparseSolver::Faer => {
+            use nurbs_core::sparse::FillOrdering;
+            SpdSolver::Faer(if FAER_ORDERING_AMD {
+                FillOrdering::Amd
+            } else {
+                FillOrdering::Natural
+            })
         }
-        col_ptr.push(row_idx.len());
-    }
-    let pattern = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
-    let upper = SparseColMatRef::new(pattern, &values);
-    let ordering = if FAER_ORDERING_AMD {
-        SymmetricOrdering::Amd
-    } else {
-        SymmetricOrdering::Identity
     };
-    let symbolic =
-        factorize_symbolic_cholesky(pattern, faer::Side::Upper, ordering, Default::default())
-            .map_err(|e| format!("{e:?}"))?;
-    let par = faer::Par::Seq;
-    let mut factor = vec![0.0; symbolic.len_val()];
-    let mut buffer =
-        MemBuffer::try_new(symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()))
-            .map_err(|e| format!("{e:?}"))?;
-    let llt = symbolic
-        .factorize_numeric_llt::<f64>(
-            &mut factor,
-            upper,
-            faer::Side::Upper,
-            Default::default(),
-            par,
-            MemStack::new(&mut buffer),
-            Default::default(),
-        )
-        .map_err(|e| format!("{e:?}"))?;
-    let mut b = faer::Mat::<f64>::from_fn(n, rhs.ncols(), |i, j| rhs[(i, j)]);
-    let mut buffer = MemBuffer::try_new(symbolic.solve_in_place_scratch::<f64>(rhs.ncols(), par))
-        .map_err(|e| format!("{e:?}"))?;
-    llt.solve_in_place_with_conj(faer::Conj::No, b.as_mut(), par, MemStack::new(&mut buffer));
-    Ok(DMatrix::from_fn(n, rhs.ncols(), |i, j| b[(i, j)]))
+    matrix.solve(&rhs, backend).map_err(failed)
 }
 
 /// Whether faer reorders with AMD (true) or keeps our nested-dissection order (false); see

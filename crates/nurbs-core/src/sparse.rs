@@ -107,6 +107,53 @@ impl SparseSpd {
         })
     }
 
+    /// Takes a matrix already in compressed sparse columns (both triangles, rows strictly
+    /// increasing within each column), as assemblers that know their pattern build it.
+    pub fn from_csc(
+        n: usize,
+        col_ptr: Vec<usize>,
+        row_idx: Vec<usize>,
+        values: Vec<f64>,
+    ) -> Result<Self> {
+        let bad = |detail: String| Error::ControlNetShape {
+            detail: format!("sparse matrix: {detail}"),
+        };
+        if col_ptr.len() != n + 1
+            || col_ptr[0] != 0
+            || col_ptr[n] != row_idx.len()
+            || row_idx.len() != values.len()
+        {
+            return Err(bad(format!(
+                "{} column pointers, {} rows, {} values for n = {n}",
+                col_ptr.len(),
+                row_idx.len(),
+                values.len()
+            )));
+        }
+        for j in 0..n {
+            if col_ptr[j] > col_ptr[j + 1] {
+                return Err(bad(format!("column pointers decrease at column {j}")));
+            }
+            let rows = &row_idx[col_ptr[j]..col_ptr[j + 1]];
+            if rows.iter().any(|&r| r >= n) || rows.windows(2).any(|w| w[0] >= w[1]) {
+                return Err(bad(format!(
+                    "rows of column {j} are out of range or not increasing"
+                )));
+            }
+        }
+        if let Some(k) = values.iter().position(|v| !v.is_finite()) {
+            return Err(Error::SingularSystem {
+                reason: format!("entry {k} is {}", values[k]),
+            });
+        }
+        Ok(Self {
+            n,
+            col_ptr,
+            row_idx,
+            values,
+        })
+    }
+
     /// Dimension n.
     pub fn dim(&self) -> usize {
         self.n
