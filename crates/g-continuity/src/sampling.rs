@@ -20,7 +20,7 @@
 use nurbs_core::basis::basis_derivatives;
 use nurbs_core::{
     BSplineSurface, BasisEvaluator, Direction, KnotVector, Point3, ProjectionParams, Side,
-    SurfaceProjection, project_to_surface, project_to_surface_from,
+    SurfaceProjection, SurfaceProjector,
 };
 
 use crate::error::{Error, Result};
@@ -155,8 +155,10 @@ impl SideBasis {
 /// Finds master points for consecutive slave points, warm-starting each projection.
 #[derive(Debug, Clone)]
 pub struct MasterTracker<'m> {
-    master: &'m BSplineSurface,
-    params: ProjectionParams,
+    /// warm-started Newton projections (evaluator and surface size kept between calls)
+    warm: SurfaceProjector<'m>,
+    /// global projections from a coarse start grid (built once)
+    global: SurfaceProjector<'m>,
     last: Option<SurfaceProjection>,
     slack: f64,
 }
@@ -164,23 +166,20 @@ pub struct MasterTracker<'m> {
 impl<'m> MasterTracker<'m> {
     /// A tracker on `master`.
     pub fn new(master: &'m BSplineSurface, params: ProjectionParams) -> Self {
+        let coarse = ProjectionParams {
+            samples_per_span: params.samples_per_span.min(GLOBAL_START_SAMPLES_PER_SPAN),
+            ..params
+        };
         Self {
-            master,
-            params,
+            warm: SurfaceProjector::new(master, params),
+            global: SurfaceProjector::new(master, coarse),
             last: None,
             slack: WARM_START_SLACK * master.size(),
         }
     }
 
-    fn global(&self, point: &Point3) -> SurfaceProjection {
-        let coarse = ProjectionParams {
-            samples_per_span: self
-                .params
-                .samples_per_span
-                .min(GLOBAL_START_SAMPLES_PER_SPAN),
-            ..self.params
-        };
-        project_to_surface(self.master, point, &coarse)
+    fn global(&mut self, point: &Point3) -> SurfaceProjection {
+        self.global.project(point)
     }
 
     /// Forgets the previous foot point (the next projection is global).
@@ -192,8 +191,7 @@ impl<'m> MasterTracker<'m> {
     pub fn project(&mut self, point: &Point3) -> SurfaceProjection {
         let result = match self.last {
             Some(prev) => {
-                let warm =
-                    project_to_surface_from(self.master, point, (prev.u, prev.v), &self.params);
+                let warm = self.warm.project_from(point, (prev.u, prev.v));
                 if warm.converged && warm.distance <= WARM_START_JUMP * prev.distance + self.slack {
                     warm
                 } else {

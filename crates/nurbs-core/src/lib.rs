@@ -54,7 +54,7 @@ pub use knots::KnotVector;
 pub use mesh::TriMesh;
 pub use ops::Direction;
 pub use projection::{
-    CurveProjection, ProjectionParams, SurfaceProjection, project_to_curve, project_to_surface,
-    project_to_surface_from,
+    CurveProjection, ProjectionParams, SurfaceProjection, SurfaceProjector, project_to_curve,
+    project_to_surface, project_to_surface_from,
 };
 pub use surface::{BSplineSurface, SurfaceDerivatives, SurfaceEvaluator};

@@ -97,47 +97,183 @@ fn span_samples(knots: &crate::KnotVector, per_span: usize, max: usize) -> Vec<f
     out
 }
 
+/// Projects many points onto one surface, keeping the evaluator and the surface's size between
+/// calls (the free functions below build one per call).
+#[derive(Debug, Clone)]
+pub struct SurfaceProjector<'a> {
+    surface: &'a BSplineSurface,
+    eval: crate::surface::SurfaceEvaluator<'a>,
+    params: ProjectionParams,
+    eps: f64,
+    stationary_tolerance: f64,
+    /// start samples (u values, v values, points), built on the first global projection
+    starts: Option<(Vec<f64>, Vec<f64>, Vec<Point3>)>,
+}
+
+/// Relative distance (against the surface size) under which a Newton iterate that cannot
+/// decrease the distance any more still counts as converged.
+const STATIONARY_REL: f64 = 1e-9;
+
+impl<'a> SurfaceProjector<'a> {
+    /// A projector onto `surface`.
+    pub fn new(surface: &'a BSplineSurface, params: ProjectionParams) -> Self {
+        let size = surface.size().max(f64::MIN_POSITIVE);
+        Self {
+            surface,
+            eval: surface.evaluator(),
+            params,
+            eps: params.point_tolerance * size,
+            stationary_tolerance: STATIONARY_REL * size,
+            starts: None,
+        }
+    }
+
+    /// Projects `point` from sampled starts.
+    pub fn project(&mut self, point: &Point3) -> SurfaceProjection {
+        let surface = self.surface;
+        let params = self.params;
+        let (us, vs, grid) = self.starts.get_or_insert_with(|| {
+            let us = span_samples(
+                surface.knots_u(),
+                params.samples_per_span,
+                params.max_samples_per_direction,
+            );
+            let vs = span_samples(
+                surface.knots_v(),
+                params.samples_per_span,
+                params.max_samples_per_direction,
+            );
+            let grid = surface.eval_grid_points(&us, &vs);
+            (us, vs, grid)
+        });
+        let nvs = vs.len();
+        let mut order: Vec<(f64, usize)> = grid
+            .iter()
+            .enumerate()
+            .map(|(k, q)| ((q - point).norm_squared(), k))
+            .collect();
+        let starts = params.starts.max(1).min(order.len());
+        order.select_nth_unstable_by(starts - 1, |a, b| a.0.total_cmp(&b.0));
+        order[..starts].sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+        let picks: Vec<(f64, f64)> = order[..starts]
+            .iter()
+            .map(|&(_, k)| (us[k / nvs], vs[k % nvs]))
+            .collect();
+        let mut best: Option<SurfaceProjection> = None;
+        for start in picks {
+            let candidate = self.project_from(point, start);
+            let better = match &best {
+                None => true,
+                Some(b) => {
+                    candidate.distance < b.distance
+                        || (candidate.converged && !b.converged && candidate.distance <= b.distance)
+                }
+            };
+            if better {
+                best = Some(candidate);
+            }
+        }
+        best.expect("at least one start")
+    }
+
+    /// Projects `point` by safeguarded Newton from the parameters `start`.
+    pub fn project_from(&mut self, point: &Point3, start: (f64, f64)) -> SurfaceProjection {
+        let surface = self.surface;
+        let params = &self.params;
+        let (ua, ub) = surface.domain_u();
+        let (va, vb) = surface.domain_v();
+        let eps = self.eps;
+        let eval = &mut self.eval;
+        let (mut u, mut v) = (start.0.clamp(ua, ub), start.1.clamp(va, vb));
+        let mut d = eval.derivatives(u, v);
+        let mut r = d.point - point;
+        let mut dist = r.norm();
+        let mut converged = false;
+        let mut iterations = 0;
+        while iterations < params.max_iterations {
+            if dist <= eps {
+                converged = true;
+                break;
+            }
+            let (su, sv) = (d.du, d.dv);
+            let (gu, gv) = (r.dot(&su), r.dot(&sv));
+            let cos_u = gu.abs() / (dist * su.norm()).max(f64::MIN_POSITIVE);
+            let cos_v = gv.abs() / (dist * sv.norm()).max(f64::MIN_POSITIVE);
+            // at a domain bound, a gradient pointing outward is a KKT multiplier, not a residual
+            let free_u = !((u <= ua && gu > 0.0) || (u >= ub && gu < 0.0));
+            let free_v = !((v <= va && gv > 0.0) || (v >= vb && gv < 0.0));
+            if (!free_u || cos_u <= params.cosine_tolerance)
+                && (!free_v || cos_v <= params.cosine_tolerance)
+            {
+                converged = true;
+                break;
+            }
+            let (mut a, mut b, mut c) = (
+                su.dot(&su) + r.dot(&d.duu),
+                su.dot(&sv) + r.dot(&d.duv),
+                sv.dot(&sv) + r.dot(&d.dvv),
+            );
+            if !(a > 0.0 && a * c - b * b > 0.0) {
+                (a, b, c) = (su.dot(&su), su.dot(&sv), sv.dot(&sv));
+            }
+            let det = a * c - b * b;
+            let (mut du, mut dv) = if det > 0.0 {
+                (-(c * gu - b * gv) / det, -(a * gv - b * gu) / det)
+            } else {
+                // singular metric (e.g. at a pole): steepest descent scaled by the larger tangent
+                let s = (su.norm_squared() + sv.norm_squared()).max(f64::MIN_POSITIVE);
+                (-gu / s, -gv / s)
+            };
+            let mut step_ok = false;
+            for _ in 0..30 {
+                let (nu, nv) = ((u + du).clamp(ua, ub), (v + dv).clamp(va, vb));
+                let nd = eval.derivatives(nu, nv);
+                let nr = nd.point - point;
+                let ndist = nr.norm();
+                if ndist <= dist {
+                    let moved: Vector3 = nd.point - d.point;
+                    let tiny = moved.norm() <= eps;
+                    u = nu;
+                    v = nv;
+                    d = nd;
+                    r = nr;
+                    dist = ndist;
+                    step_ok = !tiny;
+                    if tiny {
+                        converged = true;
+                    }
+                    break;
+                }
+                du *= 0.5;
+                dv *= 0.5;
+            }
+            iterations += 1;
+            if !step_ok {
+                if !converged {
+                    // no decrease along the Newton direction: a stationary point within rounding
+                    converged = dist <= eps.max(self.stationary_tolerance);
+                }
+                break;
+            }
+        }
+        SurfaceProjection {
+            u,
+            v,
+            point: d.point,
+            distance: dist,
+            converged,
+            iterations,
+        }
+    }
+}
+
 /// Projects `point` onto `surface` from sampled starts.
 pub fn project_to_surface(
     surface: &BSplineSurface,
     point: &Point3,
     params: &ProjectionParams,
 ) -> SurfaceProjection {
-    let us = span_samples(
-        surface.knots_u(),
-        params.samples_per_span,
-        params.max_samples_per_direction,
-    );
-    let vs = span_samples(
-        surface.knots_v(),
-        params.samples_per_span,
-        params.max_samples_per_direction,
-    );
-    let grid = surface.eval_grid_points(&us, &vs);
-    let mut order: Vec<(f64, usize)> = grid
-        .iter()
-        .enumerate()
-        .map(|(k, q)| ((q - point).norm_squared(), k))
-        .collect();
-    let starts = params.starts.max(1).min(order.len());
-    order.select_nth_unstable_by(starts - 1, |a, b| a.0.total_cmp(&b.0));
-    order[..starts].sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-    let mut best: Option<SurfaceProjection> = None;
-    for &(_, k) in &order[..starts] {
-        let start = (us[k / vs.len()], vs[k % vs.len()]);
-        let candidate = project_to_surface_from(surface, point, start, params);
-        let better = match &best {
-            None => true,
-            Some(b) => {
-                candidate.distance < b.distance
-                    || (candidate.converged && !b.converged && candidate.distance <= b.distance)
-            }
-        };
-        if better {
-            best = Some(candidate);
-        }
-    }
-    best.expect("at least one start")
+    SurfaceProjector::new(surface, *params).project(point)
 }
 
 /// Projects `point` onto `surface` by safeguarded Newton from the parameters `start`.
@@ -147,90 +283,7 @@ pub fn project_to_surface_from(
     start: (f64, f64),
     params: &ProjectionParams,
 ) -> SurfaceProjection {
-    let (ua, ub) = surface.domain_u();
-    let (va, vb) = surface.domain_v();
-    let eps = params.point_tolerance * surface.size().max(f64::MIN_POSITIVE);
-    let mut eval = surface.evaluator();
-    let (mut u, mut v) = (start.0.clamp(ua, ub), start.1.clamp(va, vb));
-    let mut d = eval.derivatives(u, v);
-    let mut r = d.point - point;
-    let mut dist = r.norm();
-    let mut converged = false;
-    let mut iterations = 0;
-    while iterations < params.max_iterations {
-        if dist <= eps {
-            converged = true;
-            break;
-        }
-        let (su, sv) = (d.du, d.dv);
-        let (gu, gv) = (r.dot(&su), r.dot(&sv));
-        let cos_u = gu.abs() / (dist * su.norm()).max(f64::MIN_POSITIVE);
-        let cos_v = gv.abs() / (dist * sv.norm()).max(f64::MIN_POSITIVE);
-        // at a domain bound, a gradient pointing outward is a KKT multiplier, not a residual
-        let free_u = !((u <= ua && gu > 0.0) || (u >= ub && gu < 0.0));
-        let free_v = !((v <= va && gv > 0.0) || (v >= vb && gv < 0.0));
-        if (!free_u || cos_u <= params.cosine_tolerance)
-            && (!free_v || cos_v <= params.cosine_tolerance)
-        {
-            converged = true;
-            break;
-        }
-        let (mut a, mut b, mut c) = (
-            su.dot(&su) + r.dot(&d.duu),
-            su.dot(&sv) + r.dot(&d.duv),
-            sv.dot(&sv) + r.dot(&d.dvv),
-        );
-        if !(a > 0.0 && a * c - b * b > 0.0) {
-            (a, b, c) = (su.dot(&su), su.dot(&sv), sv.dot(&sv));
-        }
-        let det = a * c - b * b;
-        let (mut du, mut dv) = if det > 0.0 {
-            (-(c * gu - b * gv) / det, -(a * gv - b * gu) / det)
-        } else {
-            // singular metric (e.g. at a pole): steepest descent scaled by the larger tangent
-            let s = (su.norm_squared() + sv.norm_squared()).max(f64::MIN_POSITIVE);
-            (-gu / s, -gv / s)
-        };
-        let mut step_ok = false;
-        for _ in 0..30 {
-            let (nu, nv) = ((u + du).clamp(ua, ub), (v + dv).clamp(va, vb));
-            let nd = eval.derivatives(nu, nv);
-            let nr = nd.point - point;
-            let ndist = nr.norm();
-            if ndist <= dist {
-                let moved: Vector3 = nd.point - d.point;
-                let tiny = moved.norm() <= eps;
-                u = nu;
-                v = nv;
-                d = nd;
-                r = nr;
-                dist = ndist;
-                step_ok = !tiny;
-                if tiny {
-                    converged = true;
-                }
-                break;
-            }
-            du *= 0.5;
-            dv *= 0.5;
-        }
-        iterations += 1;
-        if !step_ok {
-            if !converged {
-                // no decrease along the Newton direction: a stationary point within rounding
-                converged = dist <= eps.max(1e-9 * surface.size());
-            }
-            break;
-        }
-    }
-    SurfaceProjection {
-        u,
-        v,
-        point: d.point,
-        distance: dist,
-        converged,
-        iterations,
-    }
+    SurfaceProjector::new(surface, *params).project_from(point, start)
 }
 
 /// Projects `point` onto `curve` (same safeguards as for surfaces, in one parameter).
