@@ -123,6 +123,42 @@ impl<'a> GridPlan<'a> {
         }
     }
 
+    /// Only the point of grid column `b` (no derivatives).
+    #[inline]
+    fn point_only(&self, b: usize, rows: &[[f64; 4]]) -> Point3 {
+        match self.surface.degree_v() {
+            1 => self.point_only_fixed::<2>(b, rows),
+            2 => self.point_only_fixed::<3>(b, rows),
+            3 => self.point_only_fixed::<4>(b, rows),
+            4 => self.point_only_fixed::<5>(b, rows),
+            5 => self.point_only_fixed::<6>(b, rows),
+            _ => self.point_in_row_any(b, rows).point,
+        }
+    }
+
+    #[inline(always)]
+    fn point_only_fixed<const Q1: usize>(&self, b: usize, rows: &[[f64; 4]]) -> Point3 {
+        let span = self.bv.spans[b];
+        let first = span + 1 - Q1;
+        let r0: &[[f64; 4]; Q1] = rows[first..first + Q1]
+            .try_into()
+            .expect("span inside the net");
+        let m0: &[f64; Q1] = self.bv.ders[b * self.bv.stride..b * self.bv.stride + Q1]
+            .try_into()
+            .expect("stride ≥ Q1");
+        let mut a = [0.0f64; 4];
+        for c in 0..Q1 {
+            for d in 0..4 {
+                a[d] += m0[c] * r0[c][d];
+            }
+        }
+        if self.surface.is_rational() {
+            Point3::new(a[0] / a[3], a[1] / a[3], a[2] / a[3])
+        } else {
+            Point3::new(a[0], a[1], a[2])
+        }
+    }
+
     /// The column sums of [`Self::point_in_row`] for a compile-time v order Q1 = q + 1.
     #[inline(always)]
     fn point_in_row_fixed<const Q1: usize>(
@@ -238,9 +274,23 @@ impl BSplineSurface {
         }
     }
 
+    /// Points of the grid `us × vs` (u slowest) into `out` (cleared first).
+    pub fn eval_grid_points_into(&self, us: &[f64], vs: &[f64], out: &mut Vec<Point3>) {
+        let plan = GridPlan::new(self, us, vs, GridOrder::Points);
+        let mut rows = plan.row_scratch();
+        out.clear();
+        out.reserve(us.len() * vs.len());
+        for a in 0..us.len() {
+            plan.contract_row(a, &mut rows);
+            out.extend((0..vs.len()).map(|b| plan.point_only(b, &rows)));
+        }
+    }
+
     /// Points of the grid `us × vs` (u slowest).
     pub fn eval_grid_points(&self, us: &[f64], vs: &[f64]) -> Vec<Point3> {
-        self.eval_grid_with(us, vs, GridOrder::Points, |d| d.point)
+        let mut out = Vec::new();
+        self.eval_grid_points_into(us, vs, &mut out);
+        out
     }
 
     /// Points and derivatives up to order 2 on the grid `us × vs` (u slowest).
