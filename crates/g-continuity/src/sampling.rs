@@ -61,14 +61,7 @@ pub fn solve_side_params(
     min_total: usize,
 ) -> Vec<f64> {
     let kv = along_knots(slave, side);
-    let k = kv.knots();
-    let mut out = Vec::new();
-    for s in kv.spans() {
-        for i in 0..per_span.max(1) {
-            out.push(k[s] + (k[s + 1] - k[s]) * i as f64 / per_span.max(1) as f64);
-        }
-    }
-    out.push(kv.domain().1);
+    let mut out = kv.span_samples(per_span);
     if out.len() < min_total {
         let (a, b) = kv.domain();
         out = (0..min_total)

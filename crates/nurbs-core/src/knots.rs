@@ -222,6 +222,19 @@ impl KnotVector {
         }
     }
 
+    /// `per_span` parameters evenly spaced in every non-empty span (its start included) plus the
+    /// domain end: samples that see every span, for start grids and least-squares rows.
+    pub fn span_samples(&self, per_span: usize) -> Vec<f64> {
+        let per = per_span.max(1);
+        let k = &self.knots;
+        let mut out = Vec::new();
+        for s in self.spans() {
+            out.extend((0..per).map(|i| k[s] + (k[s + 1] - k[s]) * i as f64 / per as f64));
+        }
+        out.push(self.domain().1);
+        out
+    }
+
     /// Length of the domain t_{n+1} − t_p.
     pub fn domain_length(&self) -> f64 {
         let (a, b) = self.domain();

@@ -86,15 +86,7 @@ fn span_samples(knots: &crate::KnotVector, per_span: usize, max: usize) -> Vec<f
     if knots.spans().count() * per_span.max(1) + 1 > max.max(2) {
         return knots.uniform_params(max.max(2));
     }
-    let k = knots.knots();
-    let mut out = Vec::new();
-    for s in knots.spans() {
-        for i in 0..per_span.max(1) {
-            out.push(k[s] + (k[s + 1] - k[s]) * i as f64 / per_span.max(1) as f64);
-        }
-    }
-    out.push(knots.domain().1);
-    out
+    knots.span_samples(per_span)
 }
 
 /// Projects many points onto one surface, keeping the evaluator and the surface's size between
