@@ -25,7 +25,7 @@ pub struct Sample {
 
 impl Sample {
     fn new(u: f64, v: f64, d: &SurfaceDerivatives) -> Self {
-        let pc = d.principal_curvatures();
+        let pc = d.curvature_values();
         Self {
             u,
             v,

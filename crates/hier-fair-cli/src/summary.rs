@@ -51,7 +51,7 @@ pub fn summarize(surface: &BSplineSurface) -> SurfaceSummary {
     let us = surface.knots_u().uniform_params(SUMMARY_GRID);
     let vs = surface.knots_v().uniform_params(SUMMARY_GRID);
     let samples = surface.par_eval_grid_with(&us, &vs, GridOrder::Second, |d| {
-        (d.point, d.principal_curvatures())
+        (d.point, d.curvature_values())
     });
     let curv: Vec<_> = samples.iter().filter_map(|(_, c)| *c).collect();
     let mut bbox = [[f64::INFINITY; 3], [f64::NEG_INFINITY; 3]];

@@ -53,7 +53,7 @@ struct CurvatureSample {
 }
 
 fn curvature_sample(d: &nurbs_core::SurfaceDerivatives) -> CurvatureSample {
-    match d.principal_curvatures() {
+    match d.curvature_values() {
         Some(c) => CurvatureSample {
             point: d.point,
             normal: c.normal,

@@ -45,6 +45,43 @@ pub struct FundamentalForms {
     pub normal: Vector3,
 }
 
+/// The second fundamental form in an orthonormal tangent frame (see `shape_parts`).
+#[derive(Debug, Clone, Copy)]
+struct ShapeParts {
+    normal: Vector3,
+    b11: f64,
+    b12: f64,
+    b22: f64,
+    /// F / E
+    r: f64,
+    /// E = |S_u|²
+    lu2: f64,
+    /// EG − F² = |S_u × S_v|²
+    lc2: f64,
+}
+
+/// Normal and principal curvatures at a regular point, without directions.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CurvatureValues {
+    /// unit normal the signs refer to
+    pub normal: Vector3,
+    /// larger principal curvature
+    pub k1: f64,
+    /// smaller principal curvature
+    pub k2: f64,
+}
+
+impl CurvatureValues {
+    /// Mean curvature (k1 + k2)/2.
+    pub fn mean(&self) -> f64 {
+        0.5 * (self.k1 + self.k2)
+    }
+    /// Gaussian curvature k1·k2.
+    pub fn gauss(&self) -> f64 {
+        self.k1 * self.k2
+    }
+}
+
 /// Principal curvatures and directions at a regular point.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct PrincipalCurvatures {
@@ -119,39 +156,71 @@ impl SurfaceDerivatives {
         Some(second / first)
     }
 
+    /// The second fundamental form in the orthonormal tangent frame e1 = S_u/√E,
+    /// e2 = (S_v − (F/E) S_u)/√((EG − F²)/E) (= n × e1), as the symmetric matrix
+    /// B = [[b11, b12], [b12, b22]]; with |S_u × S_v|² = EG − F² every entry needs only the
+    /// square root already taken for the normal.
+    #[inline]
+    fn shape_parts(&self) -> Option<ShapeParts> {
+        let (lu2, lv2) = (self.du.norm_squared(), self.dv.norm_squared());
+        let (lo2, hi2) = if lu2 < lv2 { (lu2, lv2) } else { (lv2, lu2) };
+        if !(lo2 > TANGENT_RATIO_EPS * TANGENT_RATIO_EPS * hi2) {
+            return None;
+        }
+        let c = self.du.cross(&self.dv);
+        let lc2 = c.norm_squared();
+        if !(lc2 > NORMAL_SIN_EPS * NORMAL_SIN_EPS * lu2 * lv2) {
+            return None;
+        }
+        // dot products with the unnormalized normal do not wait for the square root
+        let (lc, mc, nc) = (self.duu.dot(&c), self.duv.dot(&c), self.dvv.dot(&c));
+        let f = self.du.dot(&self.dv);
+        let inv_len = 1.0 / lc2.sqrt();
+        let inv_lu2 = 1.0 / lu2;
+        let normal = c * inv_len;
+        let (l, m, n) = (lc * inv_len, mc * inv_len, nc * inv_len);
+        let r = f * inv_lu2;
+        Some(ShapeParts {
+            normal,
+            b11: l * inv_lu2,
+            b12: (m - r * l) * inv_len,
+            b22: (n - 2.0 * r * m + r * r * l) * lu2 * inv_len * inv_len,
+            r,
+            lu2,
+            lc2,
+        })
+    }
+
+    /// Normal and principal curvatures k1 ≥ k2 without the directions (the cheaper part of
+    /// [`Self::principal_curvatures`]), `None` at singular points.
+    #[inline]
+    pub fn curvature_values(&self) -> Option<CurvatureValues> {
+        let s = self.shape_parts()?;
+        let mid = 0.5 * (s.b11 + s.b22);
+        let half = 0.5 * (s.b11 - s.b22);
+        let radius = (half * half + s.b12 * s.b12).sqrt();
+        Some(CurvatureValues {
+            normal: s.normal,
+            k1: mid + radius,
+            k2: mid - radius,
+        })
+    }
+
     /// Principal curvatures (k1 ≥ k2) and directions, `None` at singular points.
     ///
-    /// The second fundamental form is written in the orthonormal tangent frame e1 = S_u/√E,
-    /// e2 = (S_v − (F/E) S_u)/√((EG − F²)/E) (= n × e1) as the symmetric matrix
-    /// B = [[b11, b12], [b12, b22]]; its eigenvalues m ± √(h² + b12²), m = (b11 + b22)/2,
-    /// h = (b11 − b22)/2, avoid the cancellation of H ± √(H² − K) near umbilics, and the
-    /// eigenvector of k1 is (h + r, b12) or (b12, r − h), whichever is better conditioned.
+    /// The eigenvalues of B are m ± √(h² + b12²), m = (b11 + b22)/2, h = (b11 − b22)/2: no
+    /// cancellation of H ± √(H² − K) near umbilics. The eigenvector of k1 is (h + r, b12) or
+    /// (b12, r − h), whichever is better conditioned.
     #[inline]
     pub fn principal_curvatures(&self) -> Option<PrincipalCurvatures> {
-        let normal = self.normal()?;
-        let (e, f, g) = (
-            self.du.norm_squared(),
-            self.du.dot(&self.dv),
-            self.dv.norm_squared(),
-        );
-        let (l, m, n) = (
-            self.duu.dot(&normal),
-            self.duv.dot(&normal),
-            self.dvv.dot(&normal),
-        );
-        let w2 = (e * g - f * f) / e;
-        let (se, sw) = (e.sqrt(), w2.sqrt());
-        let r = f / e;
-        let b11 = l / e;
-        let b12 = (m - r * l) / (se * sw);
-        let b22 = (n - 2.0 * r * m + r * r * l) / w2;
-        let mid = 0.5 * (b11 + b22);
-        let half = 0.5 * (b11 - b22);
-        let radius = (half * half + b12 * b12).sqrt();
+        let s = self.shape_parts()?;
+        let mid = 0.5 * (s.b11 + s.b22);
+        let half = 0.5 * (s.b11 - s.b22);
+        let radius = (half * half + s.b12 * s.b12).sqrt();
         let (x, y) = if half >= 0.0 {
-            (half + radius, b12)
+            (half + radius, s.b12)
         } else {
-            (b12, radius - half)
+            (s.b12, radius - half)
         };
         let len = (x * x + y * y).sqrt();
         let (x, y) = if len > 0.0 {
@@ -159,26 +228,26 @@ impl SurfaceDerivatives {
         } else {
             (1.0, 0.0)
         };
-        let e1 = self.du / se;
-        let e2 = (self.dv - self.du * r) / sw;
+        let e1 = self.du / s.lu2.sqrt();
+        let e2 = (self.dv - self.du * s.r) / (s.lc2 / s.lu2).sqrt();
         let dir1 = e1 * x + e2 * y;
-        let dir2 = normal.cross(&dir1);
+        let dir2 = s.normal.cross(&dir1);
         Some(PrincipalCurvatures {
             k1: mid + radius,
             k2: mid - radius,
             dir1,
             dir2,
-            normal,
+            normal: s.normal,
         })
     }
 
     /// Mean curvature (k1 + k2)/2, `None` at singular points.
     pub fn mean_curvature(&self) -> Option<f64> {
-        self.principal_curvatures().map(|c| c.mean())
+        self.curvature_values().map(|c| c.mean())
     }
 
     /// Gaussian curvature k1·k2, `None` at singular points.
     pub fn gaussian_curvature(&self) -> Option<f64> {
-        self.principal_curvatures().map(|c| c.gauss())
+        self.curvature_values().map(|c| c.gauss())
     }
 }

@@ -110,16 +110,25 @@ impl<'a> GridPlan<'a> {
         }
     }
 
-    /// Evaluates grid column `b` from a contracted row.
+    /// Evaluates every column of a contracted row, the degree dispatched once per row.
     #[inline]
-    fn point_in_row(&self, b: usize, rows: &[[f64; 4]]) -> SurfaceDerivatives {
+    fn for_row(&self, rows: &[[f64; 4]], mut g: impl FnMut(usize, &SurfaceDerivatives)) {
+        let n = self.bv.spans.len();
+        macro_rules! run {
+            ($kernel:expr) => {
+                for b in 0..n {
+                    let d = $kernel(b);
+                    g(b, &d);
+                }
+            };
+        }
         match self.surface.degree_v() {
-            1 => self.point_in_row_fixed::<2>(b, rows),
-            2 => self.point_in_row_fixed::<3>(b, rows),
-            3 => self.point_in_row_fixed::<4>(b, rows),
-            4 => self.point_in_row_fixed::<5>(b, rows),
-            5 => self.point_in_row_fixed::<6>(b, rows),
-            _ => self.point_in_row_any(b, rows),
+            1 => run!(|b| self.point_in_row_fixed::<2>(b, rows)),
+            2 => run!(|b| self.point_in_row_fixed::<3>(b, rows)),
+            3 => run!(|b| self.point_in_row_fixed::<4>(b, rows)),
+            4 => run!(|b| self.point_in_row_fixed::<5>(b, rows)),
+            5 => run!(|b| self.point_in_row_fixed::<6>(b, rows)),
+            _ => run!(|b| self.point_in_row_any(b, rows)),
         }
     }
 
@@ -159,7 +168,8 @@ impl<'a> GridPlan<'a> {
         }
     }
 
-    /// The column sums of [`Self::point_in_row`] for a compile-time v order Q1 = q + 1.
+    /// Point and derivatives of grid column `b` from a contracted row, for a compile-time v
+    /// order Q1 = q + 1.
     #[inline(always)]
     fn point_in_row_fixed<const Q1: usize>(
         &self,
@@ -204,7 +214,7 @@ impl<'a> GridPlan<'a> {
         quotient_rule(&a, self.surface.is_rational())
     }
 
-    /// [`Self::point_in_row`] for any degree.
+    /// [`Self::point_in_row_fixed`] for any degree.
     fn point_in_row_any(&self, b: usize, rows: &[[f64; 4]]) -> SurfaceDerivatives {
         let s = self.surface;
         let (q, nv) = (s.degree_v(), s.num_v());
@@ -270,7 +280,7 @@ impl BSplineSurface {
         out.reserve(us.len() * vs.len());
         for a in 0..us.len() {
             plan.contract_row(a, &mut rows);
-            out.extend((0..vs.len()).map(|b| f(&plan.point_in_row(b, &rows))));
+            plan.for_row(&rows, |_, d| out.push(f(d)));
         }
     }
 
@@ -336,9 +346,7 @@ impl BSplineSurface {
                 for (local, row_out) in block.chunks_mut(nvs).enumerate() {
                     let a = chunk * rows_per_chunk + local;
                     plan.contract_row(a, &mut rows);
-                    for (b, o) in row_out.iter_mut().enumerate() {
-                        *o = f(&plan.point_in_row(b, &rows));
-                    }
+                    plan.for_row(&rows, |b, d| row_out[b] = f(d));
                 }
             });
     }

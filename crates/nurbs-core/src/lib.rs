@@ -43,7 +43,7 @@ pub type Vector3 = nalgebra::Vector3<f64>;
 
 pub use basis::BasisEvaluator;
 pub use curve::{BSplineCurve, CurveDerivatives};
-pub use diffgeom::{FundamentalForms, PrincipalCurvatures};
+pub use diffgeom::{CurvatureValues, FundamentalForms, PrincipalCurvatures};
 pub use error::{Error, Result};
 pub use fairing::{FairingReport, SurfaceFairing};
 pub use fit::{FitParams, FitReport, fit_curve, fit_surface};

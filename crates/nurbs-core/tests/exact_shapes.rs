@@ -104,6 +104,11 @@ fn torus_gauss_and_mean_everywhere() {
                 1e-10,
                 "H",
             );
+            // the direction-free path gives the same values
+            let cv = d.curvature_values().unwrap();
+            assert_close(cv.k1, pc.k1, 1e-12, "k1 values");
+            assert_close(cv.k2, pc.k2, 1e-12, "k2 values");
+            assert!((cv.normal - pc.normal).norm() < 1e-15);
         }
     }
 }
