@@ -288,12 +288,7 @@ pub fn fair_surface_global(
             report.energy_after = outcome.energy_after;
         }
     }
-    report.max_control_move = out
-        .control_points()
-        .iter()
-        .zip(origin)
-        .map(|(a, b)| (a - b).norm())
-        .fold(0.0, f64::max);
+    report.max_control_move = nurbs_core::fairing::max_displacement(origin, out.control_points());
     Ok((out, report))
 }
 

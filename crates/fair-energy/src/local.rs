@@ -239,11 +239,7 @@ pub(crate) fn run_local(
     }
     // tracked as E₀ − Σ z (exact in exact arithmetic; rounding stays far below 1e-9 E₀)
     let energy_after = energy.max(0.0);
-    let max_control_move = current
-        .iter()
-        .zip(origin)
-        .map(|(a, b)| (a - b).norm())
-        .fold(0.0, f64::max);
+    let max_control_move = nurbs_core::fairing::max_displacement(origin, current);
     LocalOutcome {
         iterations,
         energy_before,

@@ -249,11 +249,7 @@ pub fn fair_curve(
         iterations,
         max_jump_before: before,
         max_jump_after: max_jump(&jumps, p, free),
-        max_control_move: p
-            .iter()
-            .zip(origin)
-            .map(|(a, b)| (a - b).norm())
-            .fold(0.0, f64::max),
+        max_control_move: nurbs_core::fairing::max_displacement(origin, p),
         stop,
     };
     Ok((out, report))

@@ -218,11 +218,7 @@ pub fn fair_surface(
         iterations,
         max_jump_before: before,
         max_jump_after: ranker.max_jump(p, free),
-        max_control_move: p
-            .iter()
-            .zip(origin)
-            .map(|(a, b)| (a - b).norm())
-            .fold(0.0, f64::max),
+        max_control_move: nurbs_core::fairing::max_displacement(origin, p),
         stop,
     };
     Ok((out, report))

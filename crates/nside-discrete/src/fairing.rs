@@ -149,12 +149,7 @@ pub fn fair_mesh(
             }
         }
     }
-    let max_move = mesh
-        .positions
-        .iter()
-        .zip(&out.positions)
-        .map(|(a, b)| (a - b).norm())
-        .fold(0.0, f64::max);
+    let max_move = nurbs_core::fairing::max_displacement(&mesh.positions, &out.positions);
     out.normals.clear();
     out.fill_missing_normals();
     let energy_after = umbrella_energy(&out.positions, &topology);

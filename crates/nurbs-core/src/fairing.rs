@@ -5,6 +5,7 @@
 //! the faired surface with a [`FairingReport`]. [`FairingReport::measure`] fills the figures
 //! every method reports the same way.
 
+use crate::Point3;
 use crate::energy::{max_deviation, thin_plate_energy};
 use crate::error::Result;
 use crate::frames::ControlMask;
@@ -12,6 +13,16 @@ use crate::surface::BSplineSurface;
 
 /// Samples per direction of the sampled deviation in reports.
 pub const REPORT_DEVIATION_SAMPLES: usize = 41;
+
+/// Largest distance between corresponding points of two equally long lists (the largest
+/// control-point or vertex move of a run; 0 for empty lists).
+pub fn max_displacement(before: &[Point3], after: &[Point3]) -> f64 {
+    before
+        .iter()
+        .zip(after)
+        .map(|(a, b)| (a - b).norm())
+        .fold(0.0, f64::max)
+}
 
 /// What a fairing run achieved.
 #[derive(Debug, Clone, PartialEq)]
@@ -45,12 +56,7 @@ impl FairingReport {
     ) -> Self {
         let max_control_move =
             if original.num_u() == faired.num_u() && original.num_v() == faired.num_v() {
-                original
-                    .control_points()
-                    .iter()
-                    .zip(faired.control_points())
-                    .map(|(a, b)| (a - b).norm())
-                    .fold(0.0, f64::max)
+                max_displacement(original.control_points(), faired.control_points())
             } else {
                 f64::NAN
             };
