@@ -4,6 +4,8 @@
 //! rounded summary per surface; `tests/snapshots.rs` keeps those summaries as insta snapshots,
 //! so any change of the kernel's numbers shows up as a reviewable diff.
 
+pub mod fixtures;
+
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};

@@ -488,6 +488,106 @@ fn prepare(
     Ok(s)
 }
 
+/// What [`set_step`] did.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct StepReport {
+    /// the step's continuity
+    pub step: Option<Continuity>,
+    /// twists (or common corners) averaged
+    pub twists_averaged: usize,
+    /// knots inserted along failing sides
+    pub knots_inserted: usize,
+    /// rounds of knot insertion
+    pub refinements: usize,
+    /// largest control point movement of the step (model units)
+    pub max_move: f64,
+    /// per link (in the order given), measured after the step up to `min(target, step)`
+    pub after: Vec<LinkMeasure>,
+}
+
+/// Makes a slave ready for the staged framework ([SV] §3.2 step 1): clamped, polynomial, of
+/// sufficient degree and with enough control rows for the frames of all its `links`. The shape
+/// is unchanged (up to the re-approximation of a rational slave, reported).
+pub fn prepare_slave(
+    slave: &BSplineSurface,
+    links: &[SideLink],
+    params: &ConnectParams,
+) -> Result<(BSplineSurface, ConnectReport)> {
+    check_links(links)?;
+    let mut report = ConnectReport::default();
+    let s = prepare(slave, links, params.rational_tolerance, &mut report)?;
+    Ok((s, report))
+}
+
+/// One step of the alternation ([SV] §3.2 steps 3 and 5, and the C0 re-attachment to faired
+/// masters): sets continuity `step` on every link whose target is at least `step`, moving only
+/// row `step` of those sides (rows of earlier steps stay bit-identical unless knots are inserted,
+/// which keeps their shape). Sides that miss the tolerances get their failing knot spans halved
+/// and the step is repeated, up to [`ConnectParams::max_refinements`] rounds. The slave must be
+/// prepared ([`prepare_slave`]).
+pub fn set_step(
+    slave: &BSplineSurface,
+    links: &[SideLink],
+    step: Continuity,
+    params: &ConnectParams,
+) -> Result<(BSplineSurface, StepReport)> {
+    check_links(links)?;
+    let mut report = StepReport {
+        step: Some(step),
+        ..StepReport::default()
+    };
+    let mut work = slave.clone();
+    loop {
+        let mut s = work.clone();
+        let mut moved = 0.0f64;
+        let passes = if step == Continuity::G0 {
+            params.set.c0_iterations.max(1)
+        } else {
+            1
+        };
+        for _ in 0..passes {
+            let o = step_all(&mut s, links, step, &params.set)?;
+            report.twists_averaged = report.twists_averaged.max(o.twists);
+            moved = moved.max(o.max_move);
+            if o.max_move <= C0_CONVERGED * s.size() {
+                break;
+            }
+        }
+        report.max_move = moved;
+        let after: Vec<LinkMeasure> = links
+            .iter()
+            .map(|l| measure_link(l.master, &s, l.side, &params.measure))
+            .collect::<Result<_>>()?;
+        let mut inserted = false;
+        if report.refinements < params.max_refinements {
+            for (l, m) in links.iter().zip(&after) {
+                if l.target < step {
+                    continue;
+                }
+                let mids = failing_spans(&s, m, step, &params.tolerances);
+                let dir = l.side.along_direction();
+                let count = match dir {
+                    Direction::U => work.num_u(),
+                    Direction::V => work.num_v(),
+                };
+                if mids.is_empty() || count + mids.len() > MAX_CONTROL_POINTS {
+                    continue;
+                }
+                let mut xs = mids;
+                xs.sort_by(f64::total_cmp);
+                work = work.refine(dir, &xs)?;
+                report.knots_inserted += xs.len();
+                inserted = true;
+            }
+        }
+        if !inserted {
+            report.after = after;
+            return Ok((s, report));
+        }
+        report.refinements += 1;
+    }
+}
+
 /// Midpoints of the along-side knot spans that hold a sample above the tolerances.
 fn failing_spans(
     surface: &BSplineSurface,

@@ -12,9 +12,19 @@
 pub mod check;
 pub mod connect;
 pub mod error;
+pub mod framework;
+pub mod methods;
 pub mod model;
+pub mod render;
+pub mod report;
 
 pub use check::{LinkCheck, Preset, TOUCH_FACTOR, check_model};
 pub use connect::{ConnectOptions, LinkConnect, ModelConnectReport, SurfaceConnect, connect};
 pub use error::{Error, Result};
+pub use framework::{
+    FairModelReport, FairParams, LinkFair, Problem, ProblemKind, Progress, Stage, StageReport,
+    SurfaceFair, fair_model, fair_model_with,
+};
+pub use methods::{BuiltMethods, Fairers, Method, RoleMethods};
 pub use model::{CornerGroup, Link, Model, ModelSurface, ModelTolerances, Role, parse_continuity};
+pub use report::{report_json, report_markdown};

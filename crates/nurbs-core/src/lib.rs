@@ -33,6 +33,7 @@ pub mod quadrature;
 pub mod shapes;
 pub mod sparse;
 pub mod surface;
+pub mod surface_basis;
 #[cfg(feature = "testing")]
 pub mod testing;
 
@@ -58,3 +59,4 @@ pub use projection::{
     project_to_surface, project_to_surface_from,
 };
 pub use surface::{BSplineSurface, SurfaceDerivatives, SurfaceEvaluator};
+pub use surface_basis::{SurfaceBasis, SurfaceBasisEvaluator};

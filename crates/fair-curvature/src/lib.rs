@@ -1,0 +1,41 @@
+//! # fair-curvature
+//!
+//! Two curvature-driven fairing methods of [SV] §5 as [`nurbs_core::SurfaceFairing`]
+//! implementations that move only the control points a [`nurbs_core::ControlMask`] frees
+//! (fixed frames come back bit-identical) and stay within the deviation tolerance:
+//!
+//! - [`TargetCurvatureFairing`] (`curvature`, [SV] §5.2 after [SSV08]): isocurves of a sample
+//!   grid are faired by smoothing their curvature and integrating it from both ends with a soft
+//!   pull towards the original ([`polyline`]), averaged, and refitted by constrained least
+//!   squares ([`target`]); curves by [`fair_curve`] ([`curve`]).
+//! - [`GreinerFairing`] (`greiner`, [SV] §5.3 after [G96]): the Hessian of the faired
+//!   surface's coordinates on the original as reference surface is linear in the control points
+//!   ([`hessian`]); it is fitted to smoothed curvature targets in sparse least squares
+//!   ([`greiner`]), independent of the parametric directions.
+//!
+//! Both handle rational surfaces with their weights held fixed (then S is still linear in the
+//! control points). References (keys in brackets) are listed in `docs/references.md`.
+
+pub mod curve;
+pub mod error;
+pub mod greiner;
+pub mod hessian;
+mod normal;
+pub mod polyline;
+pub mod sampling;
+pub mod smooth;
+pub mod target;
+
+pub use curve::{CurveParams, CurveReport, arc_length_params, fair_curve};
+pub use error::{CurvatureError, Result};
+pub use greiner::{
+    GREINER_METHOD, GreinerFairing, GreinerParams, GreinerReport, GreinerTarget,
+    fair_surface_greiner,
+};
+pub use normal::SCALE_MARGIN;
+pub use polyline::{EndCurvature, PolylineParams, fair_polyline};
+pub use sampling::Sampling;
+pub use target::{
+    TARGET_METHOD, TargetCurvatureFairing, TargetCurvatureParams, TargetCurvatureReport,
+    fair_surface_target,
+};

@@ -1,0 +1,735 @@
+//! The hierarchical constrained fairing framework ([SV] §1.1, §3.2): every surface of a model,
+//! masters before slaves, alternating fairing and continuity setting.
+//!
+//! # Order
+//! Surfaces are grouped in *waves*: a surface with no links is in wave 0, a slave in wave
+//! 1 + the largest wave of its masters. The waves run one after another; the surfaces of one wave
+//! depend only on earlier waves and run in parallel (rayon). Every result is a function of the
+//! input and the earlier waves only, so the output does not depend on the thread count.
+//!
+//! # One surface ([SV] §3.2)
+//! 0. *prepare*: clamped, polynomial, degree ≥ r across a G_r side, and knots inserted (widest
+//!    span halved) until every direction has [`FairParams::min_free_rows`] rows besides the fixed
+//!    frames of both ends (step 1 of the paper);
+//! 1. *set G0*: the boundary rows are fitted to the masters as they are now (faired), so the C0
+//!    that step 2 keeps is C0 to the final masters;
+//! 2. *fair keeping C0* (positional frame fixed on every side);
+//! 3. *set G1* on the sides whose target is ≥ G1 (twists averaged, [SV] §3.3);
+//! 4. *fair keeping G1* (tangential frame fixed on those sides, positional on the others);
+//! 5. *set G2*; 6. *fair keeping G2*.
+//!
+//! Each side follows its link's target (capped by [`FairParams::target`]): a G0 link fixes one
+//! row, G1 two, G2 three; an unlinked side keeps its boundary row. A primary without links is
+//! faired once with its boundary kept.
+//!
+//! # Deviation
+//! The deviation from the original surface never exceeds the tolerance τ (sampled on a
+//! [`FairParams::deviation_grid`]² grid). Continuity comes first: the continuity steps alone
+//! (0, 1, 3, 5 without fairing) are run once to find their deviation d_c. When d_c > τ the
+//! highest step that stays within τ is kept and the report names the links of the first step
+//! that does not, with the deviation it would need (a *conflict*). The fairing stages share the
+//! rest: each gets a ball of radius ε = (σ·τ − d)/m around its input control points, d the
+//! current deviation, m the fairing stages left, σ = [`DEVIATION_SAFETY`]. For a polynomial
+//! B-spline a control-point move ≤ ε moves the surface ≤ ε (convex hull), so the stages cannot
+//! add up past τ. If the sampled deviation still ends above τ the continuity-only result is used
+//! instead (reported).
+//!
+//! # Failures
+//! A surface whose continuity steps fail (a master that does not touch, a singular system) is
+//! left as it was and named in the report's problems; its slaves still run against it. The run
+//! never stops half-way without a report.
+
+use std::time::Instant;
+
+use g_continuity::{
+    ConnectParams, LinkMeasure, SideLink, Tolerances, measure_link, prepare_slave, set_step,
+};
+use nurbs_core::energy::{max_deviation, thin_plate_energy};
+use nurbs_core::{BSplineSurface, Continuity, ControlMask, Direction, Side, SurfaceFairing};
+use rayon::prelude::*;
+
+use crate::check::TOUCH_FACTOR;
+use crate::error::Result;
+use crate::methods::Fairers;
+use crate::model::{Model, Role};
+
+/// Fraction of the deviation tolerance the fairing stages may plan to use (the rest absorbs the
+/// difference between sampled and true deviation).
+pub const DEVIATION_SAFETY: f64 = 0.95;
+
+/// Settings of [`fair_model`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FairParams {
+    /// Highest continuity set on any link (`None`: each link's own target).
+    pub target: Option<Continuity>,
+    /// Deviation tolerance (model units); `None`: the model's `tolerances.deviation`.
+    pub tolerance: Option<f64>,
+    /// Continuity setting and measuring; its tolerances are replaced by the model's.
+    pub connect: ConnectParams,
+    /// Control rows per direction left free besides the fixed frames (default 2).
+    pub min_free_rows: usize,
+    /// Grid (per direction) of the sampled deviation (default 41).
+    pub deviation_grid: usize,
+    /// Run the surfaces of one wave in parallel (default true; the result is the same).
+    pub parallel: bool,
+}
+
+impl Default for FairParams {
+    fn default() -> Self {
+        Self {
+            target: None,
+            tolerance: None,
+            connect: ConnectParams::default(),
+            min_free_rows: 2,
+            deviation_grid: crate::connect::DEVIATION_GRID,
+            parallel: true,
+        }
+    }
+}
+
+/// A step of the per-surface alternation ([SV] §3.2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Stage {
+    /// knot insertion, degree elevation, rational to polynomial
+    Prepare,
+    /// boundary rows onto the (faired) masters
+    SetG0,
+    /// fairing with the positional frames fixed
+    FairC0,
+    /// tangential rows
+    SetG1,
+    /// fairing with the tangential frames of G1/G2 sides fixed
+    FairG1,
+    /// curvature rows
+    SetG2,
+    /// fairing with the curvature frames of G2 sides fixed
+    FairG2,
+}
+
+impl Stage {
+    /// Short name for reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Stage::Prepare => "prepare",
+            Stage::SetG0 => "set G0",
+            Stage::FairC0 => "fair C0",
+            Stage::SetG1 => "set G1",
+            Stage::FairG1 => "fair G1",
+            Stage::SetG2 => "set G2",
+            Stage::FairG2 => "fair G2",
+        }
+    }
+}
+
+/// What one stage did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StageReport {
+    /// the stage
+    pub stage: Stage,
+    /// largest control-point move of the stage (model units)
+    pub max_move: f64,
+    /// sampled deviation from the original after the stage
+    pub deviation: f64,
+    /// thin-plate energy after the stage
+    pub energy: f64,
+    /// fairing iterations (0 for continuity stages)
+    pub iterations: usize,
+    /// knots inserted by the stage
+    pub knots_inserted: usize,
+    /// the ball radius ε given to a fairing stage (0 for continuity stages)
+    pub epsilon: f64,
+}
+
+/// What happened to one surface.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SurfaceFair {
+    /// index into the model
+    pub surface: usize,
+    /// its name
+    pub name: String,
+    /// its role
+    pub role: Role,
+    /// method name
+    pub method: String,
+    /// thin-plate energy of the input
+    pub energy_before: f64,
+    /// thin-plate energy of the result
+    pub energy_after: f64,
+    /// sampled deviation of the result from the input (model units)
+    pub max_deviation: f64,
+    /// fairing iterations, all stages
+    pub iterations: usize,
+    /// knots inserted, all stages
+    pub knots_inserted: usize,
+    /// seconds spent on this surface
+    pub seconds: f64,
+    /// the stages, in order
+    pub stages: Vec<StageReport>,
+    /// false when the surface was left as it was (see the problems)
+    pub processed: bool,
+}
+
+/// Kind of a reported problem.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ProblemKind {
+    /// the surface could not be processed and was left as it was
+    Failed,
+    /// the continuity targets and the deviation tolerance cannot both be met
+    Conflict,
+    /// fairing was dropped or cut short to stay within the tolerance
+    Limited,
+}
+
+impl ProblemKind {
+    /// Short name for reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            ProblemKind::Failed => "failed",
+            ProblemKind::Conflict => "conflict",
+            ProblemKind::Limited => "limited",
+        }
+    }
+}
+
+/// A problem the run met, naming the surface and, where there is one, the link.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Problem {
+    /// what kind
+    pub kind: ProblemKind,
+    /// the surface
+    pub surface: String,
+    /// the link ("slave.side -> master"), when one is at fault
+    pub link: Option<String>,
+    /// what happened, readable
+    pub message: String,
+    /// the amount, e.g. the deviation a continuity step needs (model units)
+    pub amount: Option<f64>,
+}
+
+/// Before/after of one link.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinkFair {
+    /// index into `model.links`
+    pub link: usize,
+    /// "slave.side -> master"
+    pub label: String,
+    /// the link's target (capped by [`FairParams::target`])
+    pub target: Continuity,
+    /// measured on the input (`None` when measuring failed)
+    pub before: Option<LinkMeasure>,
+    /// measured on the result
+    pub after: Option<LinkMeasure>,
+    /// whether `after` meets the model's tolerances up to the target
+    pub met: bool,
+}
+
+/// What [`fair_model`] did.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct FairModelReport {
+    /// wall-clock seconds
+    pub seconds_total: f64,
+    /// the deviation tolerance used
+    pub tolerance: f64,
+    /// per surface, in processing order
+    pub surfaces: Vec<SurfaceFair>,
+    /// per link, in model order
+    pub links: Vec<LinkFair>,
+    /// everything that did not go as asked
+    pub problems: Vec<Problem>,
+}
+
+impl FairModelReport {
+    /// Whether a surface failed (was left as it was).
+    pub fn has_failures(&self) -> bool {
+        self.problems.iter().any(|p| p.kind == ProblemKind::Failed)
+    }
+}
+
+/// Progress of a run: `done` of `total` surfaces, the last one finished named.
+#[derive(Debug, Clone, Copy)]
+pub struct Progress<'a> {
+    /// surfaces finished
+    pub done: usize,
+    /// surfaces in the model
+    pub total: usize,
+    /// the surface just finished
+    pub name: &'a str,
+}
+
+/// Fairs `model` with the workspace methods of `methods` (see [`fair_model_with`]).
+pub fn fair_model(
+    model: &Model,
+    methods: &crate::methods::RoleMethods,
+    iterations: Option<usize>,
+    params: &FairParams,
+) -> Result<(Model, FairModelReport)> {
+    let built = crate::methods::BuiltMethods::new(methods, iterations);
+    fair_model_with(model, built.fairers(), params, &|_| {})
+}
+
+/// Fairs every surface of `model` in hierarchy order with the given methods ([SV] §3.2), calling
+/// `progress` after each surface. An invalid model is an error; anything that goes wrong with a
+/// single surface is a problem in the report (the surface is left as it was).
+pub fn fair_model_with(
+    model: &Model,
+    fairers: Fairers<'_>,
+    params: &FairParams,
+    progress: &(dyn Fn(Progress<'_>) + Sync),
+) -> Result<(Model, FairModelReport)> {
+    let start = Instant::now();
+    model.validate()?;
+    let tolerance = params.tolerance.unwrap_or(model.tolerances.deviation);
+    let mut connect = params.connect;
+    let t = &model.tolerances;
+    connect.tolerances = Tolerances {
+        g0: t.g0,
+        g1_deg: t.g1_deg,
+        g2_rel: t.g2_rel,
+    };
+    let cap = |c: Continuity| params.target.map_or(c, |t| c.min(t));
+    let before = measure_links(model, &connect);
+    let waves = waves(model)?;
+    let mut out = model.clone();
+    let mut report = FairModelReport {
+        tolerance,
+        ..FairModelReport::default()
+    };
+    let total = model.surfaces.len();
+    let mut done = 0;
+    for wave in waves {
+        let job = |&k: &usize| -> (usize, Outcome) {
+            let job = Job {
+                model,
+                current: &out,
+                surface: k,
+                fairing: fairers.of(model.surfaces[k].role),
+                tolerance,
+                connect: &connect,
+                params,
+                cap: &cap,
+            };
+            (k, job.run())
+        };
+        let results: Vec<(usize, Outcome)> = if params.parallel {
+            wave.par_iter().map(job).collect()
+        } else {
+            wave.iter().map(job).collect()
+        };
+        for (k, outcome) in results {
+            out.surfaces[k].surface = outcome.surface;
+            report.surfaces.push(outcome.report);
+            report.problems.extend(outcome.problems);
+            done += 1;
+            progress(Progress {
+                done,
+                total,
+                name: &model.surfaces[k].name,
+            });
+        }
+    }
+    let after = measure_links(&out, &connect);
+    report.links = before
+        .into_iter()
+        .zip(after)
+        .enumerate()
+        .map(|(k, (b, a))| {
+            let target = cap(model.links[k].continuity);
+            let met = a
+                .as_ref()
+                .is_some_and(|m| m.meets(target, t.g0, t.g1_deg, t.g2_rel));
+            LinkFair {
+                link: k,
+                label: model.link_label(k),
+                target,
+                before: b,
+                after: a,
+                met,
+            }
+        })
+        .collect();
+    report.seconds_total = start.elapsed().as_secs_f64();
+    Ok((out, report))
+}
+
+fn measure_links(model: &Model, connect: &ConnectParams) -> Vec<Option<LinkMeasure>> {
+    (0..model.links.len())
+        .into_par_iter()
+        .map(|k| {
+            let l = &model.links[k];
+            measure_link(
+                &model.surfaces[l.master].surface,
+                &model.surfaces[l.slave].surface,
+                l.side,
+                &connect.measure,
+            )
+            .ok()
+        })
+        .collect()
+}
+
+/// The waves of the hierarchy: wave 0 holds the surfaces without links, a slave is one wave
+/// after its latest master; within a wave, file order.
+pub fn waves(model: &Model) -> Result<Vec<Vec<usize>>> {
+    let order = model.hierarchy_order()?;
+    let mut wave_of = vec![0usize; model.surfaces.len()];
+    for &k in &order {
+        wave_of[k] = model
+            .links_of_slave(k)
+            .iter()
+            .map(|&l| wave_of[model.links[l].master] + 1)
+            .max()
+            .unwrap_or(0);
+    }
+    let count = wave_of.iter().copied().max().map_or(0, |w| w + 1);
+    let mut waves = vec![Vec::new(); count];
+    for k in 0..model.surfaces.len() {
+        waves[wave_of[k]].push(k);
+    }
+    Ok(waves)
+}
+
+struct Outcome {
+    surface: BSplineSurface,
+    report: SurfaceFair,
+    problems: Vec<Problem>,
+}
+
+struct Job<'a> {
+    model: &'a Model,
+    current: &'a Model,
+    surface: usize,
+    fairing: &'a dyn SurfaceFairing,
+    tolerance: f64,
+    connect: &'a ConnectParams,
+    params: &'a FairParams,
+    cap: &'a (dyn Fn(Continuity) -> Continuity + Sync),
+}
+
+/// Per-surface state while the stages run.
+struct Run<'a> {
+    original: &'a BSplineSurface,
+    grid: usize,
+    stages: Vec<StageReport>,
+}
+
+impl Run<'_> {
+    fn record(&mut self, stage: Stage, before: &BSplineSurface, after: &BSplineSurface) {
+        let max_move = if before.control_points().len() == after.control_points().len() {
+            nurbs_core::max_displacement(before.control_points(), after.control_points())
+        } else {
+            f64::NAN
+        };
+        self.stages.push(StageReport {
+            stage,
+            max_move,
+            deviation: max_deviation(self.original, after, self.grid),
+            energy: thin_plate_energy(after),
+            iterations: 0,
+            knots_inserted: 0,
+            epsilon: 0.0,
+        });
+    }
+    fn deviation(&self) -> f64 {
+        self.stages.last().map_or(0.0, |s| s.deviation)
+    }
+}
+
+impl Job<'_> {
+    fn run(&self) -> Outcome {
+        let t0 = Instant::now();
+        let entry = &self.model.surfaces[self.surface];
+        let original = &entry.surface;
+        let mut problems = Vec::new();
+        let (surface, stages, processed) = match self.stages(original, &mut problems) {
+            Ok((s, stages)) => (s, stages, true),
+            Err(message) => {
+                problems.push(Problem {
+                    kind: ProblemKind::Failed,
+                    surface: entry.name.clone(),
+                    link: None,
+                    message,
+                    amount: None,
+                });
+                (original.clone(), Vec::new(), false)
+            }
+        };
+        let report = SurfaceFair {
+            surface: self.surface,
+            name: entry.name.clone(),
+            role: entry.role,
+            method: self.fairing.name().to_string(),
+            energy_before: thin_plate_energy(original),
+            energy_after: thin_plate_energy(&surface),
+            max_deviation: if processed {
+                max_deviation(original, &surface, self.params.deviation_grid)
+            } else {
+                0.0
+            },
+            iterations: stages.iter().map(|s| s.iterations).sum(),
+            knots_inserted: stages.iter().map(|s| s.knots_inserted).sum(),
+            seconds: t0.elapsed().as_secs_f64(),
+            stages,
+            processed,
+        };
+        Outcome {
+            surface,
+            report,
+            problems,
+        }
+    }
+
+    fn links(&self) -> Vec<(usize, SideLink<'_>)> {
+        self.model
+            .links_of_slave(self.surface)
+            .into_iter()
+            .map(|k| {
+                let l = &self.model.links[k];
+                (
+                    k,
+                    SideLink {
+                        side: l.side,
+                        master: &self.current.surfaces[l.master].surface,
+                        target: (self.cap)(l.continuity),
+                    },
+                )
+            })
+            .collect()
+    }
+
+    /// Runs the continuity steps alone (no fairing) from `prepared`, up to the highest step
+    /// whose deviation stays within the tolerance; a step beyond it is a conflict naming its
+    /// links. Returns the result and that highest step (`None` when there are no links or not
+    /// even C0 fits).
+    fn continuity_only(
+        &self,
+        prepared: &BSplineSurface,
+        labelled: &[(usize, SideLink<'_>)],
+        problems: &mut Vec<Problem>,
+    ) -> std::result::Result<(BSplineSurface, Option<Continuity>), String> {
+        let name = &self.model.surfaces[self.surface].name;
+        let links: Vec<SideLink> = labelled.iter().map(|(_, l)| *l).collect();
+        let Some(top) = links.iter().map(|l| l.target).max() else {
+            return Ok((prepared.clone(), None));
+        };
+        let original = &self.model.surfaces[self.surface].surface;
+        let mut s = prepared.clone();
+        let mut last_ok = None;
+        for step in [Continuity::G0, Continuity::G1, Continuity::G2] {
+            if step > top {
+                break;
+            }
+            let (next, _) = set_step(&s, &links, step, self.connect)
+                .map_err(|e| format!("setting {step:?} on {name}: {e}"))?;
+            let d = max_deviation(original, &next, self.params.deviation_grid);
+            if d > self.tolerance {
+                let kept = last_ok.map_or("its input continuity".to_string(), |c: Continuity| {
+                    format!("{c:?}")
+                });
+                for (k, l) in labelled {
+                    if l.target >= step {
+                        problems.push(Problem {
+                            kind: ProblemKind::Conflict,
+                            surface: name.clone(),
+                            link: Some(self.model.link_label(*k)),
+                            message: format!(
+                                "setting {step:?} needs a deviation of {d:.4} from the original, above the tolerance {:.4}; the surface is kept at {kept}",
+                                self.tolerance
+                            ),
+                            amount: Some(d),
+                        });
+                    }
+                }
+                break;
+            }
+            last_ok = Some(step);
+            s = next;
+        }
+        Ok((s, last_ok))
+    }
+
+    fn stages(
+        &self,
+        original: &BSplineSurface,
+        problems: &mut Vec<Problem>,
+    ) -> std::result::Result<(BSplineSurface, Vec<StageReport>), String> {
+        let name = &self.model.surfaces[self.surface].name;
+        let labelled = self.links();
+        // links that do not touch their masters: bad input, the surface is left alone
+        let limit = TOUCH_FACTOR * self.connect.tolerances.g0;
+        for (k, l) in &labelled {
+            let m = measure_link(l.master, original, l.side, &self.connect.measure)
+                .map_err(|e| format!("link {}: {e}", self.model.link_label(*k)))?;
+            if m.g0 > limit {
+                return Err(format!(
+                    "link {} does not touch its master: gap {:.3e} > {:.3e} ({} × the g0 tolerance)",
+                    self.model.link_label(*k),
+                    m.g0,
+                    limit,
+                    TOUCH_FACTOR
+                ));
+            }
+        }
+        let links: Vec<SideLink> = labelled.iter().map(|(_, l)| *l).collect();
+        let mut run = Run {
+            original,
+            grid: self.params.deviation_grid,
+            stages: Vec::new(),
+        };
+        // 0. prepare
+        let (prepared, prep) = prepare_slave(original, &links, self.connect)
+            .map_err(|e| format!("preparing {name}: {e}"))?;
+        let (prepared, extra) = free_rows(prepared, &links, self.params.min_free_rows)
+            .map_err(|e| format!("inserting knots into {name}: {e}"))?;
+        run.record(Stage::Prepare, &prepared, &prepared);
+        run.stages[0].knots_inserted = prep.knots_inserted + extra;
+        let top = links.iter().map(|l| l.target).max();
+        // continuity alone: what the steps cost in deviation; also the fallback result
+        let (connected, highest) = self.continuity_only(&prepared, &labelled, problems)?;
+        if top.is_some() && highest.is_none() {
+            // not even C0 fits within the tolerance: keep the input
+            return Ok((prepared, run.stages));
+        }
+        let levels: Vec<Continuity> = match highest {
+            None => vec![Continuity::G0],
+            Some(h) => [Continuity::G0, Continuity::G1, Continuity::G2]
+                .into_iter()
+                .filter(|&c| c <= h)
+                .collect(),
+        };
+        let mut s = prepared;
+        let mut fair_left = levels.len();
+        for level in levels {
+            if highest.is_some() {
+                let stage = match level {
+                    Continuity::G0 => Stage::SetG0,
+                    Continuity::G1 => Stage::SetG1,
+                    Continuity::G2 => Stage::SetG2,
+                };
+                let (next, step) = set_step(&s, &links, level, self.connect)
+                    .map_err(|e| format!("setting {level:?} on {name}: {e}"))?;
+                run.record(stage, &s, &next);
+                if let Some(r) = run.stages.last_mut() {
+                    r.knots_inserted = step.knots_inserted;
+                    r.max_move = step.max_move;
+                }
+                s = next;
+            }
+            // fairing keeping `level`
+            let stage = match level {
+                Continuity::G0 => Stage::FairC0,
+                Continuity::G1 => Stage::FairG1,
+                Continuity::G2 => Stage::FairG2,
+            };
+            let mask = stage_mask(&s, &links, level);
+            let eps =
+                ((DEVIATION_SAFETY * self.tolerance - run.deviation()) / fair_left as f64).max(0.0);
+            fair_left -= 1;
+            if mask.free_count() == 0 || eps <= 0.0 {
+                run.record(stage, &s, &s);
+                continue;
+            }
+            match self.fairing.fair(&s, &mask, eps) {
+                Ok((next, fr)) => {
+                    run.record(stage, &s, &next);
+                    if let Some(r) = run.stages.last_mut() {
+                        r.iterations = fr.iterations;
+                        r.epsilon = eps;
+                    }
+                    s = next;
+                }
+                Err(e) => {
+                    problems.push(Problem {
+                        kind: ProblemKind::Limited,
+                        surface: name.clone(),
+                        link: None,
+                        message: format!(
+                            "{} fairing ({}) failed and was skipped: {e}",
+                            self.fairing.name(),
+                            stage.name()
+                        ),
+                        amount: None,
+                    });
+                    run.record(stage, &s, &s);
+                }
+            }
+        }
+        if run.deviation() > self.tolerance {
+            // the sampled deviation ended above τ: fall back to continuity only
+            problems.push(Problem {
+                kind: ProblemKind::Limited,
+                surface: name.clone(),
+                link: None,
+                message: format!(
+                    "the faired surface deviates {:.4} (tolerance {:.4}); fairing dropped, continuity setting kept",
+                    run.deviation(),
+                    self.tolerance
+                ),
+                amount: Some(run.deviation()),
+            });
+            let mut c = run.stages[0].clone();
+            c.deviation = max_deviation(original, &connected, self.params.deviation_grid);
+            c.energy = thin_plate_energy(&connected);
+            return Ok((connected, vec![c]));
+        }
+        Ok((s, run.stages))
+    }
+}
+
+/// Rows fixed at `side` when keeping `level`: the link's target (capped by `level`) + 1, or
+/// the boundary row for an unlinked side.
+fn fixed_rows(links: &[SideLink], side: Side, level: Continuity) -> usize {
+    links
+        .iter()
+        .find(|l| l.side == side)
+        .map_or(1, |l| l.target.min(level).frame().rows())
+}
+
+/// The mask of a fairing stage keeping `level`.
+pub fn stage_mask(surface: &BSplineSurface, links: &[SideLink], level: Continuity) -> ControlMask {
+    let mut mask = ControlMask::for_surface(surface);
+    for side in Side::ALL {
+        let rows = fixed_rows(links, side, level);
+        let frame = match rows {
+            1 => nurbs_core::Frame::Positional,
+            2 => nurbs_core::Frame::Tangential,
+            _ => nurbs_core::Frame::Curvature,
+        };
+        mask.fix_frame(side, frame);
+    }
+    mask
+}
+
+/// Inserts knots (widest span halved) until every direction has `min_free` rows besides the
+/// fixed frames of both ends at the highest level; returns the surface and the knot count.
+fn free_rows(
+    mut s: BSplineSurface,
+    links: &[SideLink],
+    min_free: usize,
+) -> nurbs_core::Result<(BSplineSurface, usize)> {
+    let mut inserted = 0;
+    for (dir, a, b) in [
+        (Direction::U, Side::U0, Side::U1),
+        (Direction::V, Side::V0, Side::V1),
+    ] {
+        let need =
+            fixed_rows(links, a, Continuity::G2) + fixed_rows(links, b, Continuity::G2) + min_free;
+        loop {
+            let (count, kv) = match dir {
+                Direction::U => (s.num_u(), s.knots_u()),
+                Direction::V => (s.num_v(), s.knots_v()),
+            };
+            if count >= need {
+                break;
+            }
+            let k = kv.knots();
+            let widest = kv
+                .spans()
+                .max_by(|&x, &y| (k[x + 1] - k[x]).total_cmp(&(k[y + 1] - k[y])))
+                .unwrap_or(kv.degree());
+            let mid = 0.5 * (k[widest] + k[widest + 1]);
+            s = s.insert_knot(dir, mid, 1)?;
+            inserted += 1;
+        }
+    }
+    Ok((s, inserted))
+}

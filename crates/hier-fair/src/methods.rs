@@ -1,0 +1,168 @@
+//! The fairing methods of the workspace behind one name each, and the choice of method per role.
+//!
+//! Any [`SurfaceFairing`] implementation can be plugged into the framework
+//! ([`crate::framework::fair_model_with`]); [`Method`] only names the ones that ship with
+//! hier-fair: `energy` (Hadenfeld local energy fairing, fair-energy), `energy-global` (one sparse
+//! solve, fair-energy), `krr` (knot removal–reinsertion, fair-krr).
+//!
+//! Defaults per role ([`RoleMethods::default`]): local energy fairing everywhere — it keeps every
+//! control point inside its tolerance ball by construction ([Hadenfeld] §3), moves only the free
+//! points, and never increases the energy, which is what a slave squeezed between fixed frames
+//! needs; primaries (large, design intent) get it too, with their boundaries kept.
+
+use nurbs_core::SurfaceFairing;
+
+use crate::model::Role;
+
+/// A fairing method of the workspace.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Method {
+    /// Hadenfeld's local energy fairing
+    Energy,
+    /// sparse global thin-plate solve, clamped to the tolerance
+    EnergyGlobal,
+    /// knot removal and reinsertion
+    Krr,
+}
+
+impl Method {
+    /// All methods, in CLI order.
+    pub const ALL: [Method; 3] = [Method::Energy, Method::EnergyGlobal, Method::Krr];
+
+    /// The CLI name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Method::Energy => "energy",
+            Method::EnergyGlobal => "energy-global",
+            Method::Krr => "krr",
+        }
+    }
+
+    /// Parses a CLI name.
+    pub fn parse(name: &str) -> Option<Method> {
+        Self::ALL.into_iter().find(|m| m.name() == name)
+    }
+
+    /// The method object; `iterations` overrides the method's iteration limit.
+    pub fn build(self, iterations: Option<usize>) -> Box<dyn SurfaceFairing> {
+        match self {
+            Method::Energy => {
+                let mut params = fair_energy::EnergyParams::default();
+                if let Some(n) = iterations {
+                    params.max_iterations = n;
+                }
+                Box::new(fair_energy::LocalEnergyFairing { params })
+            }
+            Method::EnergyGlobal => {
+                let mut params = fair_energy::GlobalParams::default();
+                if let Some(n) = iterations {
+                    params.polish_iterations = n;
+                }
+                Box::new(fair_energy::GlobalEnergyFairing { params })
+            }
+            Method::Krr => {
+                let mut params = fair_krr::KrrParams::default();
+                if let Some(n) = iterations {
+                    params.max_iterations = n;
+                }
+                Box::new(fair_krr::KrrFairing { params })
+            }
+        }
+    }
+}
+
+/// The method of each role.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct RoleMethods {
+    /// primaries
+    pub primary: Method,
+    /// connecting surfaces
+    pub connecting: Method,
+    /// corner patches
+    pub corner: Method,
+}
+
+impl Default for RoleMethods {
+    fn default() -> Self {
+        Self::all(Method::Energy)
+    }
+}
+
+impl RoleMethods {
+    /// One method for every role.
+    pub fn all(method: Method) -> Self {
+        Self {
+            primary: method,
+            connecting: method,
+            corner: method,
+        }
+    }
+
+    /// The method of `role`.
+    pub fn of(&self, role: Role) -> Method {
+        match role {
+            Role::Primary => self.primary,
+            Role::Connecting => self.connecting,
+            Role::Corner => self.corner,
+        }
+    }
+}
+
+/// Method objects per role, borrowed: what the framework runs. Build one from [`RoleMethods`]
+/// with [`BuiltMethods`], or point the fields at your own [`SurfaceFairing`] implementations.
+#[derive(Clone, Copy)]
+pub struct Fairers<'a> {
+    /// for primaries
+    pub primary: &'a dyn SurfaceFairing,
+    /// for connecting surfaces
+    pub connecting: &'a dyn SurfaceFairing,
+    /// for corner patches
+    pub corner: &'a dyn SurfaceFairing,
+}
+
+impl<'a> Fairers<'a> {
+    /// One method for every role.
+    pub fn all(method: &'a dyn SurfaceFairing) -> Self {
+        Self {
+            primary: method,
+            connecting: method,
+            corner: method,
+        }
+    }
+
+    /// The method of `role`.
+    pub fn of(&self, role: Role) -> &'a dyn SurfaceFairing {
+        match role {
+            Role::Primary => self.primary,
+            Role::Connecting => self.connecting,
+            Role::Corner => self.corner,
+        }
+    }
+}
+
+/// Owned method objects built from [`RoleMethods`].
+pub struct BuiltMethods {
+    primary: Box<dyn SurfaceFairing>,
+    connecting: Box<dyn SurfaceFairing>,
+    corner: Box<dyn SurfaceFairing>,
+}
+
+impl BuiltMethods {
+    /// Builds the methods; `iterations` overrides every method's iteration limit.
+    pub fn new(methods: &RoleMethods, iterations: Option<usize>) -> Self {
+        Self {
+            primary: methods.primary.build(iterations),
+            connecting: methods.connecting.build(iterations),
+            corner: methods.corner.build(iterations),
+        }
+    }
+
+    /// Borrowed view for the framework.
+    pub fn fairers(&self) -> Fairers<'_> {
+        Fairers {
+            primary: self.primary.as_ref(),
+            connecting: self.connecting.as_ref(),
+            corner: self.corner.as_ref(),
+        }
+    }
+}

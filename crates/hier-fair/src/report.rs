@@ -1,0 +1,198 @@
+//! The reports of a fairing run: `report.json` (the CLI contract's `fair --report` format plus
+//! optional fields) and `report.md` (per link a before/after continuity table, per surface energy
+//! before/after, deviation, method and time, the totals, and every problem).
+
+use std::fmt::Write;
+
+use g_continuity::LinkMeasure;
+use serde_json::{Value, json};
+
+use crate::framework::{FairModelReport, LinkFair};
+
+fn measure_json(m: &Option<LinkMeasure>) -> Value {
+    match m {
+        Some(m) => json!({"g0": m.g0, "g1_deg": m.g1_deg, "g2_rel": m.g2_rel, "g2_abs": m.g2_abs}),
+        None => Value::Null,
+    }
+}
+
+/// The report as JSON (cli-contract.md: `seconds_total`, `surfaces`, `links`; plus
+/// `tolerance`, per-surface `stages` and `knots_inserted`, per-link `met`, and `problems`).
+pub fn report_json(report: &FairModelReport) -> Value {
+    let surfaces: Vec<Value> = report
+        .surfaces
+        .iter()
+        .map(|s| {
+            json!({
+                "name": s.name,
+                "role": s.role.name(),
+                "method": s.method,
+                "energy_before": s.energy_before,
+                "energy_after": s.energy_after,
+                "max_deviation": s.max_deviation,
+                "iterations": s.iterations,
+                "seconds": s.seconds,
+                "knots_inserted": s.knots_inserted,
+                "processed": s.processed,
+                "stages": s.stages.iter().map(|st| json!({
+                    "stage": st.stage.name(),
+                    "max_move": if st.max_move.is_finite() { json!(st.max_move) } else { Value::Null },
+                    "deviation": st.deviation,
+                    "energy": st.energy,
+                    "iterations": st.iterations,
+                    "knots_inserted": st.knots_inserted,
+                    "epsilon": st.epsilon,
+                })).collect::<Vec<_>>(),
+            })
+        })
+        .collect();
+    let links: Vec<Value> = report.links.iter().map(link_json).collect();
+    let problems: Vec<Value> = report
+        .problems
+        .iter()
+        .map(|p| {
+            json!({
+                "kind": p.kind.name(),
+                "surface": p.surface,
+                "link": p.link,
+                "message": p.message,
+                "amount": p.amount,
+            })
+        })
+        .collect();
+    json!({
+        "seconds_total": report.seconds_total,
+        "tolerance": report.tolerance,
+        "surfaces": surfaces,
+        "links": links,
+        "problems": problems,
+    })
+}
+
+fn link_json(l: &LinkFair) -> Value {
+    let (slave, rest) = l.label.split_once('.').unwrap_or((&l.label, ""));
+    let (side, master) = rest.split_once(" -> ").unwrap_or((rest, ""));
+    json!({
+        "slave": slave,
+        "side": side,
+        "master": master,
+        "target": format!("{:?}", l.target),
+        "before": measure_json(&l.before),
+        "after": measure_json(&l.after),
+        "met": l.met,
+    })
+}
+
+fn opt(v: Option<f64>, digits: usize) -> String {
+    v.map_or("–".to_string(), |x| format!("{x:.digits$}"))
+}
+
+/// The report as Markdown.
+pub fn report_markdown(report: &FairModelReport, title: &str) -> String {
+    let mut md = String::new();
+    let _ = writeln!(md, "# {title}\n");
+    let met = report.links.iter().filter(|l| l.met).count();
+    let _ = writeln!(
+        md,
+        "{} surfaces, {} links ({} meet their targets), deviation tolerance {}, {:.3} s in total.\n",
+        report.surfaces.len(),
+        report.links.len(),
+        met,
+        report.tolerance,
+        report.seconds_total
+    );
+    if !report.links.is_empty() {
+        let _ = writeln!(md, "## Links\n");
+        let _ = writeln!(
+            md,
+            "| link | target | G0 before | G0 after | G1° before | G1° after | G2 rel before | G2 rel after | met |"
+        );
+        let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|");
+        for l in &report.links {
+            let b = l.before.as_ref();
+            let a = l.after.as_ref();
+            let _ = writeln!(
+                md,
+                "| {} | {:?} | {} | {} | {} | {} | {} | {} | {} |",
+                l.label,
+                l.target,
+                opt(b.map(|m| m.g0), 6),
+                opt(a.map(|m| m.g0), 6),
+                opt(b.and_then(|m| m.g1_deg), 4),
+                opt(a.and_then(|m| m.g1_deg), 4),
+                opt(b.and_then(|m| m.g2_rel), 4),
+                opt(a.and_then(|m| m.g2_rel), 4),
+                if l.met { "yes" } else { "**no**" }
+            );
+        }
+        md.push('\n');
+    }
+    let _ = writeln!(md, "## Surfaces\n");
+    let _ = writeln!(
+        md,
+        "| surface | role | method | energy before | energy after | change | deviation | iterations | knots inserted | seconds |"
+    );
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|");
+    let (mut eb, mut ea) = (0.0, 0.0);
+    for s in &report.surfaces {
+        eb += s.energy_before;
+        ea += s.energy_after;
+        let change = if s.energy_before > 0.0 {
+            format!("{:+.1} %", 100.0 * (s.energy_after / s.energy_before - 1.0))
+        } else {
+            "–".into()
+        };
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {:.6} | {:.6} | {} | {:.5} | {} | {} | {:.4} |",
+            s.name,
+            s.role.name(),
+            s.method,
+            s.energy_before,
+            s.energy_after,
+            change,
+            s.max_deviation,
+            s.iterations,
+            s.knots_inserted,
+            s.seconds
+        );
+    }
+    let worst = report
+        .surfaces
+        .iter()
+        .map(|s| s.max_deviation)
+        .fold(0.0, f64::max);
+    let _ = writeln!(
+        md,
+        "| **total** | | | {eb:.6} | {ea:.6} | {} | {worst:.5} | {} | {} | {:.4} |\n",
+        if eb > 0.0 {
+            format!("{:+.1} %", 100.0 * (ea / eb - 1.0))
+        } else {
+            "–".into()
+        },
+        report.surfaces.iter().map(|s| s.iterations).sum::<usize>(),
+        report
+            .surfaces
+            .iter()
+            .map(|s| s.knots_inserted)
+            .sum::<usize>(),
+        report.seconds_total
+    );
+    if !report.problems.is_empty() {
+        let _ = writeln!(md, "## Problems\n");
+        for p in &report.problems {
+            let _ = writeln!(
+                md,
+                "- **{}** {}{}: {}",
+                p.kind.name(),
+                p.surface,
+                p.link
+                    .as_ref()
+                    .map_or(String::new(), |l| format!(" (link {l})")),
+                p.message
+            );
+        }
+        md.push('\n');
+    }
+    md
+}
