@@ -23,6 +23,23 @@ pub enum FairMethod {
     EnergyGlobal,
     /// knot removal and reinsertion
     Krr,
+    /// target-curvature fairing (isocurves faired, surface refitted)
+    Curvature,
+    /// Greiner's curvature approximation
+    Greiner,
+}
+
+impl FairMethod {
+    /// The framework's method of the same name.
+    pub fn method(self) -> hier_fair::Method {
+        match self {
+            FairMethod::Energy => hier_fair::Method::Energy,
+            FairMethod::EnergyGlobal => hier_fair::Method::EnergyGlobal,
+            FairMethod::Krr => hier_fair::Method::Krr,
+            FairMethod::Curvature => hier_fair::Method::Curvature,
+            FairMethod::Greiner => hier_fair::Method::Greiner,
+        }
+    }
 }
 
 /// Options of `fair`.
@@ -55,31 +72,8 @@ pub fn boundary_mask(surface: &BSplineSurface, keep: Continuity) -> Result<Contr
 }
 
 /// The method object for `options`.
-/// Never fails today; a `Result` so that methods with stricter option checks can join.
 pub fn method(options: &FairOptions) -> Result<Box<dyn SurfaceFairing>> {
-    Ok(match options.method {
-        FairMethod::Energy => {
-            let mut params = fair_energy::EnergyParams::default();
-            if let Some(n) = options.iterations {
-                params.max_iterations = n;
-            }
-            Box::new(fair_energy::LocalEnergyFairing { params })
-        }
-        FairMethod::EnergyGlobal => {
-            let mut params = fair_energy::GlobalParams::default();
-            if let Some(n) = options.iterations {
-                params.polish_iterations = n;
-            }
-            Box::new(fair_energy::GlobalEnergyFairing { params })
-        }
-        FairMethod::Krr => {
-            let mut params = fair_krr::KrrParams::default();
-            if let Some(n) = options.iterations {
-                params.max_iterations = n;
-            }
-            Box::new(fair_krr::KrrFairing { params })
-        }
-    })
+    Ok(options.method.method().build(options.iterations))
 }
 
 /// One surface's line of the report (cli-contract.md).

@@ -8,8 +8,10 @@ pub mod eval;
 pub mod exchange;
 pub mod fair;
 pub mod files;
+pub mod label;
 pub mod mesh;
+pub mod pipeline;
 pub mod summary;
 
-/// The surface bundled in the binary: the default model of `hier-fair demo`.
+/// A bundled surface (the hood panel of `fixtures/surfaces/`), for examples and tests.
 pub const BUNDLED_SURFACE: &str = include_str!("../../../fixtures/surfaces/hood_panel.json");

@@ -6,7 +6,7 @@ use std::process::ExitCode;
 
 use anyhow::{Result, bail};
 use clap::{Parser, Subcommand};
-use hier_fair_cli::{eval, files, summary};
+use hier_fair_cli::{eval, files};
 
 #[derive(Parser)]
 #[command(
@@ -34,6 +34,23 @@ enum Command {
         /// JSON list of further vertex indices (0-based) to keep fixed
         #[arg(long)]
         fixed: Option<PathBuf>,
+    },
+    /// Labels the boundary segments of a trimmed mesh region (and fits a surface with --fit).
+    Label {
+        /// OBJ mesh region
+        input: PathBuf,
+        /// JSON segments (lists of boundary vertex indices); found automatically when absent
+        #[arg(long)]
+        segments: Option<PathBuf>,
+        /// labels JSON to write
+        #[arg(short = 'o', long = "output")]
+        output: PathBuf,
+        /// SVG drawing of the labeled boundary
+        #[arg(long)]
+        svg: Option<PathBuf>,
+        /// bicubic surface fitted with the labels
+        #[arg(long)]
+        fit: Option<PathBuf>,
     },
     /// Reads an IGES file (entities 128, 126, 144, 124) into a model of primary surfaces.
     Import {
@@ -80,12 +97,15 @@ enum Command {
         report: Option<PathBuf>,
     },
     /// Runs the main job on the bundled default model and prints a readable summary.
+    /// Runs the whole pipeline on the bundled X-node model and writes the results, the report
+    /// and pictures into DIR (default ./hier-fair-demo).
     Demo {
-        /// Folder for output files (created if missing).
+        #[arg(long, default_value = "hier-fair-demo")]
+        out: PathBuf,
+        /// no progress bar
         #[arg(long)]
-        out: Option<PathBuf>,
+        quiet: bool,
     },
-    /// Evaluates a surface: point, derivatives, normal and curvatures as JSON.
     Eval {
         /// Surface file (one surface, a list, {"surfaces": [...]} or {"patches": [...]}).
         surface: PathBuf,
@@ -103,27 +123,33 @@ enum Command {
         index: Option<usize>,
     },
     /// Fairs a bare surface file (every surface primary, all four boundary frames kept).
+    /// Hierarchical fairing of a model (or of a bare surface file: primaries, boundaries kept).
     Fair {
-        /// Surface file (one surface, a list, {"surfaces": [...]} or {"patches": [...]}).
         input: PathBuf,
-        /// Output surface file (written atomically; never the input).
         #[arg(short = 'o', long = "output")]
         output: PathBuf,
-        /// Fairing method.
-        #[arg(long, value_enum, default_value = "energy")]
-        method: hier_fair_cli::fair::FairMethod,
-        /// Largest control-point move ε (model units; default 0.02, the local energy fairing seed's example).
-        #[arg(long, default_value_t = 0.02)]
-        tolerance: f64,
-        /// Iteration limit (energy, krr: moves; energy-global: local polishing moves after the solve).
+        /// the method for every surface (default: energy)
+        #[arg(long, value_enum)]
+        method: Option<hier_fair_cli::fair::FairMethod>,
+        /// deviation tolerance in model units (default: the model's; 0.02 for a bare surface)
+        #[arg(long)]
+        tolerance: Option<f64>,
         #[arg(long)]
         iterations: Option<usize>,
-        /// Boundary data kept on all four sides: G0 (boundary rows), G1 (two rows) or G2 (three rows).
+        /// bare surfaces: the frame kept on all four sides
         #[arg(long, value_parser = parse_keep, default_value = "G0")]
         keep: nurbs_core::Continuity,
-        /// Report JSON (cli-contract.md).
+        /// models: the highest continuity set on any link
+        #[arg(long, value_parser = parse_keep)]
+        target: Option<nurbs_core::Continuity>,
         #[arg(long)]
         report: Option<PathBuf>,
+        /// models: write pictures (zebra, mean curvature, link curvature plots) into DIR
+        #[arg(long)]
+        images: Option<PathBuf>,
+        /// no progress bar
+        #[arg(long)]
+        quiet: bool,
     },
 }
 
@@ -185,6 +211,24 @@ fn run(cli: Cli) -> Result<()> {
             );
             Ok(())
         }
+        Command::Label {
+            input,
+            segments,
+            output,
+            svg,
+            fit,
+        } => {
+            let out = hier_fair_cli::label::LabelOutputs {
+                labels: &output,
+                svg: svg.as_deref(),
+                fit: fit.as_deref(),
+            };
+            print!(
+                "{}",
+                hier_fair_cli::label::run(&input, segments.as_deref(), out)?
+            );
+            Ok(())
+        }
         Command::Import { input, output } => {
             println!("{}", hier_fair_cli::exchange::import(&input, &output)?);
             Ok(())
@@ -193,34 +237,8 @@ fn run(cli: Cli) -> Result<()> {
             println!("{}", hier_fair_cli::exchange::export(&input, &output)?);
             Ok(())
         }
-        Command::Demo { out } => {
-            let surface =
-                nurbs_core::io::surfaces_from_json(hier_fair_cli::BUNDLED_SURFACE)?.remove(0);
-            let start = std::time::Instant::now();
-            let s = summary::summarize(&surface);
-            let text = summary::render(
-                "bundled hood panel (fixtures/surfaces/hood_panel.json)",
-                &s,
-                start.elapsed().as_secs_f64(),
-            );
-            print!("{text}");
-            if let Some(dir) = out {
-                std::fs::create_dir_all(&dir)
-                    .map_err(|e| anyhow::anyhow!("cannot create {}: {e}", dir.display()))?;
-                files::write_atomic(
-                    &dir.join("summary.json"),
-                    serde_json::to_string_pretty(&s)?.as_bytes(),
-                )?;
-                let mesh = nurbs_core::TriMesh::from_surface(&surface, 101, 101);
-                let mut obj = Vec::new();
-                mesh.write_obj(&mut obj)?;
-                files::write_atomic(&dir.join("surface.obj"), &obj)?;
-                println!(
-                    "wrote {}/summary.json and {}/surface.obj",
-                    dir.display(),
-                    dir.display()
-                );
-            }
+        Command::Demo { out, quiet } => {
+            print!("{}", hier_fair_cli::pipeline::demo(&out, quiet)?);
             Ok(())
         }
         Command::Fair {
@@ -230,11 +248,42 @@ fn run(cli: Cli) -> Result<()> {
             tolerance,
             iterations,
             keep,
+            target,
             report,
+            images,
+            quiet,
         } => {
+            let text = files::read_text(&input)?;
+            if hier_fair_cli::pipeline::is_model(&text) {
+                let options = hier_fair_cli::pipeline::ModelOptions {
+                    method,
+                    tolerance,
+                    iterations,
+                    target,
+                    quiet,
+                };
+                let outcome = hier_fair_cli::pipeline::run_fair(
+                    &input,
+                    &text,
+                    &output,
+                    report.as_deref(),
+                    images.as_deref(),
+                    &options,
+                )?;
+                print!("{}", outcome.0);
+                if outcome.1 {
+                    use std::io::Write;
+                    let _ = std::io::stdout().flush();
+                    eprintln!(
+                        "error: some surfaces could not be faired (see the problems above); the partial result and report were written"
+                    );
+                    std::process::exit(1);
+                }
+                return Ok(());
+            }
             let options = hier_fair_cli::fair::FairOptions {
-                method,
-                tolerance,
+                method: method.unwrap_or(hier_fair_cli::fair::FairMethod::Energy),
+                tolerance: tolerance.unwrap_or(0.02),
                 iterations,
                 keep,
             };

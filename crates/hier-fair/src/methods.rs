@@ -3,7 +3,8 @@
 //! Any [`SurfaceFairing`] implementation can be plugged into the framework
 //! ([`crate::framework::fair_model_with`]); [`Method`] only names the ones that ship with
 //! hier-fair: `energy` (Hadenfeld local energy fairing, fair-energy), `energy-global` (one sparse
-//! solve, fair-energy), `krr` (knot removal–reinsertion, fair-krr).
+//! solve, fair-energy), `krr` (knot removal–reinsertion, fair-krr), `curvature` (target
+//! curvature, fair-curvature) and `greiner` (curvature approximation, fair-curvature).
 //!
 //! Defaults per role ([`RoleMethods::default`]): local energy fairing everywhere — it keeps every
 //! control point inside its tolerance ball by construction ([Hadenfeld] §3), moves only the free
@@ -23,11 +24,21 @@ pub enum Method {
     EnergyGlobal,
     /// knot removal and reinsertion
     Krr,
+    /// target-curvature fairing of isocurves and refit ([SV] §5.2)
+    Curvature,
+    /// Greiner's curvature approximation ([SV] §5.3)
+    Greiner,
 }
 
 impl Method {
     /// All methods, in CLI order.
-    pub const ALL: [Method; 3] = [Method::Energy, Method::EnergyGlobal, Method::Krr];
+    pub const ALL: [Method; 5] = [
+        Method::Energy,
+        Method::EnergyGlobal,
+        Method::Krr,
+        Method::Curvature,
+        Method::Greiner,
+    ];
 
     /// The CLI name.
     pub fn name(self) -> &'static str {
@@ -35,6 +46,8 @@ impl Method {
             Method::Energy => "energy",
             Method::EnergyGlobal => "energy-global",
             Method::Krr => "krr",
+            Method::Curvature => "curvature",
+            Method::Greiner => "greiner",
         }
     }
 
@@ -67,6 +80,13 @@ impl Method {
                 }
                 Box::new(fair_krr::KrrFairing { params })
             }
+            // the curvature methods are direct solves: no iteration limit to override
+            Method::Curvature => Box::new(fair_curvature::TargetCurvatureFairing {
+                params: fair_curvature::TargetCurvatureParams::default(),
+            }),
+            Method::Greiner => Box::new(fair_curvature::GreinerFairing {
+                params: fair_curvature::GreinerParams::default(),
+            }),
         }
     }
 }

@@ -7,8 +7,10 @@
 
 pub mod error;
 pub mod fairing;
+pub mod split;
 pub mod topology;
 
 pub use error::NsideError;
 pub use fairing::{DiscreteFairingParams, DiscreteFairingReport, fair_mesh};
+pub use split::{CentralSplitParams, CentralSplitReport, central_split};
 pub use topology::{MeshTopology, ring_distance};
