@@ -68,3 +68,128 @@ pub fn fixture_summary(path: &Path) -> Result<Value> {
         .collect::<Result<_, _>>()?;
     Ok(round_json(&Value::Array(list)))
 }
+
+/// Significant digits of the pipeline snapshots: fairing runs thousands of floating-point
+/// steps, so fewer digits than the kernel snapshots.
+pub const PIPELINE_DIGITS: i32 = 4;
+
+/// Continuity values below this are reported as 0 in snapshots (round-off, not geometry).
+pub const SNAPSHOT_FLOOR: f64 = 1e-8;
+
+fn round_to(x: f64, digits: i32) -> Value {
+    if !x.is_finite() {
+        return Value::Null;
+    }
+    if x.abs() < SNAPSHOT_FLOOR {
+        return serde_json::json!(0.0);
+    }
+    let d = digits - 1 - x.abs().log10().floor() as i32;
+    let scale = 10f64.powi(d);
+    serde_json::json!((x * scale).round() / scale)
+}
+
+/// All fixture model files (`fixtures/models/*.json`), sorted.
+pub fn model_files() -> Result<Vec<PathBuf>> {
+    let dir = root().join("fixtures/models");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .with_context(|| format!("cannot read {}", dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.extension().is_some_and(|x| x == "json"))
+        .collect();
+    files.sort();
+    Ok(files)
+}
+
+/// Runs the framework (default methods and parameters) on a model file.
+pub fn fair_file(path: &Path) -> Result<(hier_fair::Model, hier_fair::FairModelReport)> {
+    let text =
+        std::fs::read_to_string(path).with_context(|| format!("cannot read {}", path.display()))?;
+    let model = hier_fair::Model::from_json(&text)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    let (_, report) = hier_fair::fair_model(
+        &model,
+        &hier_fair::RoleMethods::default(),
+        None,
+        &hier_fair::FairParams::default(),
+    )
+    .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+    Ok((model, report))
+}
+
+/// The rounded summary of a run that the pipeline snapshots keep: per surface energy before
+/// and after, deviation, knots inserted; per link the continuity after; the problems.
+pub fn pipeline_summary(report: &hier_fair::FairModelReport) -> Value {
+    let r = |x: f64| round_to(x, PIPELINE_DIGITS);
+    let surfaces: Vec<Value> = report
+        .surfaces
+        .iter()
+        .map(|s| {
+            serde_json::json!({
+                "name": s.name,
+                "energy_before": r(s.energy_before),
+                "energy_after": r(s.energy_after),
+                "max_deviation": r(s.max_deviation),
+                "knots_inserted": s.knots_inserted,
+            })
+        })
+        .collect();
+    let links: Vec<Value> = report
+        .links
+        .iter()
+        .map(|l| {
+            let a = l.after.as_ref();
+            serde_json::json!({
+                "link": l.label,
+                "target": format!("{:?}", l.target),
+                "met": l.met,
+                "g0": a.map(|m| r(m.g0)),
+                "g1_deg": a.and_then(|m| m.g1_deg).map(r),
+                "g2_rel": a.and_then(|m| m.g2_rel).map(r),
+            })
+        })
+        .collect();
+    let problems: Vec<String> = report
+        .problems
+        .iter()
+        .map(|p| format!("{} {} {}", p.kind.name(), p.surface, p.link.clone().unwrap_or_default()))
+        .collect();
+    serde_json::json!({"surfaces": surfaces, "links": links, "problems": problems})
+}
+
+/// One line of the external regression table.
+pub fn regress_line(name: &str, report: &hier_fair::FairModelReport) -> String {
+    let worst = |f: &dyn Fn(&g_continuity::LinkMeasure) -> Option<f64>| {
+        report
+            .links
+            .iter()
+            .filter_map(|l| l.after.as_ref().and_then(f))
+            .fold(0.0, f64::max)
+    };
+    let met = report.links.iter().filter(|l| l.met).count();
+    let dev = report
+        .surfaces
+        .iter()
+        .map(|s| s.max_deviation)
+        .fold(0.0, f64::max);
+    let (eb, ea) = report
+        .surfaces
+        .iter()
+        .fold((0.0, 0.0), |(a, b), s| (a + s.energy_before, b + s.energy_after));
+    format!(
+        "{:<28} {:>4} {:>4}/{:<4} {:>10.3e} {:>10.3e} {:>10.3e} {:>10.3e} {:>+8.1}% {:>8.3} {:>4}",
+        name,
+        report.surfaces.len(),
+        met,
+        report.links.len(),
+        worst(&|m| Some(m.g0)),
+        worst(&|m| m.g1_deg),
+        worst(&|m| m.g2_rel),
+        dev,
+        if eb > 0.0 { 100.0 * (ea / eb - 1.0) } else { 0.0 },
+        report.seconds_total,
+        report.problems.len()
+    )
+}
+
+/// Header of [`regress_line`].
+pub const REGRESS_HEADER: &str = "model                        surf  met/links        gap     angle°   curv.rel  deviation   energy  seconds  probl";

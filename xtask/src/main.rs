@@ -1,6 +1,9 @@
 //! `cargo xtask <command>`:
 //! - `snapshots [--update]` — runs the regression pipeline over `fixtures/` and compares with the
 //!   insta snapshots (`--update` accepts the new values after review).
+//! - `regress [--external DIR]` — runs the framework on every fixture model and on the
+//!   third-party models of DIR (default `../shared/data`: car_shell1.model.json,
+//!   submarine_body.model.json, teapot.json) and prints one summary table.
 //! - `fixtures` — writes the analytic fixture models of `fixtures/models/` (see
 //!   `xtask::fixtures`).
 
@@ -27,6 +30,22 @@ fn main() -> ExitCode {
                 }
             }
         }
+        Some("regress") => {
+            let external = args
+                .iter()
+                .position(|a| a == "--external")
+                .and_then(|k| args.get(k + 1))
+                .map(std::path::PathBuf::from)
+                .unwrap_or_else(|| xtask::root().join("../shared/data"));
+            match regress(&external) {
+                Ok(true) => ExitCode::SUCCESS,
+                Ok(false) => ExitCode::from(1),
+                Err(e) => {
+                    eprintln!("error: {e:#}");
+                    ExitCode::from(1)
+                }
+            }
+        }
         Some("fixtures") => match write_fixtures() {
             Ok(()) => ExitCode::SUCCESS,
             Err(e) => {
@@ -35,7 +54,7 @@ fn main() -> ExitCode {
             }
         },
         _ => {
-            eprintln!("usage: cargo xtask snapshots [--update] | fixtures");
+            eprintln!("usage: cargo xtask snapshots [--update] | regress [--external DIR] | fixtures");
             ExitCode::from(2)
         }
     }
@@ -53,4 +72,42 @@ fn write_fixtures() -> anyhow::Result<()> {
         println!("wrote {}", path.display());
     }
     Ok(())
+}
+
+/// Runs every fixture model and the external models; false when a run fails outright.
+fn regress(external: &std::path::Path) -> anyhow::Result<bool> {
+    let mut paths = xtask::model_files()?;
+    for name in [
+        "car_shell1.model.json",
+        "submarine_body.model.json",
+        "teapot.json",
+    ] {
+        let p = external.join(name);
+        if p.exists() {
+            paths.push(p);
+        } else {
+            eprintln!("{} not found: skipped", p.display());
+        }
+    }
+    println!("{}", xtask::REGRESS_HEADER);
+    let mut ok = true;
+    for path in paths {
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().to_string())
+            .unwrap_or_default();
+        match xtask::fair_file(&path) {
+            Ok((_, report)) => {
+                println!("{}", xtask::regress_line(&name, &report));
+                for p in &report.problems {
+                    println!("    {} {}: {}", p.kind.name(), p.surface, p.message);
+                }
+            }
+            Err(e) => {
+                ok = false;
+                println!("{name:<28} error: {e:#}");
+            }
+        }
+    }
+    Ok(ok)
 }

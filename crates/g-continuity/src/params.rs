@@ -34,6 +34,12 @@ pub struct SetParams {
     /// Weight of the rows that keep the tangential part of the cross derivative in the G1 solve,
     /// relative to the G1 condition (default [`crate::rows::G1_TANGENTIAL_WEIGHT`]).
     pub g1_tangential_weight: f64,
+    /// Weight of the rows that keep the tangential part of the curvature-row change in the
+    /// minimal-deviation G2 solve, relative to the G2 condition (default
+    /// [`crate::rows::G2_TANGENTIAL_WEIGHT`]).
+    pub g2_tangential_weight: f64,
+    /// Passes of the minimal-deviation G2 solve (default [`crate::rows::G2_PASSES`]).
+    pub g2_passes: usize,
     /// G1 passes, each from the previous result (default [`crate::rows::G1_PASSES`]).
     pub g1_passes: usize,
     /// C0 passes (each re-projects the boundary onto the master; default 4, the foot points
@@ -52,6 +58,8 @@ impl Default for SetParams {
             move_unlinked_boundaries: true,
             g1_tangential_weight: crate::rows::G1_TANGENTIAL_WEIGHT,
             g1_passes: crate::rows::G1_PASSES,
+            g2_passes: std::env::var("GC_P").ok().and_then(|x| x.parse().ok()).unwrap_or(crate::rows::G2_PASSES),
+            g2_tangential_weight: std::env::var("GC_W").ok().and_then(|x| x.parse().ok()).unwrap_or(crate::rows::G2_TANGENTIAL_WEIGHT),
             c0_iterations: 4,
             projection: ProjectionParams::default(),
         }

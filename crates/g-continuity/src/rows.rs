@@ -48,6 +48,12 @@ use crate::sampling::{MasterTracker, SideBasis, solve_side_params};
 /// the later passes shrink it where the moves stay plausible.
 pub const G1_TANGENTIAL_WEIGHT: f64 = 1e-2;
 
+/// Weight of the G2 rows that keep the tangential part of the curvature-row change (TODO doc).
+pub const G2_TANGENTIAL_WEIGHT: f64 = 1.0;
+
+/// G2 passes (TODO doc)
+pub const G2_PASSES: usize = 3;
+
 /// Displacements of some control points of one row.
 #[derive(Debug, Clone, PartialEq)]
 pub struct RowMove {
@@ -114,16 +120,39 @@ pub fn solve_row(
     params: &SetParams,
 ) -> Result<RowMove> {
     let mut total = solve_row_once(master, slave, side, step, movable, params)?;
-    if step != Continuity::G1 || total.indices.is_empty() {
+    let passes = match step {
+        Continuity::G1 => params.g1_passes,
+        Continuity::G2 if params.g2_method == G2Method::MinimalDeviation => params.g2_passes,
+        _ => 1,
+    };
+    if passes <= 1 || total.indices.is_empty() {
+        return Ok(total);
+    }
+    if step == Continuity::G2 && std::env::var("GC_FRESH").is_ok() {
+        let c: f64 = std::env::var("GC_FRESH").unwrap().parse().unwrap();
+        let first_move = total.max_displacement();
+        let mut pass_params = *params;
+        let steps: Vec<f64> = vec![1e-1, 1e-2, 1e-3, 1e-4, 1e-6, 0.0];
+        for w in steps.into_iter().take(passes - 1) {
+            pass_params.g2_tangential_weight = params.g2_tangential_weight * w;
+            let cand = solve_row_once(master, slave, side, step, movable, &pass_params)?;
+            if std::env::var("GC_DEBUG2").is_ok() { eprintln!("{step:?} {side:?} first {first_move:.3e} w {w:.0e} cand {:.3e}", cand.max_displacement()); }
+            if cand.max_displacement() > c * first_move {
+                break;
+            }
+            total = cand;
+        }
         return Ok(total);
     }
     let mut work = slave.clone();
     total.apply(&mut work);
     let mut pass_params = *params;
     let first_move = total.max_displacement();
-    for _ in 1..params.g1_passes.max(1) {
+    for _ in 1..passes {
         pass_params.g1_tangential_weight *= G1_WEIGHT_STEP;
+        pass_params.g2_tangential_weight *= G1_WEIGHT_STEP;
         let more = solve_row_once(master, &work, side, step, movable, &pass_params)?;
+        if std::env::var("GC_DEBUG2").is_ok() { eprintln!("{step:?} {side:?} first {first_move:.3e} more {:.3e}", more.max_displacement()); }
         if more.max_displacement() > G1_POLISH_MOVE_FACTOR * first_move {
             break;
         }
@@ -215,7 +244,8 @@ fn solve_row_once(
     let rows = ts.len();
     let mut needed = 0.0f64;
     // G1 adds two down-weighted rows per sample that keep the tangential part of e_k
-    let total_rows = if step == Continuity::G1 {
+    let g2_tangential = step == Continuity::G2 && unknowns_per_point == 3;
+    let total_rows = if step == Continuity::G1 || g2_tangential {
         3 * rows
     } else {
         rows
@@ -282,6 +312,11 @@ fn solve_row_once(
                     nurbs_core::Direction::V => ds.dvv,
                 };
                 let ks = second.dot(&ns) / big_e;
+                // unit tangents of the slave at the sample: the cross direction and the
+                // along-side direction (perpendicular to it)
+                let t1 = (e - ns * ns.dot(&e)).normalize();
+                let t2 = ns.cross(&t1);
+                let w = params.g2_tangential_weight;
                 for (l, &mv) in mvals.iter().enumerate() {
                     let j = first + l;
                     let c = column[j];
@@ -294,6 +329,8 @@ fn solve_row_once(
                     } else {
                         for d in 0..3 {
                             a[(r, 3 * c + d)] = coef * ns[d];
+                            a[(rows + 2 * r, 3 * c + d)] = w * coef * t1[d];
+                            a[(rows + 2 * r + 1, 3 * c + d)] = w * coef * t2[d];
                         }
                     }
                 }

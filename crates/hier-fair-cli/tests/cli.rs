@@ -230,17 +230,40 @@ fn bad_input_is_one_line_and_non_zero() {
 }
 
 #[test]
-fn demo_prints_a_readable_summary_and_writes_atomically() {
+fn demo_fairs_the_bundled_x_node_and_writes_everything_atomically() {
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("out");
     let o = run(&["demo", "--out", out.to_str().unwrap()]);
     assert!(o.status.success(), "{}", stderr(&o));
     let text = String::from_utf8_lossy(&o.stdout);
-    assert!(text.contains("control net        9 × 8"), "{text}");
-    assert!(text.contains("thin-plate energy"));
-    assert!(out.join("summary.json").exists() && out.join("surface.obj").exists());
-    let leftovers: Vec<_> = std::fs::read_dir(&out)
-        .unwrap()
+    assert!(text.contains("corner.u0 -> fillet_w"), "{text}");
+    assert!(text.contains("surfaces faired in"), "{text}");
+    for f in [
+        "faired.json",
+        "faired.igs",
+        "model.json",
+        "report.json",
+        "report.md",
+        "images/zebra_before.png",
+        "images/zebra_after.png",
+        "images/mean_curvature_before.png",
+        "images/mean_curvature_after.png",
+        "images/curvature_corner_u0_on_fillet_w.png",
+    ] {
+        assert!(out.join(f).exists(), "{f} missing");
+    }
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
+    assert_eq!(report["surfaces"].as_array().unwrap().len(), 9);
+    assert_eq!(report["links"].as_array().unwrap().len(), 12);
+    for key in ["seconds_total", "surfaces", "links"] {
+        assert!(report.get(key).is_some(), "{key}");
+    }
+    let md = std::fs::read_to_string(out.join("report.md")).unwrap();
+    assert!(md.contains("## Links") && md.contains("## Surfaces"));
+    let leftovers: Vec<_> = [out.clone(), out.join("images")]
+        .iter()
+        .flat_map(|d| std::fs::read_dir(d).unwrap())
         .filter_map(|e| e.ok())
         .filter(|e| e.file_name().to_string_lossy().contains(".tmp"))
         .collect();

@@ -40,6 +40,7 @@ fn discrete(c: &mut Criterion) {
         let params = DiscreteFairingParams {
             fixed_rings: 2,
             solver,
+            ..Default::default()
         };
         g.bench_function(format!("10k_{name}"), |b| {
             b.iter(|| black_box(fair_mesh(&small, &[], &params).expect("fairs")))

@@ -361,7 +361,7 @@ fn ensure_spans(interior: &mut Vec<f64>, min_spans: usize) {
             }
         }
         bounds.push(1.0);
-        if bounds.len() - 1 >= min_spans {
+        if bounds.len() > min_spans {
             return;
         }
         let (i, _) = bounds
@@ -462,6 +462,36 @@ fn coons(
     Ok(BSplineSurface::new(ku, kv, net, None)?)
 }
 
+/// Whether the closed segments a0a1 and b0b1 share a point (crossing, touching or overlapping).
+fn segments_meet(a0: [f64; 2], a1: [f64; 2], b0: [f64; 2], b1: [f64; 2]) -> bool {
+    let orient = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| {
+        let v = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+        if v > 0.0 {
+            1
+        } else if v < 0.0 {
+            -1
+        } else {
+            0
+        }
+    };
+    // c lies on the segment ab, given that the three are collinear
+    let on = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| {
+        c[0] >= a[0].min(b[0])
+            && c[0] <= a[0].max(b[0])
+            && c[1] >= a[1].min(b[1])
+            && c[1] <= a[1].max(b[1])
+    };
+    let (o1, o2) = (orient(a0, a1, b0), orient(a0, a1, b1));
+    let (o3, o4) = (orient(b0, b1, a0), orient(b0, b1, a1));
+    if o1 * o2 < 0 && o3 * o4 < 0 {
+        return true;
+    }
+    (o1 == 0 && on(a0, a1, b0))
+        || (o2 == 0 && on(a0, a1, b1))
+        || (o3 == 0 && on(b0, b1, a0))
+        || (o4 == 0 && on(b0, b1, a1))
+}
+
 /// Newell normal of the sampled loop, degeneracy and self-intersection checks.
 fn check_loop(boundaries: &[BSplineCurve], size: f64) -> Result<Vector3> {
     let m = LOOP_SAMPLES_PER_CURVE;
@@ -480,23 +510,25 @@ fn check_loop(boundaries: &[BSplineCurve], size: f64) -> Result<Vector3> {
     for i in 0..count {
         newell += pts[i].coords.cross(&pts[(i + 1) % count].coords);
     }
-    let area = 0.5 * newell.norm();
-    if !(area > DEGENERATE_AREA_REL * size * size) {
-        return Err(NsideError::DegenerateLoop { area, size });
-    }
-    let normal = newell / newell.norm();
-    let ex = (pts[0] - pts[count / 2]).cross(&normal);
-    let ex = ex
-        .try_normalize(0.0)
-        .unwrap_or_else(|| normal.cross(&Vector3::x()).normalize());
+    // the plane of the test: Newell's normal, or for a loop without area (a bow tie) the
+    // smallest principal direction of the points
+    let normal = newell.try_normalize(0.0).unwrap_or_else(|| {
+        let c = pts.iter().map(|p| p.coords).sum::<Vector3>() / count as f64;
+        let scatter = pts.iter().fold(nalgebra::Matrix3::zeros(), |m, p| {
+            m + (p.coords - c) * (p.coords - c).transpose()
+        });
+        let e = nalgebra::SymmetricEigen::new(scatter);
+        e.eigenvectors.column(e.eigenvalues.imin()).into_owned()
+    });
+    let ex = normal
+        .cross(&Vector3::x())
+        .try_normalize(1e-3)
+        .unwrap_or_else(|| normal.cross(&Vector3::y()).normalize());
     let ey = normal.cross(&ex);
     let flat: Vec<[f64; 2]> = pts
         .iter()
         .map(|p| [p.coords.dot(&ex), p.coords.dot(&ey)])
         .collect();
-    let orient = |a: [f64; 2], b: [f64; 2], c: [f64; 2]| {
-        (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0])
-    };
     for i in 0..count {
         let (a0, a1) = (flat[i], flat[(i + 1) % count]);
         for j in i + 2..count {
@@ -504,9 +536,7 @@ fn check_loop(boundaries: &[BSplineCurve], size: f64) -> Result<Vector3> {
                 continue;
             }
             let (b0, b1) = (flat[j], flat[(j + 1) % count]);
-            let (o1, o2) = (orient(a0, a1, b0), orient(a0, a1, b1));
-            let (o3, o4) = (orient(b0, b1, a0), orient(b0, b1, a1));
-            if o1 * o2 < 0.0 && o3 * o4 < 0.0 {
+            if segments_meet(a0, a1, b0, b1) {
                 return Err(NsideError::SelfIntersecting {
                     curve_a: tags[i].0,
                     t_a: tags[i].1,
@@ -515,6 +545,10 @@ fn check_loop(boundaries: &[BSplineCurve], size: f64) -> Result<Vector3> {
                 });
             }
         }
+    }
+    let area = 0.5 * newell.norm();
+    if !(area > DEGENERATE_AREA_REL * size * size) {
+        return Err(NsideError::DegenerateLoop { area, size });
     }
     Ok(normal)
 }

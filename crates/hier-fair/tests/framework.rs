@@ -1,0 +1,161 @@
+//! The hierarchical framework on the analytic fixtures of `fixtures/models/` (written by
+//! `cargo xtask fixtures`): continuity reached, deviation kept, energy not raised, results
+//! independent of the thread count, methods pluggable, conflicts reported.
+
+use hier_fair::{
+    FairModelReport, FairParams, Fairers, Model, ProblemKind, RoleMethods, fair_model,
+    fair_model_with,
+};
+use nurbs_core::{BSplineSurface, Continuity, ControlMask, FairingReport, SurfaceFairing};
+
+fn fixture(name: &str) -> Model {
+    let path = format!(
+        "{}/../../fixtures/models/{name}.json",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    Model::from_json(&std::fs::read_to_string(path).unwrap()).unwrap()
+}
+
+/// The acceptance limits of the framework issue for G2 links.
+const G0: f64 = 1e-3;
+const G1_DEG: f64 = 1e-2;
+const G2_REL: f64 = 5e-3;
+
+fn run(name: &str) -> (Model, Model, FairModelReport) {
+    let model = fixture(name);
+    let (out, report) =
+        fair_model(&model, &RoleMethods::default(), None, &FairParams::default()).unwrap();
+    (model, out, report)
+}
+
+fn assert_acceptance(name: &str) {
+    let (model, _out, report) = run(name);
+    assert!(report.problems.is_empty(), "{name}: {:#?}", report.problems);
+    for l in &report.links {
+        let a = l.after.as_ref().expect("measured");
+        assert!(a.g0 <= G0, "{name} {}: gap {}", l.label, a.g0);
+        if l.target >= Continuity::G1 {
+            let g1 = a.g1_deg.unwrap_or(0.0);
+            assert!(g1 <= G1_DEG, "{name} {}: angle {g1}", l.label);
+        }
+        if l.target == Continuity::G2 {
+            let g2 = a.g2_rel.unwrap_or(0.0);
+            assert!(g2 <= G2_REL, "{name} {}: curvature {g2}", l.label);
+        }
+    }
+    let slaves: Vec<usize> = model.links.iter().map(|l| l.slave).collect();
+    for s in &report.surfaces {
+        assert!(
+            s.max_deviation <= model.tolerances.deviation,
+            "{name} {}: deviation {}",
+            s.name,
+            s.max_deviation
+        );
+        if slaves.contains(&s.surface) || s.role == hier_fair::Role::Primary {
+            assert!(
+                s.energy_after <= s.energy_before * (1.0 + 1e-9),
+                "{name} {}: energy {} -> {}",
+                s.name,
+                s.energy_before,
+                s.energy_after
+            );
+        }
+    }
+}
+
+#[test]
+fn x_node_reaches_g2_within_tolerance() {
+    assert_acceptance("x_node");
+}
+
+#[test]
+fn fillet_between_freeform_primaries_reaches_g2() {
+    assert_acceptance("fillet_freeform");
+}
+
+#[test]
+fn five_sided_corner_reaches_g2() {
+    assert_acceptance("five_sided");
+}
+
+#[test]
+fn primaries_without_links_keep_their_boundaries_and_tolerance() {
+    for name in ["bezier_sphere", "noisy_panel"] {
+        let (model, out, report) = run(name);
+        assert_acceptance(name);
+        for (a, b) in model.surfaces.iter().zip(&out.surfaces) {
+            let (sa, sb) = (&a.surface, &b.surface);
+            let (nu, nv) = (sa.num_u(), sa.num_v());
+            for side in nurbs_core::Side::ALL {
+                for (i, j) in side.row(0, nu, nv) {
+                    assert_eq!(sa.control_point(i, j), sb.control_point(i, j), "{name}");
+                }
+            }
+        }
+        let s = &report.surfaces[0];
+        assert!(s.energy_after < 0.95 * s.energy_before, "{name}: energy barely moved");
+    }
+}
+
+#[test]
+fn results_do_not_depend_on_the_thread_count() {
+    let model = fixture("x_node");
+    let serial = FairParams {
+        parallel: false,
+        ..FairParams::default()
+    };
+    let (a, _) = fair_model(&model, &RoleMethods::default(), None, &FairParams::default()).unwrap();
+    let (b, _) = fair_model(&model, &RoleMethods::default(), None, &serial).unwrap();
+    assert_eq!(a.to_json(), b.to_json());
+}
+
+/// A method from outside the workspace: moves nothing, counts its calls.
+struct Still(std::sync::atomic::AtomicUsize);
+
+impl SurfaceFairing for Still {
+    fn name(&self) -> &str {
+        "still"
+    }
+    fn fair(
+        &self,
+        surface: &BSplineSurface,
+        mask: &ControlMask,
+        _tolerance: f64,
+    ) -> nurbs_core::Result<(BSplineSurface, FairingReport)> {
+        mask.check_shape(surface)?;
+        self.0.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+        let r = FairingReport::measure("still", surface, surface, 0, 0.0);
+        Ok((surface.clone(), r))
+    }
+}
+
+#[test]
+fn any_surface_fairing_plugs_in() {
+    let model = fixture("fillet_freeform");
+    let still = Still(Default::default());
+    let (_, report) =
+        fair_model_with(&model, Fairers::all(&still), &FairParams::default(), &|_| {}).unwrap();
+    // primaries: one stage each; the fillet: C0, G1, G2 stages
+    assert_eq!(still.0.load(std::sync::atomic::Ordering::Relaxed), 2 + 3);
+    assert!(report.surfaces.iter().all(|s| s.method == "still"));
+}
+
+#[test]
+fn an_impossible_tolerance_is_a_reported_conflict_and_is_kept() {
+    let model = fixture("fillet_freeform");
+    let params = FairParams {
+        tolerance: Some(1e-4),
+        ..FairParams::default()
+    };
+    let (_, report) = fair_model(&model, &RoleMethods::default(), None, &params).unwrap();
+    let conflicts: Vec<_> = report
+        .problems
+        .iter()
+        .filter(|p| p.kind == ProblemKind::Conflict)
+        .collect();
+    assert!(!conflicts.is_empty(), "{:#?}", report.problems);
+    assert!(conflicts.iter().all(|p| p.link.is_some() && p.amount.is_some_and(|a| a > 1e-4)));
+    for s in &report.surfaces {
+        assert!(s.max_deviation <= 1e-4, "{}: {}", s.name, s.max_deviation);
+    }
+}
