@@ -151,7 +151,14 @@ pub fn pipeline_summary(report: &hier_fair::FairModelReport) -> Value {
     let problems: Vec<String> = report
         .problems
         .iter()
-        .map(|p| format!("{} {} {}", p.kind.name(), p.surface, p.link.clone().unwrap_or_default()))
+        .map(|p| {
+            format!(
+                "{} {} {}",
+                p.kind.name(),
+                p.surface,
+                p.link.clone().unwrap_or_default()
+            )
+        })
         .collect();
     serde_json::json!({"surfaces": surfaces, "links": links, "problems": problems})
 }
@@ -171,10 +178,9 @@ pub fn regress_line(name: &str, report: &hier_fair::FairModelReport) -> String {
         .iter()
         .map(|s| s.max_deviation)
         .fold(0.0, f64::max);
-    let (eb, ea) = report
-        .surfaces
-        .iter()
-        .fold((0.0, 0.0), |(a, b), s| (a + s.energy_before, b + s.energy_after));
+    let (eb, ea) = report.surfaces.iter().fold((0.0, 0.0), |(a, b), s| {
+        (a + s.energy_before, b + s.energy_after)
+    });
     format!(
         "{:<28} {:>4} {:>4}/{:<4} {:>10.3e} {:>10.3e} {:>10.3e} {:>10.3e} {:>+8.1}% {:>8.3} {:>4}",
         name,
@@ -185,7 +191,11 @@ pub fn regress_line(name: &str, report: &hier_fair::FairModelReport) -> String {
         worst(&|m| m.g1_deg),
         worst(&|m| m.g2_rel),
         dev,
-        if eb > 0.0 { 100.0 * (ea / eb - 1.0) } else { 0.0 },
+        if eb > 0.0 {
+            100.0 * (ea / eb - 1.0)
+        } else {
+            0.0
+        },
         report.seconds_total,
         report.problems.len()
     )

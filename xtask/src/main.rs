@@ -54,7 +54,9 @@ fn main() -> ExitCode {
             }
         },
         _ => {
-            eprintln!("usage: cargo xtask snapshots [--update] | regress [--external DIR] | fixtures");
+            eprintln!(
+                "usage: cargo xtask snapshots [--update] | regress [--external DIR] | fixtures"
+            );
             ExitCode::from(2)
         }
     }

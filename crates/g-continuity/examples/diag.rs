@@ -4,7 +4,13 @@ fn main() {
     let t = std::fs::read_to_string("/tmp/fillet_freeform.surfs.json").unwrap();
     let s = nurbs_core::io::surfaces_from_json(&t).unwrap();
     let (left, right, fillet) = (&s[0], &s[1], &s[2]);
-    println!("fillet {}x{} deg {} {}", fillet.num_u(), fillet.num_v(), fillet.degree_u(), fillet.degree_v());
+    println!(
+        "fillet {}x{} deg {} {}",
+        fillet.num_u(),
+        fillet.num_v(),
+        fillet.degree_u(),
+        fillet.degree_v()
+    );
     let params = SetParams::default();
     for (side, master) in [(Side::U0, left), (Side::U1, right)] {
         for mub in [true, false] {

@@ -33,7 +33,6 @@ pub fn solve_min_norm(a: DMatrix<f64>, b: &DMatrix<f64>) -> Result<DMatrix<f64>,
 fn svd_solve(a: DMatrix<f64>, b: &DMatrix<f64>) -> Result<DMatrix<f64>, String> {
     let svd = a.svd(true, true);
     let largest = svd.singular_values.iter().copied().fold(0.0, f64::max);
-    if std::env::var("GC_DEBUG").is_ok() { let mut v: Vec<f64> = svd.singular_values.iter().map(|x| x/largest).collect(); v.sort_by(|a,b| b.total_cmp(a)); eprintln!("sv {:?}", v.iter().map(|x| format!("{x:.1e}")).collect::<Vec<_>>()); }
     if !(largest > 0.0) {
         return Err(format!(
             "the system matrix is zero or not finite (no sample constrains the free control points; largest singular value {largest})"

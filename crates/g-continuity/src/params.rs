@@ -36,10 +36,12 @@ pub struct SetParams {
     pub g1_tangential_weight: f64,
     /// Weight of the rows that keep the tangential part of the curvature-row change in the
     /// minimal-deviation G2 solve, relative to the G2 condition (default
-    /// [`crate::rows::G2_TANGENTIAL_WEIGHT`]).
+    /// [`crate::rows::G2_TANGENTIAL_WEIGHT`]: the paper's system).
     pub g2_tangential_weight: f64,
-    /// Passes of the minimal-deviation G2 solve (default [`crate::rows::G2_PASSES`]).
-    pub g2_passes: usize,
+    /// The minimal-deviation G2 solve relaxes the tangential rows only while no point moves more
+    /// than this factor times the largest move of the first solution (default
+    /// [`crate::rows::G2_MOVE_FACTOR`]; 0 keeps the first solution).
+    pub g2_move_factor: f64,
     /// G1 passes, each from the previous result (default [`crate::rows::G1_PASSES`]).
     pub g1_passes: usize,
     /// C0 passes (each re-projects the boundary onto the master; default 4, the foot points
@@ -58,8 +60,8 @@ impl Default for SetParams {
             move_unlinked_boundaries: true,
             g1_tangential_weight: crate::rows::G1_TANGENTIAL_WEIGHT,
             g1_passes: crate::rows::G1_PASSES,
-            g2_passes: std::env::var("GC_P").ok().and_then(|x| x.parse().ok()).unwrap_or(crate::rows::G2_PASSES),
-            g2_tangential_weight: std::env::var("GC_W").ok().and_then(|x| x.parse().ok()).unwrap_or(crate::rows::G2_TANGENTIAL_WEIGHT),
+            g2_move_factor: std::env::var("GC_F").ok().and_then(|x| x.parse().ok()).unwrap_or(crate::rows::G2_MOVE_FACTOR),
+            g2_tangential_weight: crate::rows::G2_TANGENTIAL_WEIGHT,
             c0_iterations: 4,
             projection: ProjectionParams::default(),
         }

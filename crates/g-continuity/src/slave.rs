@@ -34,7 +34,7 @@ use nurbs_core::{BSplineSurface, Continuity, Direction, Point3, Side, Vector3};
 use crate::error::{Error, Result};
 use crate::measure::{LinkMeasure, is_collapsed, measure_link};
 use crate::params::{ConnectParams, SetParams};
-use crate::rows::{RowMove, row_of, solve_row};
+use crate::rows::{RowMove, row_of, solve_row, solve_row_at};
 use crate::sampling::along_knots;
 
 /// C0 passes stop when the largest row movement is below this fraction of the slave size.
@@ -100,6 +100,9 @@ pub struct ConnectReport {
 enum Status {
     Free,
     Shared,
+    /// end point of a row k ≥ 1 on an unlinked neighbouring side: it lies on that free boundary,
+    /// so it moves only by what its own corner sample needs
+    End,
     Fixed,
 }
 
@@ -136,11 +139,13 @@ fn classify(
                     Some(la) if e < k && la >= e => Status::Fixed,
                     Some(la) if e == k && la >= k => Status::Shared,
                     None if e == 0 && k > 0 && !move_unlinked => Status::Fixed,
+                    None if e == 0 && k > 0 => Status::End,
                     _ => Status::Free,
                 };
                 status = match (status, s) {
                     (Status::Fixed, _) | (_, Status::Fixed) => Status::Fixed,
                     (Status::Shared, _) | (_, Status::Shared) => Status::Shared,
+                    (Status::End, _) | (_, Status::End) => Status::End,
                     _ => Status::Free,
                 };
             }
@@ -185,15 +190,37 @@ fn step_all(
         return Ok(StepOutcome::default());
     }
     let (nu, nv) = (slave.num_u(), slave.num_v());
-    let base = slave.clone();
-    let mut statuses = Vec::with_capacity(active.len());
+    let statuses: Vec<Vec<Status>> = active
+        .iter()
+        .map(|l| {
+            let m = l.side.row(k, nu, nv).len();
+            classify(l.side, k, m, &levels, params.move_unlinked_boundaries)
+        })
+        .collect();
+    // end points on unlinked sides first, each from its corner sample alone: the free boundary
+    // changes only by what the corner needs (not at all when the corner is already continuous)
+    let mut end_move = 0.0f64;
+    let mut base = slave.clone();
+    for (l, status) in active.iter().zip(&statuses) {
+        let (t0, t1) = l.side.along_domain(slave);
+        for (j, t) in [(0, t0), (status.len() - 1, t1)] {
+            if status[j] != Status::End {
+                continue;
+            }
+            let mut only = vec![false; status.len()];
+            only[j] = true;
+            let mv = solve_row_at(l.master, slave, l.side, step, &only, &[t], params)?;
+            end_move = end_move.max(mv.max_displacement());
+            mv.apply(&mut base);
+        }
+    }
     let mut moves = Vec::with_capacity(active.len());
-    for l in &active {
-        let m = l.side.row(k, nu, nv).len();
-        let status = classify(l.side, k, m, &levels, params.move_unlinked_boundaries);
-        let movable: Vec<bool> = status.iter().map(|s| *s != Status::Fixed).collect();
+    for (l, status) in active.iter().zip(&statuses) {
+        let movable: Vec<bool> = status
+            .iter()
+            .map(|s| matches!(s, Status::Free | Status::Shared))
+            .collect();
         moves.push(solve_row(l.master, &base, l.side, step, &movable, params)?);
-        statuses.push(status);
     }
     // average the candidates of shared points
     let mut shared: BTreeMap<(usize, usize), (Vector3, usize)> = BTreeMap::new();
@@ -210,9 +237,10 @@ fn step_all(
     }
     let mut outcome = StepOutcome {
         twists: shared.len(),
-        max_move: 0.0,
+        max_move: end_move,
     };
     if shared.is_empty() {
+        *slave = base;
         for mv in &moves {
             mv.apply(slave);
             outcome.max_move = outcome.max_move.max(mv.max_displacement());

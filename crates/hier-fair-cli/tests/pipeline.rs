@@ -68,7 +68,12 @@ fn fair_on_a_model_writes_the_model_the_report_and_pictures() {
     }
     assert!(images.join("zebra_after.png").exists());
     // the output is never the input
-    let o = run(&["fair", input.to_str().unwrap(), "-o", input.to_str().unwrap()]);
+    let o = run(&[
+        "fair",
+        input.to_str().unwrap(),
+        "-o",
+        input.to_str().unwrap(),
+    ]);
     assert!(!o.status.success());
     assert_eq!(std::fs::read(&input).unwrap(), before);
 }
@@ -108,7 +113,11 @@ fn a_master_that_does_not_touch_ends_with_a_message_and_a_partial_report() {
     let r: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
     let problems = r["problems"].as_array().unwrap();
-    assert!(problems.iter().any(|p| p["kind"] == "failed" && p["surface"] == "fillet"));
+    assert!(
+        problems
+            .iter()
+            .any(|p| p["kind"] == "failed" && p["surface"] == "fillet")
+    );
     // the primaries were still faired
     assert_eq!(r["surfaces"].as_array().unwrap().len(), 3);
 }

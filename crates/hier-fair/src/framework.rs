@@ -34,6 +34,9 @@
 //! add up past τ. If the sampled deviation still ends above τ the continuity-only result is used
 //! instead (reported).
 //!
+//! A rational surface is re-approximated by a polynomial one within [`RATIONAL_SHARE`]·τ first
+//! (the fairing methods and the row solves work on polynomial surfaces).
+//!
 //! # Failures
 //! A surface whose continuity steps fail (a master that does not touch, a singular system) is
 //! left as it was and named in the report's problems; its slaves still run against it. The run
@@ -56,6 +59,10 @@ use crate::model::{Model, Role};
 /// Fraction of the deviation tolerance the fairing stages may plan to use (the rest absorbs the
 /// difference between sampled and true deviation).
 pub const DEVIATION_SAFETY: f64 = 0.95;
+
+/// Share of the deviation tolerance a rational surface's polynomial re-approximation may use
+/// (the fairing methods work on polynomial surfaces; [SV] §3.2 step 1).
+pub const RATIONAL_SHARE: f64 = 0.1;
 
 /// Settings of [`fair_model`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -286,6 +293,7 @@ pub fn fair_model_with(
         g1_deg: t.g1_deg,
         g2_rel: t.g2_rel,
     };
+    connect.rational_tolerance = RATIONAL_SHARE * tolerance;
     let cap = |c: Continuity| params.target.map_or(c, |t| c.min(t));
     let before = measure_links(model, &connect);
     let waves = waves(model)?;

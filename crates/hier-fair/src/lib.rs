@@ -17,6 +17,7 @@ pub mod methods;
 pub mod model;
 pub mod render;
 pub mod report;
+pub mod synthetic;
 
 pub use check::{LinkCheck, Preset, TOUCH_FACTOR, check_model};
 pub use connect::{ConnectOptions, LinkConnect, ModelConnectReport, SurfaceConnect, connect};

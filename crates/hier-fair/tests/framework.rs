@@ -23,8 +23,13 @@ const G2_REL: f64 = 5e-3;
 
 fn run(name: &str) -> (Model, Model, FairModelReport) {
     let model = fixture(name);
-    let (out, report) =
-        fair_model(&model, &RoleMethods::default(), None, &FairParams::default()).unwrap();
+    let (out, report) = fair_model(
+        &model,
+        &RoleMethods::default(),
+        None,
+        &FairParams::default(),
+    )
+    .unwrap();
     (model, out, report)
 }
 
@@ -93,7 +98,10 @@ fn primaries_without_links_keep_their_boundaries_and_tolerance() {
             }
         }
         let s = &report.surfaces[0];
-        assert!(s.energy_after < 0.95 * s.energy_before, "{name}: energy barely moved");
+        assert!(
+            s.energy_after < 0.95 * s.energy_before,
+            "{name}: energy barely moved"
+        );
     }
 }
 
@@ -104,7 +112,13 @@ fn results_do_not_depend_on_the_thread_count() {
         parallel: false,
         ..FairParams::default()
     };
-    let (a, _) = fair_model(&model, &RoleMethods::default(), None, &FairParams::default()).unwrap();
+    let (a, _) = fair_model(
+        &model,
+        &RoleMethods::default(),
+        None,
+        &FairParams::default(),
+    )
+    .unwrap();
     let (b, _) = fair_model(&model, &RoleMethods::default(), None, &serial).unwrap();
     assert_eq!(a.to_json(), b.to_json());
 }
@@ -133,8 +147,13 @@ impl SurfaceFairing for Still {
 fn any_surface_fairing_plugs_in() {
     let model = fixture("fillet_freeform");
     let still = Still(Default::default());
-    let (_, report) =
-        fair_model_with(&model, Fairers::all(&still), &FairParams::default(), &|_| {}).unwrap();
+    let (_, report) = fair_model_with(
+        &model,
+        Fairers::all(&still),
+        &FairParams::default(),
+        &|_| {},
+    )
+    .unwrap();
     // primaries: one stage each; the fillet: C0, G1, G2 stages
     assert_eq!(still.0.load(std::sync::atomic::Ordering::Relaxed), 2 + 3);
     assert!(report.surfaces.iter().all(|s| s.method == "still"));
@@ -154,7 +173,11 @@ fn an_impossible_tolerance_is_a_reported_conflict_and_is_kept() {
         .filter(|p| p.kind == ProblemKind::Conflict)
         .collect();
     assert!(!conflicts.is_empty(), "{:#?}", report.problems);
-    assert!(conflicts.iter().all(|p| p.link.is_some() && p.amount.is_some_and(|a| a > 1e-4)));
+    assert!(
+        conflicts
+            .iter()
+            .all(|p| p.link.is_some() && p.amount.is_some_and(|a| a > 1e-4))
+    );
     for s in &report.surfaces {
         assert!(s.max_deviation <= 1e-4, "{}: {}", s.name, s.max_deviation);
     }

@@ -1,0 +1,123 @@
+//! Synthetic models for benchmarks and scaling tests: a grid of filleted blocks.
+//!
+//! A (2c−1)×(2r−1) grid of 20 mm squares over the cubic height field
+//! z = 0.002·x² − 0.0015·y² + 2·10⁻⁶·x³ (mm): the squares at (even, even) grid positions are
+//! primaries (block tops), those at (odd, even) and (even, odd) fillets linked G2 to the two
+//! primaries beside them, those at (odd, odd) corner patches linked G2 to the four fillets around
+//! them — c·r primaries, (c−1)·r + c·(r−1) fillets, (c−1)·(r−1) corners. Each square is the
+//! exact 6×6 bicubic image of the height field; every control point two or more rows from the
+//! sides gets a deterministic disturbance of up to 0.02 mm (a hash of its indices), so joins are
+//! G1 but not G2 and interiors are not fair, as after reverse engineering.
+
+use nurbs_core::{BSplineSurface, ControlMask, FitParams, KnotVector, Point3, fit_surface};
+use serde_json::{Value, json};
+
+use crate::error::{Error, Result};
+use crate::model::Model;
+
+/// Side of one square (mm).
+pub const CELL: f64 = 20.0;
+
+fn height(x: f64, y: f64) -> f64 {
+    0.002 * x * x - 0.0015 * y * y + 2e-6 * x * x * x
+}
+
+/// A deterministic value in [-1, 1] from three indices (splitmix64 of their combination).
+fn hash_noise(a: usize, b: usize, c: usize) -> f64 {
+    let mut z = (a as u64)
+        .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+        .wrapping_add((b as u64).wrapping_mul(0xBF58_476D_1CE4_E5B9))
+        .wrapping_add((c as u64).wrapping_mul(0x94D0_49BB_1331_11EB));
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^= z >> 31;
+    (z >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
+}
+
+fn square(x0: f64, y0: f64, id: usize) -> Result<BSplineSurface> {
+    let n = 6;
+    let k = KnotVector::clamped_uniform(3, n)?;
+    let template = BSplineSurface::new(k.clone(), k, vec![Point3::origin(); n * n], None)?;
+    let m = 3 * n + 1;
+    let mut params = Vec::with_capacity(m * m);
+    let mut points = Vec::with_capacity(m * m);
+    for a in 0..m {
+        for b in 0..m {
+            let (s, t) = (a as f64 / (m - 1) as f64, b as f64 / (m - 1) as f64);
+            let (x, y) = (x0 + CELL * s, y0 + CELL * t);
+            params.push((s, t));
+            points.push(Point3::new(x, y, height(x, y)));
+        }
+    }
+    let mask = ControlMask::for_surface(&template);
+    let (mut s, _) = fit_surface(&template, &mask, &params, &points, &FitParams::default())?;
+    for i in 2..n - 2 {
+        for j in 2..n - 2 {
+            let idx = s.index(i, j);
+            s.control_points_mut()[idx].z += 0.02 * hash_noise(id, i, j);
+        }
+    }
+    Ok(s)
+}
+
+/// The grid of filleted blocks with `c`×`r` primaries (c, r ≥ 1); (2c−1)(2r−1) surfaces.
+pub fn block_grid(c: usize, r: usize) -> Result<Model> {
+    if c == 0 || r == 0 {
+        return Err(Error::Format {
+            detail: format!("a block grid needs at least one block, got {c}×{r}"),
+        });
+    }
+    let (nx, ny) = (2 * c - 1, 2 * r - 1);
+    let name = |i: usize, j: usize| -> String {
+        match (i % 2, j % 2) {
+            (0, 0) => format!("p{i}_{j}"),
+            (1, 1) => format!("c{i}_{j}"),
+            _ => format!("f{i}_{j}"),
+        }
+    };
+    let mut surfaces = Vec::new();
+    let mut links = Vec::new();
+    for i in 0..nx {
+        for j in 0..ny {
+            let s = square(CELL * i as f64, CELL * j as f64, i * ny + j)?;
+            let role = match (i % 2, j % 2) {
+                (0, 0) => "primary",
+                (1, 1) => "corner",
+                _ => "connecting",
+            };
+            let surface: Value = serde_json::from_str(&nurbs_core::io::surface_to_json(&s))
+                .map_err(|e| Error::Format {
+                    detail: e.to_string(),
+                })?;
+            surfaces.push(json!({"name": name(i, j), "role": role, "surface": surface}));
+            // u runs along x (i), v along y (j)
+            let mut link = |side: &str, mi: usize, mj: usize| {
+                links.push(json!({"slave": name(i, j), "side": side, "master": name(mi, mj), "continuity": "G2"}));
+            };
+            match (i % 2, j % 2) {
+                (1, 0) => {
+                    link("u0", i - 1, j);
+                    link("u1", i + 1, j);
+                }
+                (0, 1) => {
+                    link("v0", i, j - 1);
+                    link("v1", i, j + 1);
+                }
+                (1, 1) => {
+                    link("u0", i - 1, j);
+                    link("u1", i + 1, j);
+                    link("v0", i, j - 1);
+                    link("v1", i, j + 1);
+                }
+                _ => {}
+            }
+        }
+    }
+    let doc = json!({
+        "units": "mm",
+        "surfaces": surfaces,
+        "links": links,
+        "tolerances": {"deviation": 0.1, "g0": 0.001, "g1_deg": 0.01, "g2_rel": 0.005}
+    });
+    Model::from_json(&doc.to_string())
+}
