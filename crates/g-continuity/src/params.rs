@@ -60,7 +60,10 @@ impl Default for SetParams {
             move_unlinked_boundaries: true,
             g1_tangential_weight: crate::rows::G1_TANGENTIAL_WEIGHT,
             g1_passes: crate::rows::G1_PASSES,
-            g2_move_factor: std::env::var("GC_F").ok().and_then(|x| x.parse().ok()).unwrap_or(crate::rows::G2_MOVE_FACTOR),
+            g2_move_factor: std::env::var("GC_F")
+                .ok()
+                .and_then(|x| x.parse().ok())
+                .unwrap_or(crate::rows::G2_MOVE_FACTOR),
             g2_tangential_weight: crate::rows::G2_TANGENTIAL_WEIGHT,
             c0_iterations: 4,
             projection: ProjectionParams::default(),

@@ -45,6 +45,11 @@ pub const C0_CONVERGED: f64 = 1e-12;
 /// extraction (~1e4 units of 1e-16), not geometry.
 pub const C0_EXACT: f64 = 1e-11;
 
+/// The end point of a row k ≥ 1 on an unlinked neighbouring side stays fixed (the free boundary
+/// bit-identical) when the correction its corner sample alone asks for is below this fraction of
+/// the slave size: the corner is continuous already, up to rounding of the construction.
+pub const END_CONTINUOUS: f64 = 1e-9;
+
 /// Largest number of control points per direction knot insertion may create (a guard against
 /// runaway refinement on joins that cannot be made continuous).
 pub const MAX_CONTROL_POINTS: usize = 1024;
@@ -190,36 +195,33 @@ fn step_all(
         return Ok(StepOutcome::default());
     }
     let (nu, nv) = (slave.num_u(), slave.num_v());
-    let statuses: Vec<Vec<Status>> = active
-        .iter()
-        .map(|l| {
-            let m = l.side.row(k, nu, nv).len();
-            classify(l.side, k, m, &levels, params.move_unlinked_boundaries)
-        })
-        .collect();
-    // end points on unlinked sides first, each from its corner sample alone: the free boundary
-    // changes only by what the corner needs (not at all when the corner is already continuous)
-    let mut end_move = 0.0f64;
-    let mut base = slave.clone();
-    for (l, status) in active.iter().zip(&statuses) {
+    let base = slave.clone();
+    let mut statuses: Vec<Vec<Status>> = Vec::with_capacity(active.len());
+    for l in &active {
+        let m = l.side.row(k, nu, nv).len();
+        let mut status = classify(l.side, k, m, &levels, params.move_unlinked_boundaries);
+        // an end point on an unlinked side lies on that free boundary: it stays where it is when
+        // its corner is already continuous (the corner sample alone asks for no move), and is
+        // free otherwise (the boundary has to change for the corner anyway)
         let (t0, t1) = l.side.along_domain(slave);
-        for (j, t) in [(0, t0), (status.len() - 1, t1)] {
+        for (j, t) in [(0, t0), (m - 1, t1)] {
             if status[j] != Status::End {
                 continue;
             }
-            let mut only = vec![false; status.len()];
+            let mut only = vec![false; m];
             only[j] = true;
-            let mv = solve_row_at(l.master, slave, l.side, step, &only, &[t], params)?;
-            end_move = end_move.max(mv.max_displacement());
-            mv.apply(&mut base);
+            let corner = solve_row_at(l.master, &base, l.side, step, &only, &[t], params)?;
+            status[j] = if corner.max_displacement() <= END_CONTINUOUS * slave.size() {
+                Status::Fixed
+            } else {
+                Status::Free
+            };
         }
+        statuses.push(status);
     }
     let mut moves = Vec::with_capacity(active.len());
     for (l, status) in active.iter().zip(&statuses) {
-        let movable: Vec<bool> = status
-            .iter()
-            .map(|s| matches!(s, Status::Free | Status::Shared))
-            .collect();
+        let movable: Vec<bool> = status.iter().map(|s| *s != Status::Fixed).collect();
         moves.push(solve_row(l.master, &base, l.side, step, &movable, params)?);
     }
     // average the candidates of shared points
@@ -237,10 +239,9 @@ fn step_all(
     }
     let mut outcome = StepOutcome {
         twists: shared.len(),
-        max_move: end_move,
+        max_move: 0.0,
     };
     if shared.is_empty() {
-        *slave = base;
         for mv in &moves {
             mv.apply(slave);
             outcome.max_move = outcome.max_move.max(mv.max_displacement());

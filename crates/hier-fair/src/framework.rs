@@ -241,6 +241,8 @@ pub struct FairModelReport {
     pub surfaces: Vec<SurfaceFair>,
     /// per link, in model order
     pub links: Vec<LinkFair>,
+    /// the n-sided stage of each corner group ([SV] §3.4)
+    pub groups: Vec<GroupFair>,
     /// everything that did not go as asked
     pub problems: Vec<Problem>,
 }
@@ -304,11 +306,21 @@ pub fn fair_model_with(
     };
     let total = model.surfaces.len();
     let mut done = 0;
+    let mut group_done = vec![false; model.corners.len()];
     for wave in waves {
+        // n-sided corner groups whose first patch runs in this wave: one mesh, refit ([SV] §3.4)
+        for (g, group) in model.corners.iter().enumerate() {
+            if group_done[g] || !group.patches.iter().any(|p| wave.contains(p)) {
+                continue;
+            }
+            group_done[g] = true;
+            group_stage(model, &mut out, group, tolerance, params, &mut report);
+        }
         let job = |&k: &usize| -> (usize, Outcome) {
             let job = Job {
                 model,
                 current: &out,
+                start: &out.surfaces[k].surface,
                 surface: k,
                 fairing: fairers.of(model.surfaces[k].role),
                 tolerance,
@@ -381,12 +393,13 @@ pub fn waves(model: &Model) -> Result<Vec<Vec<usize>>> {
     let order = model.hierarchy_order()?;
     let mut wave_of = vec![0usize; model.surfaces.len()];
     for &k in &order {
-        wave_of[k] = model
+        let own = model
             .links_of_slave(k)
             .iter()
             .map(|&l| wave_of[model.links[l].master] + 1)
             .max()
             .unwrap_or(0);
+        wave_of[k] = own.max(group_start(model, k, &wave_of));
     }
     let count = wave_of.iter().copied().max().map_or(0, |w| w + 1);
     let mut waves = vec![Vec::new(); count];
@@ -394,6 +407,28 @@ pub fn waves(model: &Model) -> Result<Vec<Vec<usize>>> {
         waves[wave_of[k]].push(k);
     }
     Ok(waves)
+}
+
+/// The earliest wave of the corner group of surface `k` (0 when it is in none): one after the
+/// latest master outside the group of any of its patches, so the whole group can be faired as
+/// one mesh before its first patch runs.
+fn group_start(model: &Model, k: usize, wave_of: &[usize]) -> usize {
+    model
+        .corners
+        .iter()
+        .filter(|g| g.patches.contains(&k))
+        .flat_map(|g| {
+            g.patches.iter().flat_map(move |&p| {
+                model
+                    .links_of_slave(p)
+                    .into_iter()
+                    .map(|l| model.links[l].master)
+                    .filter(move |m| !g.patches.contains(m))
+            })
+        })
+        .map(|m| wave_of[m] + 1)
+        .max()
+        .unwrap_or(0)
 }
 
 struct Outcome {
@@ -405,6 +440,8 @@ struct Outcome {
 struct Job<'a> {
     model: &'a Model,
     current: &'a Model,
+    /// where the stages start: the input, or the corner group's refitted patch
+    start: &'a BSplineSurface,
     surface: usize,
     fairing: &'a dyn SurfaceFairing,
     tolerance: f64,
@@ -565,7 +602,7 @@ impl Job<'_> {
         // links that do not touch their masters: bad input, the surface is left alone
         let limit = TOUCH_FACTOR * self.connect.tolerances.g0;
         for (k, l) in &labelled {
-            let m = measure_link(l.master, original, l.side, &self.connect.measure)
+            let m = measure_link(l.master, self.start, l.side, &self.connect.measure)
                 .map_err(|e| format!("link {}: {e}", self.model.link_label(*k)))?;
             if m.g0 > limit {
                 return Err(format!(
@@ -584,11 +621,11 @@ impl Job<'_> {
             stages: Vec::new(),
         };
         // 0. prepare
-        let (prepared, prep) = prepare_slave(original, &links, self.connect)
+        let (prepared, prep) = prepare_slave(self.start, &links, self.connect)
             .map_err(|e| format!("preparing {name}: {e}"))?;
         let (prepared, extra) = free_rows(prepared, &links, self.params.min_free_rows)
             .map_err(|e| format!("inserting knots into {name}: {e}"))?;
-        run.record(Stage::Prepare, &prepared, &prepared);
+        run.record(Stage::Prepare, self.start, &prepared);
         run.stages[0].knots_inserted = prep.knots_inserted + extra;
         let top = links.iter().map(|l| l.target).max();
         // continuity alone: what the steps cost in deviation; also the fallback result
@@ -740,4 +777,89 @@ fn free_rows(
         }
     }
     Ok((s, inserted))
+}
+
+/// Share of the deviation tolerance the n-sided mesh fairing of a corner group may use; a group
+/// whose refitted patches deviate more is left as it was (reported), the per-patch stages then
+/// fair it within the tolerance.
+pub const GROUP_SHARE: f64 = 0.5;
+
+fn group_stage(
+    model: &Model,
+    out: &mut Model,
+    group: &crate::model::CornerGroup,
+    tolerance: f64,
+    params: &FairParams,
+    report: &mut FairModelReport,
+) {
+    let first = group
+        .patches
+        .first()
+        .map_or_else(String::new, |&k| model.surfaces[k].name.clone());
+    match crate::corners::fair_group(model, out, group) {
+        Ok((quads, nsided)) => {
+            let worst = group
+                .patches
+                .iter()
+                .zip(&quads)
+                .map(|(&k, q)| max_deviation(&model.surfaces[k].surface, q, params.deviation_grid))
+                .fold(0.0, f64::max);
+            if worst <= GROUP_SHARE * tolerance {
+                for (&k, q) in group.patches.iter().zip(quads) {
+                    out.surfaces[k].surface = q;
+                }
+                report.groups.push(GroupFair {
+                    name: group.name.clone(),
+                    applied: true,
+                    max_deviation: worst,
+                    mesh_vertices: nsided.mesh_vertices,
+                    refit_max_error: nsided.refit.max_error,
+                    internal_angle_deg: nsided.refit.max_internal_angle_deg,
+                });
+            } else {
+                report.groups.push(GroupFair {
+                    name: group.name.clone(),
+                    applied: false,
+                    max_deviation: worst,
+                    mesh_vertices: nsided.mesh_vertices,
+                    refit_max_error: nsided.refit.max_error,
+                    internal_angle_deg: nsided.refit.max_internal_angle_deg,
+                });
+                report.problems.push(Problem {
+                    kind: ProblemKind::Limited,
+                    surface: first,
+                    link: None,
+                    message: format!(
+                        "corner group {}: the n-sided mesh fairing moves the patches {worst:.4} from the original, above {GROUP_SHARE} × the tolerance; the patches are faired one by one instead",
+                        group.name
+                    ),
+                    amount: Some(worst),
+                });
+            }
+        }
+        Err(message) => report.problems.push(Problem {
+            kind: ProblemKind::Limited,
+            surface: first,
+            link: None,
+            message: format!("{message}; the patches are faired one by one instead"),
+            amount: None,
+        }),
+    }
+}
+
+/// What the n-sided stage did to one corner group.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GroupFair {
+    /// the group's name
+    pub name: String,
+    /// whether the refitted patches were used
+    pub applied: bool,
+    /// largest sampled deviation of a refitted patch from its original
+    pub max_deviation: f64,
+    /// vertices of the faired mesh (wings included)
+    pub mesh_vertices: usize,
+    /// largest refit error against the faired mesh
+    pub refit_max_error: f64,
+    /// largest normal angle between adjacent patches along the internal curves (degrees)
+    pub internal_angle_deg: f64,
 }

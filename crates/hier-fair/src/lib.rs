@@ -11,6 +11,7 @@
 
 pub mod check;
 pub mod connect;
+pub mod corners;
 pub mod error;
 pub mod framework;
 pub mod methods;

@@ -60,11 +60,26 @@ pub fn report_json(report: &FairModelReport) -> Value {
             })
         })
         .collect();
+    let groups: Vec<Value> = report
+        .groups
+        .iter()
+        .map(|g| {
+            json!({
+                "name": g.name,
+                "applied": g.applied,
+                "max_deviation": g.max_deviation,
+                "mesh_vertices": g.mesh_vertices,
+                "refit_max_error": g.refit_max_error,
+                "internal_angle_deg": g.internal_angle_deg,
+            })
+        })
+        .collect();
     json!({
         "seconds_total": report.seconds_total,
         "tolerance": report.tolerance,
         "surfaces": surfaces,
         "links": links,
+        "corner_groups": groups,
         "problems": problems,
     })
 }
@@ -178,6 +193,27 @@ pub fn report_markdown(report: &FairModelReport, title: &str) -> String {
             .sum::<usize>(),
         report.seconds_total
     );
+    if !report.groups.is_empty() {
+        let _ = writeln!(md, "## Corner groups (n-sided mesh fairing and refit)\n");
+        let _ = writeln!(
+            md,
+            "| group | used | deviation | mesh vertices | refit max error | internal angle° |"
+        );
+        let _ = writeln!(md, "|---|---|---|---|---|---|");
+        for g in &report.groups {
+            let _ = writeln!(
+                md,
+                "| {} | {} | {:.5} | {} | {:.3e} | {:.4} |",
+                g.name,
+                if g.applied { "yes" } else { "no" },
+                g.max_deviation,
+                g.mesh_vertices,
+                g.refit_max_error,
+                g.internal_angle_deg
+            );
+        }
+        md.push('\n');
+    }
     if !report.problems.is_empty() {
         let _ = writeln!(md, "## Problems\n");
         for p in &report.problems {

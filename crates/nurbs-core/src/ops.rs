@@ -5,6 +5,7 @@
 //! the iso-polygons). Isocurves are exact: the curve v ↦ S(ū, v) has the homogeneous control points
 //! Q_j = Σ_i N_i(ū) w_ij P_ij on the v knot vector.
 
+use crate::Point3;
 use crate::basis::BasisEvaluator;
 use crate::curve::BSplineCurve;
 use crate::error::Result;
@@ -164,6 +165,49 @@ impl BSplineSurface {
     pub fn extract(&self, (u0, u1): (f64, f64), (v0, v1): (f64, f64)) -> Result<Self> {
         self.map_polygons(Direction::U, |kv, pw| knot_ops::extract(kv, pw, u0, u1))?
             .map_polygons(Direction::V, |kv, pw| knot_ops::extract(kv, pw, v0, v1))
+    }
+
+    /// The same surface with direction `dir` reversed: S'(u, v) = S(a + b − u, v) for
+    /// `Direction::U` on the domain [a, b] (knots k'_i = a + b − k_{m−i}, control rows reversed).
+    pub fn reversed(&self, dir: Direction) -> Result<Self> {
+        let reverse_kv = |kv: &KnotVector| -> Result<KnotVector> {
+            let (a, b) = kv.domain();
+            let k: Vec<f64> = kv.knots().iter().rev().map(|&x| a + b - x).collect();
+            KnotVector::new(kv.degree(), k)
+        };
+        let (nu, nv) = (self.num_u(), self.num_v());
+        let map = |i: usize, j: usize| match dir {
+            Direction::U => (nu - 1 - i) * nv + j,
+            Direction::V => i * nv + (nv - 1 - j),
+        };
+        let points: Vec<Point3> = (0..nu * nv)
+            .map(|k| self.control_points()[map(k / nv, k % nv)])
+            .collect();
+        let weights = self
+            .weights()
+            .map(|w| (0..nu * nv).map(|k| w[map(k / nv, k % nv)]).collect());
+        let (ku, kv) = match dir {
+            Direction::U => (reverse_kv(self.knots_u())?, self.knots_v().clone()),
+            Direction::V => (self.knots_u().clone(), reverse_kv(self.knots_v())?),
+        };
+        Self::new(ku, kv, points, weights)
+    }
+
+    /// The same surface with u and v swapped: S'(v, u) = S(u, v).
+    pub fn transposed(&self) -> Result<Self> {
+        let (nu, nv) = (self.num_u(), self.num_v());
+        let points: Vec<Point3> = (0..nu * nv)
+            .map(|k| self.control_point(k % nu, k / nu))
+            .collect();
+        let weights = self
+            .weights()
+            .map(|w| (0..nu * nv).map(|k| w[(k % nu) * nv + k / nu]).collect());
+        Self::new(
+            self.knots_v().clone(),
+            self.knots_u().clone(),
+            points,
+            weights,
+        )
     }
 
     /// A copy with clamped knot vectors in both directions (the same surface).

@@ -87,6 +87,29 @@ proptest! {
     }
 
     #[test]
+    fn reversing_and_transposing_reparametrize_the_same_surface(seed in 0u64..10_000, rational in any::<bool>()) {
+        let s = random_surface(seed, 1..=5, 9, rational);
+        let (a, b) = s.domain_u();
+        let (c, d) = s.domain_v();
+        let ru = s.reversed(Direction::U).unwrap();
+        let rv = s.reversed(Direction::V).unwrap();
+        let t = s.transposed().unwrap();
+        prop_assert_eq!(t.transposed().unwrap(), s.clone());
+        let back = ru.reversed(Direction::U).unwrap();
+        prop_assert_eq!(back.control_points(), s.control_points());
+        for k in 0..7 {
+            for l in 0..7 {
+                let u = a + (b - a) * k as f64 / 6.0;
+                let v = c + (d - c) * l as f64 / 6.0;
+                let p = s.point(u, v);
+                prop_assert!((ru.point(a + b - u, v) - p).norm() < 1e-12 * (1.0 + p.coords.norm()));
+                prop_assert!((rv.point(u, c + d - v) - p).norm() < 1e-12 * (1.0 + p.coords.norm()));
+                prop_assert!((t.point(v, u) - p).norm() < 1e-12 * (1.0 + p.coords.norm()));
+            }
+        }
+    }
+
+    #[test]
     fn removing_an_inserted_knot_gives_back_the_original(seed in 0u64..10_000, rational in any::<bool>(), t in 0.01f64..0.99) {
         let s = random_surface(seed, 1..=5, 9, rational);
         prop_assume!(s.knots_v().multiplicity(t) == 0);
