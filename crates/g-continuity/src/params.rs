@@ -28,8 +28,10 @@ pub struct SetParams {
     /// G2 variant (default minimal deviation: exact where an exact join exists).
     pub g2_method: G2Method,
     /// Whether the end points of a row may move when the neighbouring side of the slave is not
-    /// linked (they then change that free boundary slightly). Default true: otherwise the corner
-    /// samples keep their original error.
+    /// linked (they lie on that free boundary). Default true: an end point whose corner sample is
+    /// already continuous stays where it is anyway (the free boundary bit-identical, see
+    /// [`crate::slave::END_CONTINUOUS`]); the others move, changing the free boundary by what the
+    /// corner needs. False: they never move, and such corner samples keep their original error.
     pub move_unlinked_boundaries: bool,
     /// Weight of the rows that keep the tangential part of the cross derivative in the G1 solve,
     /// relative to the G1 condition (default [`crate::rows::G1_TANGENTIAL_WEIGHT`]).
@@ -60,11 +62,8 @@ impl Default for SetParams {
             move_unlinked_boundaries: true,
             g1_tangential_weight: crate::rows::G1_TANGENTIAL_WEIGHT,
             g1_passes: crate::rows::G1_PASSES,
-            g2_move_factor: std::env::var("GC_F")
-                .ok()
-                .and_then(|x| x.parse().ok())
-                .unwrap_or(crate::rows::G2_MOVE_FACTOR),
             g2_tangential_weight: crate::rows::G2_TANGENTIAL_WEIGHT,
+            g2_move_factor: crate::rows::G2_MOVE_FACTOR,
             c0_iterations: 4,
             projection: ProjectionParams::default(),
         }

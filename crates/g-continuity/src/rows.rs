@@ -25,10 +25,12 @@
 //! vectors are generally not in the spline space, so the fit leaves a residual even when an exact
 //! G1/G2 solution exists. We impose the scalar conditions that define G1/G2 with full weight.
 //! For G1 the paper's tangential rows stay, down-weighted (the scalar condition alone would
-//! allow the cross derivative to collapse); for G2 we take the minimum-norm least-squares solution
-//! (SVD): exact whenever the join can be made exact with the free points, and among all solutions
-//! the one that moves the control points least — the paper's stated aim ("avoid superfluous
-//! control point movements").
+//! allow the cross derivative to collapse). For G2 the paper's tangential rows stay too (weight
+//! 1 first: the paper's system), then are relaxed step by step towards the scalar condition alone
+//! while the moves stay of the size of the first solution's ([`G2_WEIGHT_LADDER`],
+//! [`G2_MOVE_FACTOR`]): exact where an exact join needs comparable moves, never the huge
+//! tangential moves the scalar condition alone asks for when its right-hand side is not in the
+//! spline space (its tangential directions are determined only through the variation of n_k).
 
 use nalgebra::DMatrix;
 use nurbs_core::{BSplineSurface, Continuity, Side, Vector3};

@@ -566,6 +566,9 @@ pub fn set_step(
         ..StepReport::default()
     };
     let mut work = slave.clone();
+    let mut refiner = Refiner::new(slave, links);
+    // the best round so far: (worst excess, surface, report)
+    let mut best: Option<(f64, BSplineSurface, StepReport)> = None;
     loop {
         let mut s = work.clone();
         let mut moved = 0.0f64;
@@ -587,34 +590,154 @@ pub fn set_step(
             .iter()
             .map(|l| measure_link(l.master, &s, l.side, &params.measure))
             .collect::<Result<_>>()?;
+        let worst = worst_excess(links, &after, step, &params.tolerances);
+        report.after = after;
+        if best.as_ref().is_none_or(|b| worst < b.0) {
+            best = Some((worst, s.clone(), report.clone()));
+        }
         let mut inserted = false;
         if report.refinements < params.max_refinements {
-            for (l, m) in links.iter().zip(&after) {
-                if l.target < step {
+            let knots = refiner.knots(&s, links, &report.after, step, &params.tolerances);
+            for (l, xs) in links.iter().zip(knots) {
+                if l.target < step || xs.is_empty() {
                     continue;
                 }
-                let mids = failing_spans(&s, m, step, &params.tolerances);
                 let dir = l.side.along_direction();
                 let count = match dir {
                     Direction::U => work.num_u(),
                     Direction::V => work.num_v(),
                 };
-                if mids.is_empty() || count + mids.len() > MAX_CONTROL_POINTS {
+                if count + xs.len() > MAX_CONTROL_POINTS {
                     continue;
                 }
-                let mut xs = mids;
-                xs.sort_by(f64::total_cmp);
                 work = work.refine(dir, &xs)?;
                 report.knots_inserted += xs.len();
                 inserted = true;
             }
         }
         if !inserted {
-            report.after = after;
+            let (_, s, report) = best.unwrap_or((0.0, s, report));
             return Ok((s, report));
         }
         report.refinements += 1;
     }
+}
+
+/// A refinement round improves a failing side when it brings the side's worst measure (relative
+/// to its tolerance) below this factor times the best value so far. After
+/// [`REFINE_PATIENCE`] rounds in a row without improvement that side gets no more knots: the
+/// tolerance is then out of reach of knot insertion (e.g. an incompatible corner), and more knots
+/// only make the solve slower and the surface wavier.
+pub const REFINE_MIN_GAIN: f64 = 0.98;
+
+/// Rounds in a row without improvement after which a side gets no more knots (see
+/// [`REFINE_MIN_GAIN`]; the twists of neighbouring sides can make one round worse before the next
+/// one helps).
+pub const REFINE_PATIENCE: usize = 2;
+
+/// Knots inserted along one side in all refinement rounds together are capped at this factor
+/// times the number of control points the side had before (at least [`REFINE_MIN_KNOTS`]).
+pub const REFINE_KNOTS_FACTOR: usize = 2;
+
+/// Least cap of knots inserted along one side (see [`REFINE_KNOTS_FACTOR`]).
+pub const REFINE_MIN_KNOTS: usize = 16;
+
+/// Worst measure of a link relative to its tolerances, up to `target` (≤ 1: met).
+fn excess(m: &LinkMeasure, target: Continuity, tol: &crate::params::Tolerances) -> f64 {
+    let mut e = m.g0 / tol.g0;
+    if target >= Continuity::G1 {
+        e = e.max(m.g1_deg.unwrap_or(0.0) / tol.g1_deg);
+    }
+    if target >= Continuity::G2 {
+        e = e.max(m.g2_rel.unwrap_or(0.0) / tol.g2_rel);
+    }
+    e
+}
+
+/// Knot insertion state of the links of one slave across refinement rounds.
+struct Refiner {
+    /// the smallest excess of each link so far
+    best: Vec<Option<f64>>,
+    /// rounds in a row without improvement, per link
+    idle: Vec<usize>,
+    /// links that get no more knots
+    stalled: Vec<bool>,
+    /// knots inserted along each link's side so far, and its cap
+    inserted: Vec<usize>,
+    cap: Vec<usize>,
+}
+
+impl Refiner {
+    fn new(slave: &BSplineSurface, links: &[SideLink]) -> Self {
+        let cap = links
+            .iter()
+            .map(|l| {
+                let count = match l.side.along_direction() {
+                    Direction::U => slave.num_u(),
+                    Direction::V => slave.num_v(),
+                };
+                (REFINE_KNOTS_FACTOR * count).max(REFINE_MIN_KNOTS)
+            })
+            .collect();
+        Self {
+            best: vec![None; links.len()],
+            idle: vec![0; links.len()],
+            stalled: vec![false; links.len()],
+            inserted: vec![0; links.len()],
+            cap,
+        }
+    }
+
+    /// Knots to insert along each link's side after a round with measures `after` (empty: none).
+    fn knots(
+        &mut self,
+        s: &BSplineSurface,
+        links: &[SideLink],
+        after: &[LinkMeasure],
+        step: Continuity,
+        tol: &crate::params::Tolerances,
+    ) -> Vec<Vec<f64>> {
+        let mut out = vec![Vec::new(); links.len()];
+        for (a, (l, m)) in links.iter().zip(after).enumerate() {
+            let target = l.target.min(step);
+            let e = excess(m, target, tol);
+            if self.best[a].is_some_and(|b| e > REFINE_MIN_GAIN * b) {
+                self.idle[a] += 1;
+                if self.idle[a] >= REFINE_PATIENCE {
+                    self.stalled[a] = true;
+                }
+            } else {
+                self.idle[a] = 0;
+            }
+            self.best[a] = Some(self.best[a].map_or(e, |b| b.min(e)));
+            if e <= 1.0 || self.stalled[a] {
+                continue;
+            }
+            let mut mids = failing_spans(s, m, target, tol);
+            if self.inserted[a] + mids.len() > self.cap[a] {
+                self.stalled[a] = true;
+                continue;
+            }
+            mids.sort_by(f64::total_cmp);
+            self.inserted[a] += mids.len();
+            out[a] = mids;
+        }
+        out
+    }
+}
+
+/// Worst excess over all links (the quality of one round's result).
+fn worst_excess(
+    links: &[SideLink],
+    after: &[LinkMeasure],
+    step: Continuity,
+    tol: &crate::params::Tolerances,
+) -> f64 {
+    links
+        .iter()
+        .zip(after)
+        .map(|(l, m)| excess(m, l.target.min(step), tol))
+        .fold(0.0, f64::max)
 }
 
 /// Midpoints of the along-side knot spans that hold a sample above the tolerances.
@@ -662,39 +785,71 @@ pub fn connect_slave(
         .collect::<Result<_>>()?;
     let mut work = prepare(slave, links, params.rational_tolerance, &mut report)?;
     let mut reference = work.clone();
-    let (result, after) = loop {
+    let mut refiner = Refiner::new(&work, links);
+    // the best round so far: (worst excess, surface, its measures, its reference, knots, rounds)
+    type Round = (
+        f64,
+        BSplineSurface,
+        Vec<LinkMeasure>,
+        BSplineSurface,
+        usize,
+        usize,
+    );
+    let mut best: Option<Round> = None;
+    let prepared_knots = report.knots_inserted;
+    let mut along_knots_inserted = 0;
+    loop {
         let mut s = work.clone();
         report.twists_averaged = set_rows(&mut s, links, &params.set)?;
         let after: Vec<LinkMeasure> = links
             .iter()
             .map(|l| measure_link(l.master, &s, l.side, &params.measure))
             .collect::<Result<_>>()?;
-        if report.refinements >= params.max_refinements {
-            break (s, after);
-        }
+        let worst = worst_excess(links, &after, Continuity::G2, &params.tolerances);
+        let rounds = report.refinements;
         let mut inserted = false;
-        for (l, m) in links.iter().zip(&after) {
-            let mids = failing_spans(&s, m, l.target, &params.tolerances);
+        let knots = if rounds < params.max_refinements {
+            refiner.knots(&s, links, &after, Continuity::G2, &params.tolerances)
+        } else {
+            Vec::new()
+        };
+        if best.as_ref().is_none_or(|b| worst < b.0) {
+            best = Some((
+                worst,
+                s,
+                after,
+                reference.clone(),
+                along_knots_inserted,
+                rounds,
+            ));
+        }
+        for (l, xs) in links.iter().zip(knots) {
+            if xs.is_empty() {
+                continue;
+            }
             let dir = l.side.along_direction();
             let count = match dir {
                 Direction::U => work.num_u(),
                 Direction::V => work.num_v(),
             };
-            if mids.is_empty() || count + mids.len() > MAX_CONTROL_POINTS {
+            if count + xs.len() > MAX_CONTROL_POINTS {
                 continue;
             }
-            let mut xs = mids;
-            xs.sort_by(f64::total_cmp);
             work = work.refine(dir, &xs)?;
             reference = reference.refine(dir, &xs)?;
-            report.knots_inserted += xs.len();
+            along_knots_inserted += xs.len();
             inserted = true;
         }
         if !inserted {
-            break (s, after);
+            break;
         }
         report.refinements += 1;
+    }
+    let Some((_, result, after, reference, along, rounds)) = best else {
+        unreachable!("at least one round ran");
     };
+    report.knots_inserted = prepared_knots + along;
+    report.refinements = rounds;
     report.max_control_movement = result
         .control_points()
         .iter()
