@@ -31,7 +31,8 @@
 //! rest: each gets a ball of radius ε = (σ·τ − d)/m around its input control points, d the
 //! current deviation, m the fairing stages left, σ = [`DEVIATION_SAFETY`]. For a polynomial
 //! B-spline a control-point move ≤ ε moves the surface ≤ ε (convex hull), so the stages cannot
-//! add up past τ. If the sampled deviation still ends above τ the continuity-only result is used
+//! add up past τ. A surface that is the master of some link plans with [`MASTER_SHARE`]·τ
+//! instead of σ·τ: its slaves must follow its changes along their joins. If the sampled deviation still ends above τ the continuity-only result is used
 //! instead (reported).
 //!
 //! A rational surface is re-approximated by a polynomial one within [`RATIONAL_SHARE`]·τ first
@@ -59,6 +60,10 @@ use crate::model::{Model, Role};
 /// Fraction of the deviation tolerance the fairing stages may plan to use (the rest absorbs the
 /// difference between sampled and true deviation).
 pub const DEVIATION_SAFETY: f64 = 0.95;
+
+/// Share of the deviation tolerance the fairing stages of a *master* may use: its slaves must
+/// follow whatever its fairing changes along their joins, and that costs them deviation too.
+pub const MASTER_SHARE: f64 = 0.5;
 
 /// Share of the deviation tolerance a rational surface's polynomial re-approximation may use
 /// (the fairing methods work on polynomial surfaces; [SV] §3.2 step 1).
@@ -521,6 +526,10 @@ impl Job<'_> {
             report,
             problems,
         }
+    }
+
+    fn is_master(&self) -> bool {
+        self.model.links.iter().any(|l| l.master == self.surface)
     }
 
     fn links(&self) -> Vec<(usize, SideLink<'_>)> {
