@@ -190,6 +190,9 @@ pub enum ProblemKind {
     Conflict,
     /// fairing was dropped or cut short to stay within the tolerance
     Limited,
+    /// a link ends above the model's continuity tolerances (the amount is its worst measure
+    /// divided by its tolerance)
+    Unmet,
 }
 
 impl ProblemKind {
@@ -199,6 +202,7 @@ impl ProblemKind {
             ProblemKind::Failed => "failed",
             ProblemKind::Conflict => "conflict",
             ProblemKind::Limited => "limited",
+            ProblemKind::Unmet => "unmet",
         }
     }
 }
@@ -372,6 +376,53 @@ pub fn fair_model_with(
             }
         })
         .collect();
+    for l in &report.links {
+        if l.met {
+            continue;
+        }
+        let slave = &model.surfaces[model.links[l.link].slave].name;
+        let (message, amount) = match &l.after {
+            Some(m) => {
+                let parts = [
+                    (m.g0 / t.g0, format!("gap {:.3e}", m.g0)),
+                    (
+                        m.g1_deg.map_or(0.0, |a| a / t.g1_deg),
+                        format!("angle {:.3e}°", m.g1_deg.unwrap_or(0.0)),
+                    ),
+                    (
+                        if l.target >= Continuity::G2 {
+                            m.g2_rel.map_or(0.0, |r| r / t.g2_rel)
+                        } else {
+                            0.0
+                        },
+                        format!("curvature {:.3e}", m.g2_rel.unwrap_or(0.0)),
+                    ),
+                ];
+                let worst = parts
+                    .iter()
+                    .max_by(|a, b| a.0.total_cmp(&b.0))
+                    .map_or((0.0, String::new()), |p| p.clone());
+                (
+                    format!(
+                        "{:?} not reached: {} is {:.1} × its tolerance",
+                        l.target, worst.1, worst.0
+                    ),
+                    Some(worst.0),
+                )
+            }
+            None => (
+                "the link could not be measured after fairing".to_string(),
+                None,
+            ),
+        };
+        report.problems.push(Problem {
+            kind: ProblemKind::Unmet,
+            surface: slave.clone(),
+            link: Some(l.label.clone()),
+            message,
+            amount,
+        });
+    }
     report.seconds_total = start.elapsed().as_secs_f64();
     Ok((out, report))
 }
@@ -675,8 +726,12 @@ impl Job<'_> {
                 Continuity::G2 => Stage::FairG2,
             };
             let mask = stage_mask(&s, &links, level);
-            let eps =
-                ((DEVIATION_SAFETY * self.tolerance - run.deviation()) / fair_left as f64).max(0.0);
+            let budget = if self.is_master() {
+                MASTER_SHARE * self.tolerance
+            } else {
+                DEVIATION_SAFETY * self.tolerance
+            };
+            let eps = ((budget - run.deviation()) / fair_left as f64).max(0.0);
             fair_left -= 1;
             if mask.free_count() == 0 || eps <= 0.0 {
                 run.record(stage, &s, &s);

@@ -1,5 +1,6 @@
 //! Discrete fairing of noisy paraboloid caps with the boundary and 2 rings fixed: the 10k-vertex
-//! mesh of `shared/data/bench` (goal ≤ 30 ms) and a generated 100k-vertex one (goal ≤ 0.8 s).
+//! mesh of `shared/data/bench` (goal ≤ 30 ms) and a generated 100k-vertex one (goal ≤ 0.8 s),
+//! with each sparse solver/ordering (`faer_nd` is the default of `DiscreteFairingParams`).
 //! Run: `cargo bench -p nside-discrete`.
 
 use std::hint::black_box;
@@ -33,6 +34,7 @@ fn discrete(c: &mut Criterion) {
     let mut g = c.benchmark_group("discrete_fairing");
     g.sample_size(10);
     for (name, solver) in [
+        ("faer_nd", SpdSolver::Faer(FillOrdering::NestedDissection)),
         ("faer_amd", SpdSolver::Faer(FillOrdering::Amd)),
         ("faer_natural", SpdSolver::Faer(FillOrdering::Natural)),
         ("nalgebra_sparse", SpdSolver::NalgebraSparse),
@@ -46,10 +48,19 @@ fn discrete(c: &mut Criterion) {
             b.iter(|| black_box(fair_mesh(&small, &[], &params).expect("fairs")))
         });
     }
-    let params = DiscreteFairingParams::default();
-    g.bench_function("100k_faer_amd", |b| {
-        b.iter(|| black_box(fair_mesh(&big, &[], &params).expect("fairs")))
-    });
+    for (name, solver) in [
+        ("faer_nd", SpdSolver::Faer(FillOrdering::NestedDissection)),
+        ("faer_amd", SpdSolver::Faer(FillOrdering::Amd)),
+    ] {
+        let params = DiscreteFairingParams {
+            fixed_rings: 2,
+            solver,
+            ..Default::default()
+        };
+        g.bench_function(format!("100k_{name}"), |b| {
+            b.iter(|| black_box(fair_mesh(&big, &[], &params).expect("fairs")))
+        });
+    }
     g.finish();
 }
 

@@ -26,6 +26,10 @@ pub enum FillOrdering {
     Natural,
     /// approximate minimum degree
     Amd,
+    /// nested dissection from coordinates of the unknowns ([`SparseSpd::nested_dissection`]),
+    /// for callers that have them (discrete fairing: the mesh vertices) and pass the order to
+    /// [`SparseSpd::solve_ordered`]; [`SparseSpd::solve`], which has no coordinates, takes AMD
+    NestedDissection,
 }
 
 impl SpdSolver {
@@ -206,12 +210,44 @@ impl SparseSpd {
                 Ok(chol.solve(rhs))
             }
             #[cfg(feature = "faer")]
-            SpdSolver::Faer(ordering) => self.solve_faer(rhs, ordering),
+            SpdSolver::Faer(ordering) => self.solve_faer(rhs, ordering, None),
         }
     }
 
+    /// Solves A X = B by faer's sparse Cholesky with the elimination order given (old indices
+    /// in elimination order, e.g. from [`SparseSpd::nested_dissection`]).
     #[cfg(feature = "faer")]
-    fn solve_faer(&self, rhs: &DMatrix<f64>, ordering: FillOrdering) -> Result<DMatrix<f64>> {
+    pub fn solve_ordered(&self, rhs: &DMatrix<f64>, order: &[usize]) -> Result<DMatrix<f64>> {
+        if rhs.nrows() != self.n {
+            return Err(Error::LengthMismatch {
+                what: "right-hand side rows vs matrix size",
+                left: rhs.nrows(),
+                right: self.n,
+            });
+        }
+        let mut inverse = vec![usize::MAX; self.n];
+        if order.len() == self.n {
+            for (k, &v) in order.iter().enumerate() {
+                if v < self.n {
+                    inverse[v] = k;
+                }
+            }
+        }
+        if inverse.contains(&usize::MAX) {
+            return Err(Error::ControlNetShape {
+                detail: format!("elimination order is not a permutation of 0..{}", self.n),
+            });
+        }
+        self.solve_faer(rhs, FillOrdering::Natural, Some((order, &inverse)))
+    }
+
+    #[cfg(feature = "faer")]
+    fn solve_faer(
+        &self,
+        rhs: &DMatrix<f64>,
+        ordering: FillOrdering,
+        custom: Option<(&[usize], &[usize])>,
+    ) -> Result<DMatrix<f64>> {
         use faer::dyn_stack::{MemBuffer, MemStack};
         use faer::sparse::linalg::cholesky::{SymmetricOrdering, factorize_symbolic_cholesky};
         use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
@@ -235,9 +271,12 @@ impl SparseSpd {
         }
         let pattern = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
         let upper = SparseColMatRef::new(pattern, &values);
-        let order = match ordering {
-            FillOrdering::Natural => SymmetricOrdering::Identity,
-            FillOrdering::Amd => SymmetricOrdering::Amd,
+        let order = match (custom, ordering) {
+            (Some((fwd, inv)), _) => {
+                SymmetricOrdering::Custom(faer::perm::PermRef::new_checked(fwd, inv, n))
+            }
+            (None, FillOrdering::Natural) => SymmetricOrdering::Identity,
+            (None, FillOrdering::Amd | FillOrdering::NestedDissection) => SymmetricOrdering::Amd,
         };
         let symbolic =
             factorize_symbolic_cholesky(pattern, faer::Side::Upper, order, Default::default())
@@ -268,6 +307,126 @@ impl SparseSpd {
     }
 }
 
+/// Subsets of at most this many unknowns are not dissected further.
+const ND_LEAF: usize = 64;
+
+impl SparseSpd {
+    /// Nested-dissection elimination order (old indices in elimination order) from coordinates
+    /// of the unknowns (e.g. mesh vertices): each subset is cut at the median of the coordinate
+    /// axis that gives the smallest separator, the unknowns of the lower half coupled to the
+    /// upper half (in the matrix graph), ordered after both halves (recursively). Straight cuts keep the
+    /// separators short on surface meshes; subsets of ≤ 64 unknowns keep the caller's order.
+    pub fn nested_dissection(&self, coords: &[[f64; 3]]) -> Result<Vec<usize>> {
+        if coords.len() != self.n {
+            return Err(Error::LengthMismatch {
+                what: "coordinates vs matrix size",
+                left: coords.len(),
+                right: self.n,
+            });
+        }
+        enum Task {
+            Split(Vec<usize>),
+            Emit(Vec<usize>),
+        }
+        let n = self.n;
+        let mut order = Vec::with_capacity(n);
+        // side[v]: the subset being split when v is in its upper half
+        let mut side = vec![usize::MAX; n];
+        let mut splits = 0usize;
+        let mut tasks = vec![Task::Split((0..n).collect())];
+        while let Some(task) = tasks.pop() {
+            let mut set = match task {
+                Task::Emit(set) => {
+                    order.extend(set);
+                    continue;
+                }
+                Task::Split(set) => set,
+            };
+            if set.len() <= ND_LEAF {
+                set.sort_unstable();
+                order.extend(set);
+                continue;
+            }
+            // the axis (of three) with the smallest separator: on a curved surface the longest
+            // axis may cut it obliquely
+            // cuts `set` at the median along `axis`, all unknowns with the median coordinate on
+            // one side (a grid line split between both would widen the separator); returns the
+            // size of the lower part
+            let cut = |set: &mut [usize], axis: usize| {
+                let half = set.len() / 2;
+                let key = |v: usize| coords[v][axis];
+                set.select_nth_unstable_by(half, |&a, &b| key(a).total_cmp(&key(b)));
+                let m = key(set[half]);
+                let (lower, upper) = set.split_at_mut(half);
+                let below = partition(lower, |v| key(v).total_cmp(&m).is_lt());
+                let equal_up = partition(upper, |v| key(v).total_cmp(&m).is_eq());
+                [below, half + equal_up]
+                    .into_iter()
+                    .filter(|&k| k > 0 && k < set.len())
+                    .min_by_key(|&k| k.abs_diff(half))
+                    .unwrap_or(half)
+            };
+            let mut best: Option<(usize, usize)> = None;
+            let mut half = 0;
+            for axis in 0..3 {
+                half = cut(&mut set, axis);
+                splits += 1;
+                for &v in &set[half..] {
+                    side[v] = splits;
+                }
+                let sep = set[..half]
+                    .iter()
+                    .filter(|&&v| {
+                        self.row_idx[self.col_ptr[v]..self.col_ptr[v + 1]]
+                            .iter()
+                            .any(|&w| side[w] == splits)
+                    })
+                    .count();
+                if best.is_none_or(|(_, s)| sep < s) {
+                    best = Some((axis, sep));
+                }
+            }
+            let (axis, _) = best.expect("three axes tried");
+            if axis != 2 {
+                // the last axis tried is in place; redo the best one
+                half = cut(&mut set, axis);
+                splits += 1;
+                for &v in &set[half..] {
+                    side[v] = splits;
+                }
+            }
+            let (mut a, mut sep) = (Vec::with_capacity(half), Vec::new());
+            for &v in &set[..half] {
+                let cols = &self.row_idx[self.col_ptr[v]..self.col_ptr[v + 1]];
+                if cols.iter().any(|&w| side[w] == splits) {
+                    sep.push(v);
+                } else {
+                    a.push(v);
+                }
+            }
+            let b = set[half..].to_vec();
+            drop(set);
+            tasks.push(Task::Emit(sep));
+            tasks.push(Task::Split(b));
+            tasks.push(Task::Split(a));
+        }
+        Ok(order)
+    }
+}
+
+/// Moves the entries satisfying `pred` to the front of `items` (in no particular order) and
+/// returns their count.
+fn partition(items: &mut [usize], pred: impl Fn(usize) -> bool) -> usize {
+    let mut k = 0;
+    for i in 0..items.len() {
+        if pred(items[i]) {
+            items.swap(i, k);
+            k += 1;
+        }
+    }
+    k
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -293,6 +452,7 @@ mod tests {
         solvers.extend([
             SpdSolver::Faer(FillOrdering::Natural),
             SpdSolver::Faer(FillOrdering::Amd),
+            SpdSolver::Faer(FillOrdering::NestedDissection),
         ]);
         for s in solvers {
             let x = a.solve(&rhs, s).unwrap();
@@ -304,6 +464,41 @@ mod tests {
                 }
             }
         }
+    }
+
+    #[cfg(feature = "faer")]
+    #[test]
+    fn nested_dissection_orders_and_solves() {
+        // the 5-point Laplacian of a 30 × 30 grid (Dirichlet), unknowns numbered row by row
+        let m = 30;
+        let n = m * m;
+        let mut t = Vec::new();
+        for a in 0..m {
+            for b in 0..m {
+                let i = a * m + b;
+                t.push((i, i, 4.0));
+                for (da, db) in [(1, 0), (0, 1)] {
+                    if a + da < m && b + db < m {
+                        let j = (a + da) * m + b + db;
+                        t.extend([(i, j, -1.0), (j, i, -1.0)]);
+                    }
+                }
+            }
+        }
+        let a = SparseSpd::from_triplets(n, &t).unwrap();
+        let coords: Vec<[f64; 3]> = (0..n)
+            .map(|i| [(i / m) as f64, (i % m) as f64, 0.0])
+            .collect();
+        let order = a.nested_dissection(&coords).unwrap();
+        let mut sorted = order.clone();
+        sorted.sort_unstable();
+        assert_eq!(sorted, (0..n).collect::<Vec<_>>());
+        let rhs = DMatrix::from_fn(n, 3, |i, j| ((i * 7 + j) % 11) as f64);
+        let x = a.solve_ordered(&rhs, &order).unwrap();
+        let y = a.solve(&rhs, SpdSolver::Faer(FillOrdering::Amd)).unwrap();
+        assert!((x - y).amax() < 1e-9);
+        assert!(a.nested_dissection(&coords[1..]).is_err());
+        assert!(a.solve_ordered(&rhs, &order[1..]).is_err());
     }
 
     #[test]
