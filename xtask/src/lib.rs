@@ -203,3 +203,62 @@ pub fn regress_line(name: &str, report: &hier_fair::FairModelReport) -> String {
 
 /// Header of [`regress_line`].
 pub const REGRESS_HEADER: &str = "model                        surf  met/links        gap     angle°   curv.rel  deviation   energy  seconds  probl";
+
+/// The fixture models followed by the third-party models of `external` (car_shell1.model.json,
+/// submarine_body.model.json, teapot.json; each skipped with a note when absent).
+pub fn regress_paths(external: &Path) -> Result<(Vec<PathBuf>, Vec<String>)> {
+    let mut paths = model_files()?;
+    let mut notes = Vec::new();
+    for name in [
+        "car_shell1.model.json",
+        "submarine_body.model.json",
+        "teapot.json",
+    ] {
+        let p = external.join(name);
+        if p.exists() {
+            paths.push(p);
+        } else {
+            notes.push(format!("{} not found: skipped", p.display()));
+        }
+    }
+    Ok((paths, notes))
+}
+
+/// Runs the framework on every regression model and returns one table (a line per model, its
+/// problems indented below) and whether every model could be run.
+pub fn regress_table(external: &Path) -> Result<(String, bool)> {
+    let (paths, notes) = regress_paths(external)?;
+    let mut out = String::new();
+    for n in notes {
+        out.push_str(&n);
+        out.push('\n');
+    }
+    out.push_str(REGRESS_HEADER);
+    out.push('\n');
+    let mut ok = true;
+    for path in paths {
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().to_string())
+            .unwrap_or_default();
+        match fair_file(&path) {
+            Ok((_, report)) => {
+                out.push_str(&regress_line(&name, &report));
+                out.push('\n');
+                for p in &report.problems {
+                    out.push_str(&format!(
+                        "    {} {}: {}\n",
+                        p.kind.name(),
+                        p.surface,
+                        p.message
+                    ));
+                }
+            }
+            Err(e) => {
+                ok = false;
+                out.push_str(&format!("{name:<28} error: {e:#}\n"));
+            }
+        }
+    }
+    Ok((out, ok))
+}

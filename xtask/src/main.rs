@@ -76,40 +76,9 @@ fn write_fixtures() -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Runs every fixture model and the external models; false when a run fails outright.
+/// Prints the regression table; false when a model cannot be run at all.
 fn regress(external: &std::path::Path) -> anyhow::Result<bool> {
-    let mut paths = xtask::model_files()?;
-    for name in [
-        "car_shell1.model.json",
-        "submarine_body.model.json",
-        "teapot.json",
-    ] {
-        let p = external.join(name);
-        if p.exists() {
-            paths.push(p);
-        } else {
-            eprintln!("{} not found: skipped", p.display());
-        }
-    }
-    println!("{}", xtask::REGRESS_HEADER);
-    let mut ok = true;
-    for path in paths {
-        let name = path
-            .file_name()
-            .map(|n| n.to_string_lossy().to_string())
-            .unwrap_or_default();
-        match xtask::fair_file(&path) {
-            Ok((_, report)) => {
-                println!("{}", xtask::regress_line(&name, &report));
-                for p in &report.problems {
-                    println!("    {} {}: {}", p.kind.name(), p.surface, p.message);
-                }
-            }
-            Err(e) => {
-                ok = false;
-                println!("{name:<28} error: {e:#}");
-            }
-        }
-    }
+    let (table, ok) = xtask::regress_table(external)?;
+    print!("{table}");
     Ok(ok)
 }
