@@ -20,7 +20,7 @@
 //! | `noisy_panel` | one 12×12 bicubic panel of 100×60 mm with seeded noise of 0.05 mm |
 
 use anyhow::Result;
-use nurbs_core::{BSplineSurface, ControlMask, FitParams, KnotVector, Point3, fit_surface};
+use nurbs_core::{BSplineSurface, KnotVector, Point3};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde_json::{Value, json};
@@ -51,24 +51,9 @@ fn lifted(
     }
 }
 
-/// Least-squares bicubic with `nu`×`nv` uniform control points through samples of `map` (exact
-/// when `map` is bicubic).
+/// Least-squares bicubic through samples of `map` (the framework's synthetic-model helper).
 pub fn fit_map(map: &dyn Fn(f64, f64) -> Point3, nu: usize, nv: usize) -> Result<BSplineSurface> {
-    let ku = KnotVector::clamped_uniform(3, nu)?;
-    let kv = KnotVector::clamped_uniform(3, nv)?;
-    let template = BSplineSurface::new(ku, kv, vec![Point3::origin(); nu * nv], None)?;
-    let (su, sv) = (3 * nu + 1, 3 * nv + 1);
-    let mut params = Vec::with_capacity(su * sv);
-    let mut points = Vec::with_capacity(su * sv);
-    for a in 0..su {
-        for b in 0..sv {
-            let (s, t) = (a as f64 / (su - 1) as f64, b as f64 / (sv - 1) as f64);
-            params.push((s, t));
-            points.push(map(s, t));
-        }
-    }
-    let mask = ControlMask::for_surface(&template);
-    Ok(fit_surface(&template, &mask, &params, &points, &FitParams::default())?.0)
+    Ok(hier_fair::synthetic::fit_map(map, nu, nv)?)
 }
 
 /// Adds `amplitude`·(uniform noise in [-1, 1]) to z of every control point at least `keep`

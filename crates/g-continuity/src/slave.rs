@@ -496,23 +496,9 @@ fn prepare(
     ] {
         let need =
             levels[side_index(a)].map_or(1, |l| l + 1) + levels[side_index(b)].map_or(1, |l| l + 1);
-        loop {
-            let (count, kv) = match dir {
-                Direction::U => (s.num_u(), s.knots_u()),
-                Direction::V => (s.num_v(), s.knots_v()),
-            };
-            if count >= need {
-                break;
-            }
-            let k = kv.knots();
-            let widest = kv
-                .spans()
-                .max_by(|&x, &y| (k[x + 1] - k[x]).total_cmp(&(k[y + 1] - k[y])))
-                .unwrap_or(kv.degree());
-            let mid = 0.5 * (k[widest] + k[widest + 1]);
-            s = s.insert_knot(dir, mid, 1)?;
-            report.knots_inserted += 1;
-        }
+        let (more, inserted) = s.with_control_count(dir, need)?;
+        s = more;
+        report.knots_inserted += inserted;
     }
     Ok(s)
 }

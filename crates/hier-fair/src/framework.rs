@@ -822,23 +822,9 @@ fn free_rows(
     ] {
         let need =
             fixed_rows(links, a, Continuity::G2) + fixed_rows(links, b, Continuity::G2) + min_free;
-        loop {
-            let (count, kv) = match dir {
-                Direction::U => (s.num_u(), s.knots_u()),
-                Direction::V => (s.num_v(), s.knots_v()),
-            };
-            if count >= need {
-                break;
-            }
-            let k = kv.knots();
-            let widest = kv
-                .spans()
-                .max_by(|&x, &y| (k[x + 1] - k[x]).total_cmp(&(k[y + 1] - k[y])))
-                .unwrap_or(kv.degree());
-            let mid = 0.5 * (k[widest] + k[widest + 1]);
-            s = s.insert_knot(dir, mid, 1)?;
-            inserted += 1;
-        }
+        let (more, k) = s.with_control_count(dir, need)?;
+        s = more;
+        inserted += k;
     }
     Ok((s, inserted))
 }

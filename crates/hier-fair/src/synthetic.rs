@@ -34,23 +34,36 @@ fn hash_noise(a: usize, b: usize, c: usize) -> f64 {
     (z >> 11) as f64 / (1u64 << 53) as f64 * 2.0 - 1.0
 }
 
-fn square(x0: f64, y0: f64, id: usize) -> Result<BSplineSurface> {
-    let n = 6;
-    let k = KnotVector::clamped_uniform(3, n)?;
-    let template = BSplineSurface::new(k.clone(), k, vec![Point3::origin(); n * n], None)?;
-    let m = 3 * n + 1;
-    let mut params = Vec::with_capacity(m * m);
-    let mut points = Vec::with_capacity(m * m);
-    for a in 0..m {
-        for b in 0..m {
-            let (s, t) = (a as f64 / (m - 1) as f64, b as f64 / (m - 1) as f64);
-            let (x, y) = (x0 + CELL * s, y0 + CELL * t);
+/// Least-squares bicubic with `nu`×`nv` uniform control points (clamped knots on [0, 1])
+/// through (3·n + 1)² samples of `map` over the unit square — exact when `map` is bicubic.
+pub fn fit_map(map: &dyn Fn(f64, f64) -> Point3, nu: usize, nv: usize) -> Result<BSplineSurface> {
+    let ku = KnotVector::clamped_uniform(3, nu)?;
+    let kv = KnotVector::clamped_uniform(3, nv)?;
+    let template = BSplineSurface::new(ku, kv, vec![Point3::origin(); nu * nv], None)?;
+    let (su, sv) = (3 * nu + 1, 3 * nv + 1);
+    let mut params = Vec::with_capacity(su * sv);
+    let mut points = Vec::with_capacity(su * sv);
+    for a in 0..su {
+        for b in 0..sv {
+            let (s, t) = (a as f64 / (su - 1) as f64, b as f64 / (sv - 1) as f64);
             params.push((s, t));
-            points.push(Point3::new(x, y, height(x, y)));
+            points.push(map(s, t));
         }
     }
     let mask = ControlMask::for_surface(&template);
-    let (mut s, _) = fit_surface(&template, &mask, &params, &points, &FitParams::default())?;
+    Ok(fit_surface(&template, &mask, &params, &points, &FitParams::default())?.0)
+}
+
+fn square(x0: f64, y0: f64, id: usize) -> Result<BSplineSurface> {
+    let n = 6;
+    let mut s = fit_map(
+        &|s, t| {
+            let (x, y) = (x0 + CELL * s, y0 + CELL * t);
+            Point3::new(x, y, height(x, y))
+        },
+        n,
+        n,
+    )?;
     for i in 2..n - 2 {
         for j in 2..n - 2 {
             let idx = s.index(i, j);

@@ -167,6 +167,31 @@ impl BSplineSurface {
             .map_polygons(Direction::V, |kv, pw| knot_ops::extract(kv, pw, v0, v1))
     }
 
+    /// Inserts knots in direction `dir` — each at the middle of the widest knot span, the last
+    /// such span on ties — until there are at least `count` control points; the surface is
+    /// unchanged. Returns it and the number of knots inserted.
+    pub fn with_control_count(&self, dir: Direction, count: usize) -> Result<(Self, usize)> {
+        let mut s = self.clone();
+        let mut inserted = 0;
+        loop {
+            let (n, kv) = match dir {
+                Direction::U => (s.num_u(), s.knots_u()),
+                Direction::V => (s.num_v(), s.knots_v()),
+            };
+            if n >= count {
+                return Ok((s, inserted));
+            }
+            let k = kv.knots();
+            let widest = kv
+                .spans()
+                .max_by(|&x, &y| (k[x + 1] - k[x]).total_cmp(&(k[y + 1] - k[y])))
+                .unwrap_or(kv.degree());
+            let mid = 0.5 * (k[widest] + k[widest + 1]);
+            s = s.insert_knot(dir, mid, 1)?;
+            inserted += 1;
+        }
+    }
+
     /// The same surface with direction `dir` reversed: S'(u, v) = S(a + b − u, v) for
     /// `Direction::U` on the domain [a, b] (knots k'_i = a + b − k_{m−i}, control rows reversed).
     pub fn reversed(&self, dir: Direction) -> Result<Self> {

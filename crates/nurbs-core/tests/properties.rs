@@ -110,6 +110,16 @@ proptest! {
     }
 
     #[test]
+    fn knots_up_to_a_control_count_keep_the_surface(seed in 0u64..10_000, extra in 0usize..6) {
+        let s = random_surface(seed, 1..=5, 9, false);
+        let want = s.num_v() + extra;
+        let (more, inserted) = s.with_control_count(Direction::V, want).unwrap();
+        prop_assert_eq!(more.num_v(), want);
+        prop_assert_eq!(inserted, extra);
+        prop_assert!(max_gap(&s, &more, 23) < 1e-12);
+    }
+
+    #[test]
     fn removing_an_inserted_knot_gives_back_the_original(seed in 0u64..10_000, rational in any::<bool>(), t in 0.01f64..0.99) {
         let s = random_surface(seed, 1..=5, 9, rational);
         prop_assume!(s.knots_v().multiplicity(t) == 0);
