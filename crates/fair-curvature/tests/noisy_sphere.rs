@@ -68,3 +68,12 @@ fn target_curvature_reduces_mean_curvature_variance_less() {
     let free = check(&m, None);
     assert!(free > 1.0, "{free}");
 }
+
+/// The acceptance point itself (issue 5): target-curvature fairing should reduce the variance of
+/// the mean curvature ≥ 10× within the tolerance. Not reached yet (2.2× with the frame fixed).
+#[test]
+#[ignore = "open (issue 5): target-curvature fairing reaches 2.2×, not 10× — the integrated isocurves drift"]
+fn target_curvature_reduces_mean_curvature_variance_tenfold() {
+    let m = TargetCurvatureFairing::default();
+    assert!(check(&m, Some(Frame::Tangential)) >= 10.0);
+}
