@@ -110,13 +110,7 @@ pub fn fair_curve(
             expected: "≥ 1",
         });
     }
-    if !(params.pull_tolerance_fraction > 0.0 && params.pull_tolerance_fraction <= 1.0) {
-        return Err(CurvatureError::InvalidParameter {
-            name: "pull_tolerance_fraction",
-            value: params.pull_tolerance_fraction,
-            expected: "in (0, 1]",
-        });
-    }
+    crate::error::check_fraction("pull_tolerance_fraction", params.pull_tolerance_fraction)?;
     let n = curve.control_points().len();
     if free.len() != n {
         return Err(CurvatureError::MaskLength {

@@ -92,3 +92,16 @@ pub(crate) fn check_param(
         })
     }
 }
+
+/// Checks that a named fraction lies in (0, 1] (and is finite).
+pub(crate) fn check_fraction(name: &'static str, value: f64) -> Result<()> {
+    if value.is_finite() && value > 0.0 && value <= 1.0 {
+        Ok(())
+    } else {
+        Err(CurvatureError::InvalidParameter {
+            name,
+            value,
+            expected: "in (0, 1]",
+        })
+    }
+}

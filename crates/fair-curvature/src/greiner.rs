@@ -37,7 +37,7 @@ use nurbs_core::{
     SurfaceFairing, Vector3,
 };
 
-use crate::error::{CurvatureError, Result, check_param, check_tolerance};
+use crate::error::{Result, check_fraction, check_param, check_tolerance};
 use crate::hessian::SampleGeometry;
 use crate::normal::{NormalSystem, apply, limit_to_tolerance, max_norm};
 use crate::sampling::{Sampling, trapezoid_weights};
@@ -96,20 +96,7 @@ impl Default for GreinerParams {
 impl GreinerParams {
     fn check(&self) -> Result<()> {
         self.sampling.check()?;
-        check_param(
-            "smoothing_weight",
-            self.smoothing_weight,
-            0.0,
-            true,
-            "in (0, 1]",
-        )?;
-        if self.smoothing_weight > 1.0 {
-            return Err(CurvatureError::InvalidParameter {
-                name: "smoothing_weight",
-                value: self.smoothing_weight,
-                expected: "in (0, 1]",
-            });
-        }
+        check_fraction("smoothing_weight", self.smoothing_weight)?;
         check_param(
             "deviation_weight",
             self.deviation_weight,

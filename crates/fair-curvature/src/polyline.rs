@@ -36,7 +36,7 @@
 
 use nurbs_core::{Point3, Vector3};
 
-use crate::error::{CurvatureError, Result, check_param, check_tolerance};
+use crate::error::{CurvatureError, Result, check_fraction, check_param, check_tolerance};
 
 /// Chord length, relative to the polyline's length, below which the polyline counts as collapsed
 /// (a pole of the surface): its turning angles are meaningless there.
@@ -80,20 +80,7 @@ impl Default for PolylineParams {
 
 impl PolylineParams {
     pub(crate) fn check(&self) -> Result<()> {
-        check_param(
-            "smoothing_weight",
-            self.smoothing_weight,
-            0.0,
-            true,
-            "in (0, 1]",
-        )?;
-        if self.smoothing_weight > 1.0 {
-            return Err(CurvatureError::InvalidParameter {
-                name: "smoothing_weight",
-                value: self.smoothing_weight,
-                expected: "in (0, 1]",
-            });
-        }
+        check_fraction("smoothing_weight", self.smoothing_weight)?;
         if !(self.pull.is_finite() && (0.0..=1.0).contains(&self.pull)) {
             return Err(CurvatureError::InvalidParameter {
                 name: "pull",

@@ -26,7 +26,7 @@ use nurbs_core::{
     SurfaceFairing,
 };
 
-use crate::error::{CurvatureError, Result, check_param, check_tolerance};
+use crate::error::{Result, check_fraction, check_param, check_tolerance};
 use crate::normal::{NormalSystem, apply, limit_to_tolerance, max_norm};
 use crate::polyline::{EndCurvature, PolylineParams, fair_polyline};
 use crate::sampling::Sampling;
@@ -65,20 +65,7 @@ impl TargetCurvatureParams {
     fn check(&self) -> Result<()> {
         self.sampling.check()?;
         self.curve.check()?;
-        check_param(
-            "pull_tolerance_fraction",
-            self.pull_tolerance_fraction,
-            0.0,
-            true,
-            "in (0, 1]",
-        )?;
-        if self.pull_tolerance_fraction > 1.0 {
-            return Err(CurvatureError::InvalidParameter {
-                name: "pull_tolerance_fraction",
-                value: self.pull_tolerance_fraction,
-                expected: "in (0, 1]",
-            });
-        }
+        check_fraction("pull_tolerance_fraction", self.pull_tolerance_fraction)?;
         check_param(
             "fit_regularization",
             self.fit_regularization,
