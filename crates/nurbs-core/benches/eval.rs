@@ -85,8 +85,12 @@ fn grid(c: &mut Criterion) {
     g.bench_function("second_derivatives", |b| {
         b.iter(|| s.eval_grid_into(&us, &vs, GridOrder::Second, &mut derivs, |d| *d))
     });
-    let mut curv = Vec::new();
+    let mut batched = Vec::new();
     g.bench_function("normal_and_principal_curvatures", |b| {
+        b.iter(|| s.eval_grid_curvatures_into(&us, &vs, &mut batched))
+    });
+    let mut curv = Vec::new();
+    g.bench_function("normal_and_principal_curvatures_pointwise", |b| {
         b.iter(|| s.eval_grid_into(&us, &vs, GridOrder::Second, &mut curv, curvature_sample))
     });
     g.bench_function("par_second_derivatives_all_threads", |b| {
@@ -107,7 +111,7 @@ fn grid(c: &mut Criterion) {
             })
         })
     });
-    black_box((&points, &derivs, &curv));
+    black_box((&points, &derivs, &curv, &batched));
     g.finish();
 }
 

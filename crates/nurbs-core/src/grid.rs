@@ -68,7 +68,7 @@ impl DirectionBasis {
 }
 
 /// Everything a grid row needs, shared by all rows.
-struct GridPlan<'a> {
+pub(crate) struct GridPlan<'a> {
     surface: &'a BSplineSurface,
     homogeneous: Vec<[f64; 4]>,
     bu: DirectionBasis,
@@ -77,7 +77,12 @@ struct GridPlan<'a> {
 }
 
 impl<'a> GridPlan<'a> {
-    fn new(surface: &'a BSplineSurface, us: &[f64], vs: &[f64], order: GridOrder) -> Self {
+    pub(crate) fn new(
+        surface: &'a BSplineSurface,
+        us: &[f64],
+        vs: &[f64],
+        order: GridOrder,
+    ) -> Self {
         let order = order.order();
         Self {
             surface,
@@ -89,7 +94,7 @@ impl<'a> GridPlan<'a> {
     }
 
     /// Contracts the net in u for grid row `a`: `rows[k * n_v + j]` = R^{(k)}_j.
-    fn contract_row(&self, a: usize, rows: &mut [[f64; 4]]) {
+    pub(crate) fn contract_row(&self, a: usize, rows: &mut [[f64; 4]]) {
         let s = self.surface;
         let (p, nv) = (s.degree_u(), s.num_v());
         let span = self.bu.spans[a];
@@ -112,7 +117,7 @@ impl<'a> GridPlan<'a> {
 
     /// Evaluates every column of a contracted row, the degree dispatched once per row.
     #[inline]
-    fn for_row(&self, rows: &[[f64; 4]], mut g: impl FnMut(usize, &SurfaceDerivatives)) {
+    pub(crate) fn for_row(&self, rows: &[[f64; 4]], mut g: impl FnMut(usize, &SurfaceDerivatives)) {
         let n = self.bv.spans.len();
         macro_rules! run {
             ($kernel:expr) => {
@@ -246,7 +251,7 @@ impl<'a> GridPlan<'a> {
         quotient_rule(&a, s.is_rational())
     }
 
-    fn row_scratch(&self) -> Vec<[f64; 4]> {
+    pub(crate) fn row_scratch(&self) -> Vec<[f64; 4]> {
         vec![[0.0; 4]; (self.order + 1) * self.surface.num_v()]
     }
 }

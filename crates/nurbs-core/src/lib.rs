@@ -20,6 +20,7 @@ pub mod fit;
 pub mod frames;
 pub mod gram;
 pub mod grid;
+pub mod grid_curvature;
 pub mod homogeneous;
 #[cfg(feature = "serde")]
 pub mod io;
@@ -51,6 +52,7 @@ pub use fit::{FitParams, FitReport, fit_curve, fit_surface};
 pub use frames::{Continuity, ControlMask, Frame, Side};
 pub use gram::{BandedMatrix, ThinPlateGram, gram_matrix};
 pub use grid::GridOrder;
+pub use grid_curvature::GridCurvature;
 pub use knots::KnotVector;
 pub use mesh::TriMesh;
 pub use ops::Direction;
