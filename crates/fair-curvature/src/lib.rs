@@ -4,10 +4,11 @@
 //! implementations that move only the control points a [`nurbs_core::ControlMask`] frees
 //! (fixed frames come back bit-identical) and stay within the deviation tolerance:
 //!
-//! - [`TargetCurvatureFairing`] (`curvature`, [SV] §5.2 after [SSV08]): isocurves of a sample
-//!   grid are faired by smoothing their curvature and integrating it from both ends with a soft
-//!   pull towards the original ([`polyline`]), averaged, and refitted by constrained least
-//!   squares ([`target`]); curves by [`fair_curve`] ([`curve`]).
+//! - [`TargetCurvatureFairing`] (`curvature`, [SV] §5.2 after [SSV08]): the curvature of the
+//!   isocurves of a sample grid is smoothed ([`polyline`]), the samples follow it in one
+//!   least-squares integration from both ends with a soft pull towards the original
+//!   (`integrate`), and the surface is refitted by constrained least squares ([`target`]);
+//!   curves by [`fair_curve`] ([`curve`]).
 //! - [`GreinerFairing`] (`greiner`, [SV] §5.3 after [G96]): the Hessian of the faired
 //!   surface's coordinates on the original as reference surface is linear in the control points
 //!   ([`hessian`]); it is fitted to smoothed curvature targets in sparse least squares
@@ -20,6 +21,7 @@ pub mod curve;
 pub mod error;
 pub mod greiner;
 pub mod hessian;
+mod integrate;
 mod normal;
 pub mod polyline;
 pub mod sampling;

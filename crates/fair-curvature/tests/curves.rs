@@ -58,8 +58,9 @@ fn noisy_arc_gets_fairer_within_tolerance_with_ends_fixed() {
     let (out, report) = fair_curve(&c, &free, tol, &CurveParams::default()).unwrap();
     let (before, after) = (curvature_spread(&c), curvature_spread(&out));
     println!("curvature spread {before:.4} -> {after:.4}, {report:?}");
-    // measured 0.969 -> 0.745 with the defaults: target-curvature fairing is a weak smoother
-    assert!(after < 0.85 * before, "{after} vs {before}");
+    // measured 0.969 -> 0.624 with the defaults (the alternating wave sits on control points
+    // next to the fixed ends, whose curvature is kept)
+    assert!(after < 0.7 * before, "{after} vs {before}");
     for k in 0..n {
         let (a, b) = (c.control_points()[k], out.control_points()[k]);
         if free[k] {
