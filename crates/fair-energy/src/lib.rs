@@ -10,9 +10,15 @@
 //! around its original. [`global`] minimizes Π + w Σ |d − d_orig|² over all free points with a sparse
 //! Cholesky factorization and then clamps to ε.
 //!
-//! Entry points: [`fair_surface`], [`fair_curve`], [`fair_surface_global`] and the
-//! [`nurbs_core::SurfaceFairing`] methods [`LocalEnergyFairing`] (`energy`) and
-//! [`GlobalEnergyFairing`] (`energy-global`).
+//! Bézier-spline surfaces (interior knots of full multiplicity, [H] part ②): [`bezier`] runs the
+//! seed's flow — remove the knots that are C¹ already, fair with the jump-weighted functional,
+//! then project the joints to exact C¹ inside the ε-balls ([`C1_JUMP_REL`]) and optionally remove
+//! those knots too.
+//!
+//! Entry points: [`fair_surface`], [`fair_curve`], [`fair_surface_global`],
+//! [`fair_bezier_spline`] and the [`nurbs_core::SurfaceFairing`] methods [`LocalEnergyFairing`]
+//! (`energy`), [`GlobalEnergyFairing`] (`energy-global`) and [`BezierSplineFairing`]
+//! (`energy-bezier`).
 
 pub mod error;
 pub mod local;
@@ -23,9 +29,18 @@ pub use error::{EnergyError, Result};
 pub use local::{LocalOutcome, StopReason};
 pub use stiffness::SeparableStiffness;
 pub use surface::{EnergyParams, EnergyReport, LOCAL_METHOD, LocalEnergyFairing, fair_surface};
+pub mod bezier;
+pub mod c1_finish;
 pub mod curve;
 pub mod global;
+pub mod joints;
 mod ordering;
+
+pub use bezier::{
+    BEZIER_METHOD, BezierSplineFairing, BezierSplineParams, BezierSplineReport, JointGap,
+    KnotRemoval, fair_bezier_spline,
+};
+pub use joints::C1_JUMP_REL;
 
 pub use curve::{CurveEnergyParams, fair_curve};
 pub use global::{

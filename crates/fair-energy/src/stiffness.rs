@@ -15,9 +15,10 @@
 //! [H] sums the squared jumps at the v-knots; we integrate them over v (the V⁰⁰ Gram matrix), which
 //! does not depend on where knots happen to lie and keeps Φ separable.
 
-use nurbs_core::{BandedMatrix, BasisEvaluator, KnotVector, Point3, Vector3, gram_matrix};
+use nurbs_core::{BandedMatrix, KnotVector, Point3, Vector3, gram_matrix};
 
 use crate::error::{EnergyError, Result};
+use crate::joints::knot_joints;
 
 /// A square band matrix stored row by row: entry (i, k) at `i·(2w + 1) + k + w − i`.
 #[derive(Debug, Clone, PartialEq)]
@@ -91,53 +92,26 @@ pub struct SeparableStiffness {
 }
 
 /// The jump matrix Σ_i c cᵀ over the interior knots of full multiplicity (= degree), with
-/// c_k = N_k'(u_i⁻) − N_k'(u_i⁺); `None` when there is no such knot.
+/// c_k = N_k'(u_i⁻) − N_k'(u_i⁺) non-zero for k = j − 1, j, j + 1 only ([`crate::joints`]);
+/// `None` when there is no such knot.
 fn joint_jumps(knots: &KnotVector) -> Option<Band> {
-    let p = knots.degree();
-    let t = knots.knots();
-    let n = knots.num_basis();
-    let joints: Vec<f64> = knots
-        .interior_knots()
-        .into_iter()
-        .filter(|&(_, m)| m == p)
-        .map(|(x, _)| x)
-        .collect();
+    let joints = knot_joints(knots);
     if joints.is_empty() {
         return None;
     }
-    let mut eval = BasisEvaluator::new(p);
-    let mut left = vec![0.0; 2 * (p + 1)];
-    let mut right = vec![0.0; 2 * (p + 1)];
-    // (first index, c) per joint; c runs over the 2p + 1 functions touching the joint
-    let mut jumps: Vec<(usize, Vec<f64>)> = Vec::with_capacity(joints.len());
-    for x in joints {
-        let a = t.iter().position(|&k| k == x)?;
-        let (span_l, span_r) = (a - 1, a + p - 1);
-        eval.derivatives(t, span_l, x, 1, &mut left);
-        eval.derivatives(t, span_r, x, 1, &mut right);
-        let lo = span_l - p;
-        let mut c = vec![0.0; span_r - lo + 1];
-        for r in 0..=p {
-            c[r] += left[p + 1 + r];
-            c[span_r - p + r - lo] -= right[p + 1 + r];
-        }
-        jumps.push((lo, c));
-    }
-    let spread = |c: &[f64]| {
-        let nz: Vec<usize> = (0..c.len()).filter(|&k| c[k] != 0.0).collect();
-        nz.last().zip(nz.first()).map_or(0, |(b, a)| b - a)
-    };
-    let w = jumps.iter().map(|(_, c)| spread(c)).max().unwrap_or(0);
+    let n = knots.num_basis();
+    let w = 2;
     let mut band = Band {
         n,
         w,
         data: vec![0.0; n * (2 * w + 1)],
     };
-    for (lo, c) in &jumps {
-        for (a, &ca) in c.iter().enumerate() {
-            for (b, &cb) in c.iter().enumerate() {
-                if ca != 0.0 && cb != 0.0 && lo + a < n && lo + b < n {
-                    let (i, k) = (lo + a, lo + b);
+    for joint in &joints {
+        let lo = joint.index - 1;
+        for (a, &ca) in joint.c.iter().enumerate() {
+            for (b, &cb) in joint.c.iter().enumerate() {
+                let (i, k) = (lo + a, lo + b);
+                if i < n && k < n {
                     band.data[i * (2 * w + 1) + k + w - i] += ca * cb;
                 }
             }

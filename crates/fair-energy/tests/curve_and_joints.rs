@@ -2,10 +2,10 @@
 
 mod common;
 
-use common::assert_mask_and_tolerance;
+use common::{assert_mask_and_tolerance, c0_joined};
 use fair_energy::{CurveEnergyParams, EnergyParams, SeparableStiffness, fair_curve, fair_surface};
 use nurbs_core::testing::{assert_close, random_curve, rng};
-use nurbs_core::{BSplineSurface, ControlMask, Direction, Frame, KnotVector, Point3};
+use nurbs_core::{BSplineSurface, ControlMask, Frame, KnotVector, Point3};
 use rand::Rng;
 
 fn bending(curve: &nurbs_core::BSplineCurve, third: f64) -> f64 {
@@ -106,46 +106,6 @@ fn noisy_curve_loses_ninety_percent_of_its_excess_energy() {
         );
         assert_close(report.energy_after, e_out, 1e-9 * e_out, "reported energy");
     }
-}
-
-/// A bicubic made of C0-joined Bézier patches: a smooth surface with the knots 1/3 and 2/3 raised
-/// to full multiplicity in both directions, then the joint rows displaced so that the cross
-/// derivatives jump there.
-fn c0_joined() -> (BSplineSurface, Vec<usize>, Vec<usize>) {
-    let k = KnotVector::clamped_uniform(3, 6).expect("knots");
-    let mut r = rng(4);
-    let points = (0..36)
-        .map(|q| {
-            let (u, v) = ((q / 6) as f64 / 5.0, (q % 6) as f64 / 5.0);
-            Point3::new(
-                u,
-                v,
-                0.2 * (u * 3.0).sin() * v + r.random_range(-0.002..0.002),
-            )
-        })
-        .collect();
-    let s = BSplineSurface::new(k.clone(), k, points, None).expect("surface");
-    let (a, b) = (s.knots_u().knots()[4], s.knots_u().knots()[5]);
-    let s = s
-        .insert_knot(Direction::U, a, 2)
-        .and_then(|s| s.insert_knot(Direction::U, b, 2))
-        .expect("insert u");
-    let s = s
-        .insert_knot(Direction::V, a, 2)
-        .and_then(|s| s.insert_knot(Direction::V, b, 2))
-        .expect("insert v");
-    let mut s = s;
-    let nv = s.num_v();
-    // the joint rows are the points where the patches meet: index 3 and 6
-    let joints = vec![3, 6];
-    for q in 0..s.control_points().len() {
-        let (i, j) = (q / nv, q % nv);
-        let interior = i > 0 && j > 0 && i + 1 < s.num_u() && j + 1 < nv;
-        if interior && (joints.contains(&i) || joints.contains(&j)) {
-            s.control_points_mut()[q].z += 0.03;
-        }
-    }
-    (s, joints.clone(), joints)
 }
 
 /// Largest |X_u(u⁻) − X_u(u⁺)| over samples along the u-joints (and likewise in v).
