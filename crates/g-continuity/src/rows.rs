@@ -33,10 +33,12 @@
 //! spline space (its tangential directions are determined only through the variation of n_k).
 
 use nalgebra::DMatrix;
-use nurbs_core::{BSplineSurface, Continuity, Side, Vector3};
+use nurbs_core::{BSplineSurface, BandedQr, Continuity, Side, Vector3};
 
 use crate::error::{Error, Result};
-use crate::lsq::{solve_least_squares, solve_min_norm};
+use crate::lsq::{
+    SINGULAR_RELATIVE, banded_factor, banded_solve_with, solve_least_squares, solve_min_norm,
+};
 use crate::measure::cross_derivative;
 use crate::params::{G2Method, SetParams};
 use crate::sampling::{MasterTracker, SideBasis, solve_side_params};
@@ -56,10 +58,13 @@ pub const G1_TANGENTIAL_WEIGHT: f64 = 1e-2;
 /// the change Σ_j M_j(t_k) d_j is to be the normal vector β_k n_k, a well-conditioned fit.
 pub const G2_TANGENTIAL_WEIGHT: f64 = 1.0;
 
-/// Factors applied to [`SetParams::g2_tangential_weight`] in turn after the first G2 solve, down
-/// to 0 (the scalar condition alone, minimum-norm): each lets the tangential components help the
-/// scalar condition more, with less and less conditioning.
-pub const G2_WEIGHT_LADDER: [f64; 6] = [1e-1, 1e-2, 1e-3, 1e-4, 1e-6, 0.0];
+/// Factors applied to [`SetParams::g2_tangential_weight`] after the first G2 solve, from the
+/// heaviest to the lightest: each lets the tangential components help the scalar condition more,
+/// with less conditioning. The lightest, 1e-8, stands for the scalar condition alone: its
+/// remaining scalar residual is of order weight² (1e-16) times the tangential change, and among
+/// the solutions of the scalar rows it picks the one with the least tangential change (where
+/// the scalar rows leave directions free, as the minimum-norm solution would, but without an SVD).
+pub const G2_WEIGHT_LADDER: [f64; 6] = [1e-1, 1e-2, 1e-3, 1e-4, 1e-6, 1e-8];
 
 /// Default of [`SetParams::g2_move_factor`]: a lighter-weighted G2 solution is accepted only while
 /// no point moves more than this factor times the largest move of the first (weight 1) solution.
@@ -419,10 +424,15 @@ fn reduce(a: DMatrix<f64>, b: DMatrix<f64>) -> (DMatrix<f64>, DMatrix<f64>) {
 /// tangential moves of 10–1000 times the needed correction: millimetres of movement for a
 /// 0.03 mm curvature correction, the surface wrecked while G2 looks met. So the solve starts with
 /// the paper's well-conditioned system (weight 1: change β_k n_k, minimal deviation) and then
-/// relaxes the tangential rows along [`G2_WEIGHT_LADDER`], keeping the last solution whose largest
-/// move stays within `move_factor` times the first one's. Where an exact join exists with
-/// comparable moves (the same spline space on both sides) this reaches it; where it does not, the
-/// remaining error is left to knot insertion, which adds real freedom.
+/// takes the lightest weight of [`G2_WEIGHT_LADDER`] whose largest move stays within
+/// `move_factor` times the first one's (tried from the lightest up; the weight-1 solution when
+/// none does). Where an exact join exists with comparable moves (the same spline space on both
+/// sides) this reaches it; where it does not, the remaining error is left to knot insertion,
+/// which adds real freedom.
+///
+/// Both blocks are banded (a sample touches the q + 1 control points of its span): they are
+/// reduced once to banded triangular factors R1, R2 by Givens QR, and each weight costs one
+/// banded QR of [R1; w R2]. Systems that are not banded take the dense Householder path.
 fn solve_g2_ladder(
     a: DMatrix<f64>,
     b: &DMatrix<f64>,
@@ -430,32 +440,83 @@ fn solve_g2_ladder(
     move_factor: f64,
 ) -> std::result::Result<DMatrix<f64>, String> {
     let n = a.ncols();
-    let tangential = a.rows(rows, a.nrows() - rows).into_owned();
-    let (r1, c1) = reduce(a.rows(0, rows).into_owned(), b.rows(0, rows).into_owned());
-    let (r2, _) = reduce(tangential, DMatrix::zeros(a.nrows() - rows, 1));
-    let stacked = |w: f64| -> (DMatrix<f64>, DMatrix<f64>) {
+    let tangential = a.rows(rows, a.nrows() - rows);
+    let scalar = a.rows(0, rows);
+    let rhs = b.rows(0, rows);
+    let zeros = DMatrix::zeros(tangential.nrows(), 1);
+    if let (Some(f1), Some(f2)) = (
+        banded_factor(&scalar, &rhs),
+        banded_factor(&tangential, &zeros.as_view()),
+    ) {
+        let width = f1.width().max(f2.width());
+        return ladder(move_factor, |w| {
+            let mut qr = BandedQr::new(n, width, 1);
+            let mut scaled = vec![0.0; width];
+            for (i, row, rhs) in f1.rows() {
+                let len = row.len().min(n - i);
+                qr.add_row(i, &row[..len], rhs).map_err(|e| e.to_string())?;
+            }
+            for (i, row, _) in f2.rows() {
+                let len = row.len().min(n - i);
+                for (s, r) in scaled.iter_mut().zip(&row[..len]) {
+                    *s = w * r;
+                }
+                qr.add_row(i, &scaled[..len], &[0.0])
+                    .map_err(|e| e.to_string())?;
+            }
+            // [R1; w R2] has full rank for w > 0 (R2 does): only round-off pivots are refused
+            match banded_solve_with(&qr, SINGULAR_RELATIVE) {
+                Some(x) => Ok(x),
+                None => solve_min_norm(dense_r(&qr), &dense_qtb(&qr)),
+            }
+        });
+    }
+    let (r1, c1) = reduce(scalar.into_owned(), rhs.into_owned());
+    let (r2, _) = reduce(tangential.into_owned(), zeros);
+    ladder(move_factor, |w| {
         let (n1, n2) = (r1.nrows(), r2.nrows());
         let mut m = DMatrix::zeros(n1 + n2, n);
         m.rows_mut(0, n1).copy_from(&r1);
         m.rows_mut(n1, n2).copy_from(&(&r2 * w));
         let mut rhs = DMatrix::zeros(n1 + n2, 1);
         rhs.rows_mut(0, n1).copy_from(&c1);
-        (m, rhs)
-    };
-    let (m, rhs) = stacked(1.0);
-    let mut best = solve_least_squares(m, &rhs)?;
-    let limit = move_factor * largest_point_move(&best);
-    for &w in &G2_WEIGHT_LADDER {
-        let x = if w > 0.0 {
-            let (m, rhs) = stacked(w);
-            solve_least_squares(m, &rhs)?
-        } else {
-            solve_min_norm(r1.clone(), &c1)?
-        };
-        if !(largest_point_move(&x) <= limit) {
-            break;
+        solve_least_squares(m, &rhs)
+    })
+}
+
+/// The weight search of [`solve_g2_ladder`] over a solve for a given tangential weight.
+fn ladder(
+    move_factor: f64,
+    mut solve: impl FnMut(f64) -> std::result::Result<DMatrix<f64>, String>,
+) -> std::result::Result<DMatrix<f64>, String> {
+    let first = solve(1.0)?;
+    let limit = move_factor * largest_point_move(&first);
+    for &w in G2_WEIGHT_LADDER.iter().rev() {
+        let x = solve(w)?;
+        if largest_point_move(&x) <= limit {
+            return Ok(x);
         }
-        best = x;
     }
-    Ok(best)
+    Ok(first)
+}
+
+/// R of a banded factor as a dense n × n matrix (rows never filled are zero).
+fn dense_r(f: &BandedQr) -> DMatrix<f64> {
+    let n = f.unknowns();
+    let mut r = DMatrix::zeros(n, n);
+    for (i, row, _) in f.rows() {
+        for (t, v) in row.iter().enumerate().take(n - i) {
+            r[(i, i + t)] = *v;
+        }
+    }
+    r
+}
+
+/// Qᵀb of a banded factor (one right-hand side) as a dense n × 1 matrix.
+fn dense_qtb(f: &BandedQr) -> DMatrix<f64> {
+    let mut c = DMatrix::zeros(f.unknowns(), 1);
+    for (i, _, rhs) in f.rows() {
+        c[(i, 0)] = rhs[0];
+    }
+    c
 }

@@ -150,6 +150,20 @@ pub enum Error {
         /// second length
         right: usize,
     },
+    /// A row of a banded system that does not fit its window.
+    #[error(
+        "banded row at column {start} with {len} values exceeds the width {width} or the {unknowns} unknowns"
+    )]
+    BandOverflow {
+        /// first column of the row
+        start: usize,
+        /// number of values
+        len: usize,
+        /// the system's band width
+        width: usize,
+        /// the system's number of unknowns
+        unknowns: usize,
+    },
     /// A linear system without a unique solution.
     #[error("singular system: {reason}")]
     SingularSystem {

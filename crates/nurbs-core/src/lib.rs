@@ -10,6 +10,7 @@
 //! are clamped by evaluators; normals are S_u × S_v normalized and curvatures are signed with
 //! respect to them.
 
+pub mod banded;
 pub mod basis;
 pub mod curve;
 pub mod diffgeom;
@@ -43,6 +44,7 @@ pub type Point3 = nalgebra::Point3<f64>;
 /// A vector in 3D (f64).
 pub type Vector3 = nalgebra::Vector3<f64>;
 
+pub use banded::BandedQr;
 pub use basis::BasisEvaluator;
 pub use curve::{BSplineCurve, CurveDerivatives};
 pub use diffgeom::{CurvatureValues, FundamentalForms, PrincipalCurvatures};
