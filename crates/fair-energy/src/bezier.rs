@@ -6,7 +6,10 @@
 //! 2. where it is C¹, remove the knot once (exact: nurbs-core's knot removal with a round-off
 //!    tolerance, [NB] A5.8) — optional, see [`KnotRemoval`];
 //! 3. fair with Φ = (1 − λ) Π + λ Σ (cross-derivative jumps at the remaining joints)²
-//!    ([`crate::stiffness`], the local scheme of [`crate::local`]);
+//!    ([`crate::stiffness`], the local scheme of [`crate::local`]) within ε − m, where m is the
+//!    largest move of the smallest C¹ correction of the input (reserved for step 4, at most
+//!    [`JOINT_RESERVE_MAX`] ε; without the reserve the fairing fills the ε-balls and the finish
+//!    has no room left — a noisy or curved surface then kept its kinks);
 //! 4. finish: project the free points minimally so that every joint is exactly C¹ inside the
 //!    ε-balls ([`crate::c1_finish`]); joints that ε does not allow to close are reported with their
 //!    remaining jump, never hidden;
@@ -218,6 +221,10 @@ fn largest_jump(surface: &BSplineSurface) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// Largest share of ε reserved for the C¹ finish (see [`fair_bezier_spline`]); a larger
+/// correction means the joints cannot be closed within ε anyway, and the fairing gets all of ε.
+pub const JOINT_RESERVE_MAX: f64 = 0.9;
+
 /// Fairs a Bézier-spline surface and makes its joints C¹ (module docs), moving only points `mask`
 /// frees, each within `tolerance` (model units) of its original. Returns the surface, its mask
 /// (the input mask without removed rows) and the report.
@@ -245,11 +252,37 @@ pub fn fair_bezier_spline(
     // 2. exact removal of the joints that are C¹ already
     let knots_removed_before = net.remove_c1_joints(params.initial_removal)?;
     // 3. fairing with Φ; the origin of the ε-balls is the (bit-identical) kept input points
+    // with part of ε reserved for the joints: the smallest C¹ correction of the input, m, is
+    // about what the finish will need (the λ-terms shrink the jumps while fairing), so the
+    // fairing stays within ε − m and does not use up the balls the finish has to move in
     let origin = net.surface.clone();
-    let (mut faired, fairing) = fair_surface(&origin, &net.mask, tolerance, &params.energy)?;
-    // 4. the C¹ finish
     let (nu, nv) = (origin.num_u(), origin.num_v());
     let joints_left = surface_joints(&origin);
+    let reserve = {
+        let mut trial = origin.clone();
+        project_to_c1(
+            &joints_left,
+            trial.control_points_mut(),
+            origin.control_points(),
+            net.mask.as_slice(),
+            (nu, nv),
+            tolerance,
+        )?;
+        let m = trial
+            .control_points()
+            .iter()
+            .zip(origin.control_points())
+            .map(|(a, b)| (a - b).norm())
+            .fold(0.0, f64::max);
+        if m < JOINT_RESERVE_MAX * tolerance {
+            m
+        } else {
+            0.0
+        }
+    };
+    let (mut faired, fairing) =
+        fair_surface(&origin, &net.mask, tolerance - reserve, &params.energy)?;
+    // 4. the C¹ finish
     let was_c1: Vec<bool> = joints_left
         .iter()
         .map(|j| j.is_c1(origin.control_points(), nu, nv))

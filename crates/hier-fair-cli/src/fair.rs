@@ -21,6 +21,9 @@ pub enum FairMethod {
     /// one sparse global solve of the thin-plate energy, clamped to the tolerance
     #[value(name = "energy-global")]
     EnergyGlobal,
+    /// local energy fairing of a Bézier-spline surface: joints of full multiplicity made C¹
+    #[value(name = "energy-bezier")]
+    EnergyBezier,
     /// knot removal and reinsertion
     Krr,
     /// target-curvature fairing (isocurves faired, surface refitted)
@@ -35,6 +38,7 @@ impl FairMethod {
         match self {
             FairMethod::Energy => hier_fair::Method::Energy,
             FairMethod::EnergyGlobal => hier_fair::Method::EnergyGlobal,
+            FairMethod::EnergyBezier => hier_fair::Method::EnergyBezier,
             FairMethod::Krr => hier_fair::Method::Krr,
             FairMethod::Curvature => hier_fair::Method::Curvature,
             FairMethod::Greiner => hier_fair::Method::Greiner,
@@ -244,6 +248,56 @@ mod tests {
                 .free_count(),
             1
         );
+    }
+
+    /// `--method energy-bezier` on a surface stored as C⁰-joined Bézier patches in u (knot 1/3 of
+    /// full multiplicity, joint row 3 lifted): the joint comes out C¹ — for equal spans on both
+    /// sides the joint point is the midpoint of its neighbours across the joint, in every column.
+    #[test]
+    fn energy_bezier_makes_the_joints_c1() {
+        let k = nurbs_core::KnotVector::clamped_uniform(3, 6).expect("knots");
+        let smooth = (0..36)
+            .map(|r| {
+                let (x, y) = ((r / 6) as f64, (r % 6) as f64);
+                nurbs_core::Point3::new(x, y, 0.3 * (0.5 * x).sin() + 0.02 * x * y)
+            })
+            .collect();
+        let s = BSplineSurface::new(k.clone(), k, smooth, None)
+            .and_then(|s| s.insert_knot(nurbs_core::Direction::U, 1.0 / 3.0, 2))
+            .expect("surface");
+        let mut s = s;
+        let nv = s.num_v();
+        for j in 1..nv - 1 {
+            s.control_points_mut()[3 * nv + j].z += 0.05;
+        }
+        let kink = |s: &BSplineSurface| {
+            (0..nv)
+                .map(|j| {
+                    let p = |i: usize| s.control_point(i, j).coords;
+                    (p(3) - (p(2) + p(4)) * 0.5).norm()
+                })
+                .fold(0.0, f64::max)
+        };
+        assert!(kink(&s) > 0.04, "the input has kinks");
+        let options = FairOptions {
+            method: FairMethod::EnergyBezier,
+            tolerance: 0.1,
+            iterations: None,
+            keep: Continuity::G0,
+        };
+        let (out, report) = fair_surfaces(std::slice::from_ref(&s), &options).expect("fairs");
+        // the boundary columns j = 0, nv − 1 are fixed (G0 frame): only the inner ones can join
+        let inner = |s: &BSplineSurface| {
+            (1..nv - 1)
+                .map(|j| {
+                    let p = |i: usize| s.control_point(i, j).coords;
+                    (p(3) - (p(2) + p(4)) * 0.5).norm()
+                })
+                .fold(0.0, f64::max)
+        };
+        assert!(inner(&out[0]) <= 1e-9 * s.size(), "{}", inner(&out[0]));
+        assert!(kink(&out[0]) < kink(&s));
+        assert_eq!(report.surfaces[0].method, "energy-bezier");
     }
 
     #[test]

@@ -22,6 +22,10 @@ pub enum Method {
     Energy,
     /// sparse global thin-plate solve, clamped to the tolerance
     EnergyGlobal,
+    /// Hadenfeld's extension to Bézier-spline surfaces: the λ-weighted jumps of the cross
+    /// derivative at interior knots of full multiplicity join the functional, and the joints are
+    /// made exactly C¹ within the tolerance (the net keeps its shape)
+    EnergyBezier,
     /// knot removal and reinsertion
     Krr,
     /// target-curvature fairing of isocurves and refit ([SV] §5.2)
@@ -32,9 +36,10 @@ pub enum Method {
 
 impl Method {
     /// All methods, in CLI order.
-    pub const ALL: [Method; 5] = [
+    pub const ALL: [Method; 6] = [
         Method::Energy,
         Method::EnergyGlobal,
+        Method::EnergyBezier,
         Method::Krr,
         Method::Curvature,
         Method::Greiner,
@@ -45,6 +50,7 @@ impl Method {
         match self {
             Method::Energy => "energy",
             Method::EnergyGlobal => "energy-global",
+            Method::EnergyBezier => fair_energy::BEZIER_METHOD,
             Method::Krr => "krr",
             Method::Curvature => "curvature",
             Method::Greiner => "greiner",
@@ -72,6 +78,18 @@ impl Method {
                     params.polish_iterations = n;
                 }
                 Box::new(fair_energy::GlobalEnergyFairing { params })
+            }
+            Method::EnergyBezier => {
+                // the framework's masks and links refer to the net as it is: no knot removal
+                let mut params = fair_energy::BezierSplineParams {
+                    initial_removal: fair_energy::KnotRemoval::Keep,
+                    final_removal: fair_energy::KnotRemoval::Keep,
+                    ..fair_energy::BezierSplineParams::default()
+                };
+                if let Some(n) = iterations {
+                    params.energy.max_iterations = n;
+                }
+                Box::new(fair_energy::BezierSplineFairing { params })
             }
             Method::Krr => {
                 let mut params = fair_krr::KrrParams::default();
