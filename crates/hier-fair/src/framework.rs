@@ -701,6 +701,25 @@ impl Job<'_> {
                 .filter(|&c| c <= h)
                 .collect(),
         };
+        // the knots the dry run's refinement found are inserted up front (shape unchanged): the
+        // set steps below then start with the freedom they need instead of finding it again
+        // round by round
+        let prepared = if highest.is_some() {
+            let (more_u, more_v) = (
+                missing_knots(prepared.knots_u().knots(), connected.knots_u().knots()),
+                missing_knots(prepared.knots_v().knots(), connected.knots_v().knots()),
+            );
+            let refined = prepared
+                .refine(Direction::U, &more_u)
+                .and_then(|p| p.refine(Direction::V, &more_v))
+                .map_err(|e| format!("inserting knots into {name}: {e}"))?;
+            if let Some(r) = run.stages.first_mut() {
+                r.knots_inserted += more_u.len() + more_v.len();
+            }
+            refined
+        } else {
+            prepared
+        };
         let mut s = prepared;
         let mut fair_left = levels.len();
         for level in levels {
@@ -806,6 +825,20 @@ pub fn stage_mask(surface: &BSplineSurface, links: &[SideLink], level: Continuit
         mask.fix_frame(side, frame);
     }
     mask
+}
+
+/// The knots of the sorted `superset` that the sorted `subset` lacks (with multiplicity).
+fn missing_knots(subset: &[f64], superset: &[f64]) -> Vec<f64> {
+    let mut out = Vec::new();
+    let mut i = 0;
+    for &k in superset {
+        if i < subset.len() && subset[i] == k {
+            i += 1;
+        } else {
+            out.push(k);
+        }
+    }
+    out
 }
 
 /// Inserts knots (widest span halved) until every direction has `min_free` rows besides the
