@@ -65,6 +65,22 @@ pub const DEVIATION_SAFETY: f64 = 0.95;
 /// follow whatever its fairing changes along their joins, and that costs them deviation too.
 pub const MASTER_SHARE: f64 = 0.5;
 
+/// The framework's [`g_continuity::SetParams::g2_move_factor`]: a lighter-weighted G2 solution
+/// (closer to the exact scalar condition) is taken only when no control point moves more than
+/// the paper's well-conditioned solution moves. `connect` allows 2× (exact joins of constructed
+/// pairs need it); in the framework a fairing stage follows with a shrinking deviation budget,
+/// and the larger tangential moves made the fillets wavy: on the fixtures 1× met as many links
+/// (fillet-freeform both with 8 knots instead of one missed) with every slave's energy below
+/// its start (X-node fillet_s 18.31 → 17.74 instead of → 18.52).
+pub const FRAMEWORK_G2_MOVE_FACTOR: f64 = 1.0;
+
+/// The frame a surface keeps, in all its fairing stages, along each side where a slave is linked
+/// G1 or G2 to it: its tangent planes along the join stay as the slave's continuity was set
+/// against, and its fairing cannot make the join wavy for the slaves that follow (on the X-node
+/// the fillets' energy rose 2–15× while following the primaries' faired tangent rows). The
+/// curvature row stays free, so the master's curvature across the join is still faired.
+pub const MASTER_FRAME: nurbs_core::Frame = nurbs_core::Frame::Tangential;
+
 /// Share of the deviation tolerance a rational surface's polynomial re-approximation may use
 /// (the fairing methods work on polynomial surfaces; [SV] §3.2 step 1).
 pub const RATIONAL_SHARE: f64 = 0.1;
@@ -91,7 +107,13 @@ impl Default for FairParams {
         Self {
             target: None,
             tolerance: None,
-            connect: ConnectParams::default(),
+            connect: ConnectParams {
+                set: g_continuity::SetParams {
+                    g2_move_factor: FRAMEWORK_G2_MOVE_FACTOR,
+                    ..g_continuity::SetParams::default()
+                },
+                ..ConnectParams::default()
+            },
             min_free_rows: 2,
             deviation_grid: crate::connect::DEVIATION_GRID,
             parallel: true,
@@ -583,6 +605,27 @@ impl Job<'_> {
         self.model.links.iter().any(|l| l.master == self.surface)
     }
 
+    /// Sides of this surface along which a slave is linked G1 or higher (its linked side lies
+    /// on this side's boundary curve, see [`lies_on_side`]); their tangential frame is kept in
+    /// every fairing stage of this surface ([`MASTER_FRAME`]).
+    fn master_sides(&self) -> Vec<Side> {
+        let me = self.start;
+        let tol = TOUCH_FACTOR * self.connect.tolerances.g0;
+        let mut sides = Vec::new();
+        for l in self.model.links.iter().filter(|l| l.master == self.surface) {
+            if (self.cap)(l.continuity) < Continuity::G1 {
+                continue;
+            }
+            let slave = &self.current.surfaces[l.slave].surface;
+            for side in Side::ALL {
+                if !sides.contains(&side) && lies_on_side(slave, l.side, me, side, tol) {
+                    sides.push(side);
+                }
+            }
+        }
+        sides
+    }
+
     fn links(&self) -> Vec<(usize, SideLink<'_>)> {
         self.model
             .links_of_slave(self.surface)
@@ -720,6 +763,7 @@ impl Job<'_> {
         } else {
             prepared
         };
+        let master_sides = self.master_sides();
         let mut s = prepared;
         let mut fair_left = levels.len();
         for level in levels {
@@ -744,7 +788,10 @@ impl Job<'_> {
                 Continuity::G1 => Stage::FairG1,
                 Continuity::G2 => Stage::FairG2,
             };
-            let mask = stage_mask(&s, &links, level);
+            let mut mask = stage_mask(&s, &links, level);
+            for &side in &master_sides {
+                mask.fix_frame(side, MASTER_FRAME);
+            }
             let budget = if self.is_master() {
                 MASTER_SHARE * self.tolerance
             } else {
@@ -801,6 +848,30 @@ impl Job<'_> {
         }
         Ok((s, run.stages))
     }
+}
+
+/// Whether `slave`'s side `slave_side` lies on `master`'s boundary side `master_side`: five
+/// samples along the slave side (ends and three inner points) are within `tol` of the master's
+/// exact boundary isocurve. A slave side that lies inside a (trimmed) master is on no side.
+fn lies_on_side(
+    slave: &BSplineSurface,
+    slave_side: Side,
+    master: &BSplineSurface,
+    master_side: Side,
+    tol: f64,
+) -> bool {
+    let cross = master_side.boundary_param(master);
+    let Ok(curve) = master.isocurve(master_side.cross_direction(), cross) else {
+        return false;
+    };
+    let (a, b) = slave_side.along_domain(slave);
+    let params = nurbs_core::ProjectionParams::default();
+    (0..5).all(|k| {
+        let t = a + (b - a) * k as f64 / 4.0;
+        let (u, v) = slave_side.params(slave, t);
+        let p = slave.derivatives(u, v).point;
+        nurbs_core::projection::project_to_curve(&curve, &p, &params).distance <= tol
+    })
 }
 
 /// Rows fixed at `side` when keeping `level`: the link's target (capped by `level`) + 1, or

@@ -69,7 +69,6 @@ fn assert_acceptance(name: &str) {
 }
 
 #[test]
-#[ignore = "open (issue 9): fillet_w cannot follow its faired primaries' curvature within 0.1 mm (reported as a conflict), corner links end at G2 rel 0.04–0.09, slave energies rise"]
 fn x_node_reaches_g2_within_tolerance() {
     assert_acceptance("x_node");
 }
@@ -80,38 +79,28 @@ fn fillet_between_freeform_primaries_reaches_g2() {
 }
 
 #[test]
-#[ignore = "open (issue 9): the quads of the five-sided group miss G1/G2 along the pentagon (up to 0.77°) and the strips report G2 conflicts"]
+#[ignore = "open (issue 9): 16 of 20 links met; q2 and the closing quad q4 miss G2 (rel 0.014–0.09 on q2.u1, q2.v0, q4.v0, q4.u0) and the quads' energy rises (q2 81 → 808)"]
 fn five_sided_corner_reaches_g2() {
     assert_acceptance("five_sided");
 }
 
-/// What the X-node reaches today: every link G0 and G1 within the Class-A limits, every surface
-/// within the deviation tolerance, and every link that misses
-/// G2 named in the report's problems (never a silent miss) — the rest of the acceptance is the
-/// ignored test above.
+/// What the five-sided corner reaches today: every link that misses its target is named in the
+/// report's problems (never a silent miss), no surface fails, every surface stays within the
+/// deviation tolerance — the rest of the acceptance is the ignored test above.
 #[test]
-fn x_node_keeps_g1_everywhere_and_names_every_missed_link() {
-    let (model, _, report) = run("x_node");
-    for l in &report.links {
-        let a = l.after.as_ref().expect("measured");
-        assert!(a.g0 <= G0, "{}: gap {}", l.label, a.g0);
+fn five_sided_names_every_missed_link_within_the_tolerance() {
+    let (model, _, report) = run("five_sided");
+    for l in report.links.iter().filter(|l| !l.met) {
         assert!(
-            a.g1_deg.unwrap_or(0.0) <= G1_DEG,
-            "{}: angle {:?}",
-            l.label,
-            a.g1_deg
+            report
+                .problems
+                .iter()
+                .any(|p| p.link.as_deref() == Some(l.label.as_str())),
+            "{} missed silently",
+            l.label
         );
-        if !l.met {
-            assert!(
-                report
-                    .problems
-                    .iter()
-                    .any(|p| p.link.as_deref() == Some(l.label.as_str())),
-                "{} missed silently",
-                l.label
-            );
-        }
     }
+    assert!(report.links.iter().filter(|l| l.met).count() >= 16);
     assert!(
         report
             .problems
