@@ -22,6 +22,6 @@ pub use error::{Error, Result};
 pub use measure::{LinkMeasure, MeasureParams, SampleMeasure, measure_link};
 pub use params::{ConnectParams, G2Method, SetParams, Tolerances};
 pub use slave::{
-    ConnectReport, SideLink, SideReport, StepReport, connect_slave, prepare_slave, set_g0, set_g1,
-    set_g2, set_rows, set_step,
+    C0_FOR_G1_SHARE, ConnectReport, SideLink, SideReport, StepReport, connect_slave, prepare_slave,
+    set_g0, set_g1, set_g2, set_rows, set_step,
 };

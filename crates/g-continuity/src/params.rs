@@ -108,6 +108,11 @@ pub struct ConnectParams {
     /// slave (default 1e-4: a tenth of the Class-A gap, so the re-approximation never decides a
     /// G0 check).
     pub rational_tolerance: f64,
+    /// Smallest gap (model units) worth aiming at in [`crate::set_step`]'s C0 step when G1/G2
+    /// follow (see [`crate::C0_FOR_G1_SHARE`]): e.g. the re-approximation error of rational
+    /// masters, below which the joins — and the corners shared by several masters — cannot get.
+    /// Default 0.
+    pub c0_floor: f64,
 }
 
 impl Default for ConnectParams {
@@ -118,6 +123,7 @@ impl Default for ConnectParams {
             tolerances: Tolerances::default(),
             max_refinements: 6,
             rational_tolerance: 1e-4,
+            c0_floor: 0.0,
         }
     }
 }

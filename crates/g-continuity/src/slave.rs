@@ -540,7 +540,8 @@ pub fn prepare_slave(
 /// which keeps their shape). Sides that miss the tolerances get their failing knot spans halved
 /// and the step is repeated — after the rows of the lower steps are solved again with the new
 /// knots — up to [`ConnectParams::max_refinements`] rounds; the best round is returned. The C0
-/// step of a slave with G1/G2 links aims at [`C0_FOR_G1_SHARE`] × the G0 tolerance. The slave
+/// step of a slave with G1/G2 links aims at [`C0_FOR_G1_SHARE`] × the G0 tolerance (not below
+/// [`ConnectParams::c0_floor`]). The slave
 /// must be prepared ([`prepare_slave`]).
 pub fn set_step(
     slave: &BSplineSurface,
@@ -560,7 +561,9 @@ pub fn set_step(
     // a boundary that will carry G1 must lie closer to its master than the G0 tolerance
     let tolerances = if step == Continuity::G0 && links.iter().any(|l| l.target > step) {
         crate::params::Tolerances {
-            g0: C0_FOR_G1_SHARE * params.tolerances.g0,
+            g0: (C0_FOR_G1_SHARE * params.tolerances.g0)
+                .max(params.c0_floor)
+                .min(params.tolerances.g0),
             ..params.tolerances
         }
     } else {

@@ -601,6 +601,27 @@ impl Job<'_> {
         }
     }
 
+    /// The continuity settings of this surface's set steps: where the surface or one of its
+    /// masters is rational in the input, its joins are only as exact as the polynomial
+    /// re-approximation (within `rational_tolerance`), so the C0 step does not aim below that.
+    fn set_params(&self) -> ConnectParams {
+        let rational = |k: usize| self.model.surfaces[k].surface.is_rational();
+        let any_rational = rational(self.surface)
+            || self
+                .model
+                .links_of_slave(self.surface)
+                .into_iter()
+                .any(|k| rational(self.model.links[k].master));
+        ConnectParams {
+            c0_floor: if any_rational {
+                self.connect.rational_tolerance
+            } else {
+                0.0
+            },
+            ..*self.connect
+        }
+    }
+
     fn is_master(&self) -> bool {
         self.model.links.iter().any(|l| l.master == self.surface)
     }
@@ -666,7 +687,7 @@ impl Job<'_> {
             if step > top {
                 break;
             }
-            let (next, _) = set_step(&s, &links, step, self.connect)
+            let (next, _) = set_step(&s, &links, step, &self.set_params())
                 .map_err(|e| format!("setting {step:?} on {name}: {e}"))?;
             let d = max_deviation(original, &next, self.params.deviation_grid);
             if d > self.tolerance {
@@ -773,7 +794,7 @@ impl Job<'_> {
                     Continuity::G1 => Stage::SetG1,
                     Continuity::G2 => Stage::SetG2,
                 };
-                let (next, step) = set_step(&s, &links, level, self.connect)
+                let (next, step) = set_step(&s, &links, level, &self.set_params())
                     .map_err(|e| format!("setting {level:?} on {name}: {e}"))?;
                 run.record(stage, &s, &next);
                 if let Some(r) = run.stages.last_mut() {
