@@ -979,7 +979,35 @@ fn group_stage(
                 .zip(&quads)
                 .map(|(&k, q)| max_deviation(&model.surfaces[k].surface, q, params.deviation_grid))
                 .fold(0.0, f64::max);
-            if worst <= GROUP_SHARE * tolerance {
+            // the mesh fairing is for fairness: a refit that raises a patch's thin-plate energy
+            // above its start (a different parameterization, refit waves) is not used
+            let raised = group.patches.iter().zip(&quads).find_map(|(&k, q)| {
+                let (before, after) = (
+                    thin_plate_energy(&model.surfaces[k].surface),
+                    thin_plate_energy(q),
+                );
+                (after > before).then(|| (model.surfaces[k].name.clone(), before, after))
+            });
+            if let Some((name, before, after)) = raised {
+                report.groups.push(GroupFair {
+                    name: group.name.clone(),
+                    applied: false,
+                    max_deviation: worst,
+                    mesh_vertices: nsided.mesh_vertices,
+                    refit_max_error: nsided.refit.max_error,
+                    internal_angle_deg: nsided.refit.max_internal_angle_deg,
+                });
+                report.problems.push(Problem {
+                    kind: ProblemKind::Limited,
+                    surface: first,
+                    link: None,
+                    message: format!(
+                        "corner group {}: the refitted patch {name} would have thin-plate energy {after:.4} above its {before:.4}; the patches are faired one by one instead",
+                        group.name
+                    ),
+                    amount: Some(after / before),
+                });
+            } else if worst <= GROUP_SHARE * tolerance {
                 for (&k, q) in group.patches.iter().zip(quads) {
                     out.surfaces[k].surface = q;
                 }

@@ -79,7 +79,7 @@ fn fillet_between_freeform_primaries_reaches_g2() {
 }
 
 #[test]
-#[ignore = "open (issue 9): 16 of 20 links met; q2 and the closing quad q4 miss G2 (rel 0.014–0.09 on q2.u1, q2.v0, q4.v0, q4.u0) and the quads' energy rises (q2 81 → 808)"]
+#[ignore = "open (issue 9): 18 of 20 links met; the closing quad q4 misses G2 to its neighbour quads q3 and q0 (rel 0.012, |Δκ| 1.4e-5 /mm) — the centre vertex of the odd ring"]
 fn five_sided_corner_reaches_g2() {
     assert_acceptance("five_sided");
 }
@@ -100,7 +100,22 @@ fn five_sided_names_every_missed_link_within_the_tolerance() {
             l.label
         );
     }
-    assert!(report.links.iter().filter(|l| l.met).count() >= 16);
+    assert!(report.links.iter().filter(|l| l.met).count() >= 18);
+    // every quad fairer than it started: the group refit is used only when it does not raise
+    // a quad's energy
+    for s in report
+        .surfaces
+        .iter()
+        .filter(|s| s.role == hier_fair::Role::Corner)
+    {
+        assert!(
+            s.energy_after <= s.energy_before,
+            "{}: {} -> {}",
+            s.name,
+            s.energy_before,
+            s.energy_after
+        );
+    }
     assert!(
         report
             .problems
