@@ -20,6 +20,10 @@ pub struct EnergyParams {
     /// Largest number of single-point moves. Default 10,000: the seed's 52×52 example ([H] slide
     /// "Examples (1)").
     pub max_iterations: usize,
+    /// Least number of moves per free control point: the limit is
+    /// max(`max_iterations`, this × free points), so that a large net (e.g. after knot
+    /// insertion) is not stopped after a few moves per point. Default 0 (the fixed limit alone).
+    pub min_iterations_per_free_point: usize,
     /// Stop when the best energy decrease falls below this fraction of the starting energy
     /// (unit-free). Default 1e-12: far below any visible change, so the iteration limit usually
     /// decides.
@@ -34,6 +38,7 @@ impl Default for EnergyParams {
     fn default() -> Self {
         Self {
             max_iterations: 10_000,
+            min_iterations_per_free_point: 0,
             min_relative_decrease: 1e-12,
             joint_weight: 0.0,
         }
@@ -84,7 +89,9 @@ pub fn fair_surface(
     let mut out = surface.clone();
     let settings = LocalSettings {
         tolerance,
-        max_iterations: params.max_iterations,
+        max_iterations: params
+            .max_iterations
+            .max(params.min_iterations_per_free_point * mask.free_count()),
         min_relative_decrease: params.min_relative_decrease,
     };
     let outcome = run_local(

@@ -74,6 +74,14 @@ pub const MASTER_SHARE: f64 = 0.5;
 /// its start (X-node fillet_s 18.31 → 17.74 instead of → 18.52).
 pub const FRAMEWORK_G2_MOVE_FACTOR: f64 = 1.0;
 
+/// Share of the G1/G2 tolerances the patches of an n-sided corner group aim at when their
+/// continuity is set (knots inserted until reached): around the centre vertex the patches are
+/// set one after the other, each against the previous one, and the last patch must match both
+/// its predecessor and the first — by the linkage-curve theorem their curvature tensors at the
+/// centre all agree only up to the errors accumulated along the chain, so those must stay well
+/// below the tolerance the closing patch has to meet.
+pub const GROUP_CHAIN_SHARE: f64 = 0.1;
+
 /// The frame a surface keeps, in all its fairing stages, along each side where a slave is linked
 /// G1 or G2 to it: its tangent planes along the join stay as the slave's continuity was set
 /// against, and its fairing cannot make the join wavy for the slaves that follow (on the X-node
@@ -612,12 +620,23 @@ impl Job<'_> {
                 .links_of_slave(self.surface)
                 .into_iter()
                 .any(|k| rational(self.model.links[k].master));
+        let in_group = self
+            .model
+            .corners
+            .iter()
+            .any(|g| g.patches.contains(&self.surface));
+        let mut tolerances = self.connect.tolerances;
+        if in_group {
+            tolerances.g1_deg *= GROUP_CHAIN_SHARE;
+            tolerances.g2_rel *= GROUP_CHAIN_SHARE;
+        }
         ConnectParams {
             c0_floor: if any_rational {
                 self.connect.rational_tolerance
             } else {
                 0.0
             },
+            tolerances,
             ..*self.connect
         }
     }

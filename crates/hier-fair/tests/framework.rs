@@ -35,7 +35,16 @@ fn run(name: &str) -> (Model, Model, FairModelReport) {
 
 fn assert_acceptance(name: &str) {
     let (model, _out, report) = run(name);
-    assert!(report.problems.is_empty(), "{name}: {:#?}", report.problems);
+    // no failed surface, no conflict, no missed link; a stage the framework chose not to use
+    // (a corner group's mesh refit that would raise a patch's energy) is only a note
+    assert!(
+        report
+            .problems
+            .iter()
+            .all(|p| p.kind == ProblemKind::Limited && p.link.is_none()),
+        "{name}: {:#?}",
+        report.problems
+    );
     for l in &report.links {
         let a = l.after.as_ref().expect("measured");
         assert!(a.g0 <= G0, "{name} {}: gap {}", l.label, a.g0);
@@ -79,7 +88,6 @@ fn fillet_between_freeform_primaries_reaches_g2() {
 }
 
 #[test]
-#[ignore = "open (issue 9): 18 of 20 links met; the closing quad q4 misses G2 to its neighbour quads q3 and q0 (rel 0.012, |Δκ| 1.4e-5 /mm) — the centre vertex of the odd ring"]
 fn five_sided_corner_reaches_g2() {
     assert_acceptance("five_sided");
 }
@@ -100,7 +108,7 @@ fn five_sided_names_every_missed_link_within_the_tolerance() {
             l.label
         );
     }
-    assert!(report.links.iter().filter(|l| l.met).count() >= 18);
+    assert_eq!(report.links.iter().filter(|l| l.met).count(), 20);
     // every quad fairer than it started: the group refit is used only when it does not raise
     // a quad's energy
     for s in report
