@@ -98,7 +98,6 @@ impl Method {
                     },
                     initial_removal: fair_energy::KnotRemoval::Keep,
                     final_removal: fair_energy::KnotRemoval::Keep,
-                    ..fair_energy::BezierSplineParams::default()
                 };
                 if let Some(n) = iterations {
                     params.energy.max_iterations = n;
