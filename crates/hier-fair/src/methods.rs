@@ -80,7 +80,10 @@ impl Method {
                 if let Some(n) = iterations {
                     params.max_iterations = n;
                 }
-                Box::new(fair_energy::LocalEnergyFairing { params })
+                Box::new(EnergyFairing {
+                    plain: fair_energy::LocalEnergyFairing { params },
+                    bezier: bezier_fairing(iterations),
+                })
             }
             Method::EnergyGlobal => {
                 let mut params = fair_energy::GlobalParams::default();
@@ -89,21 +92,7 @@ impl Method {
                 }
                 Box::new(fair_energy::GlobalEnergyFairing { params })
             }
-            Method::EnergyBezier => {
-                // the framework's masks and links refer to the net as it is: no knot removal
-                let mut params = fair_energy::BezierSplineParams {
-                    energy: fair_energy::EnergyParams {
-                        min_iterations_per_free_point: MOVES_PER_FREE_POINT,
-                        ..fair_energy::BezierSplineParams::default().energy
-                    },
-                    initial_removal: fair_energy::KnotRemoval::Keep,
-                    final_removal: fair_energy::KnotRemoval::Keep,
-                };
-                if let Some(n) = iterations {
-                    params.energy.max_iterations = n;
-                }
-                Box::new(fair_energy::BezierSplineFairing { params })
-            }
+            Method::EnergyBezier => Box::new(bezier_fairing(iterations)),
             Method::Krr => {
                 let mut params = fair_krr::KrrParams::default();
                 if let Some(n) = iterations {
@@ -118,6 +107,60 @@ impl Method {
             Method::Greiner => Box::new(fair_curvature::GreinerFairing {
                 params: fair_curvature::GreinerParams::default(),
             }),
+        }
+    }
+}
+
+/// The Bézier-spline flow as the framework uses it: the framework's masks and links refer to the
+/// net as it is, so no knot is removed.
+fn bezier_fairing(iterations: Option<usize>) -> fair_energy::BezierSplineFairing {
+    let mut params = fair_energy::BezierSplineParams {
+        energy: fair_energy::EnergyParams {
+            min_iterations_per_free_point: MOVES_PER_FREE_POINT,
+            ..fair_energy::BezierSplineParams::default().energy
+        },
+        initial_removal: fair_energy::KnotRemoval::Keep,
+        final_removal: fair_energy::KnotRemoval::Keep,
+    };
+    if let Some(n) = iterations {
+        params.energy.max_iterations = n;
+    }
+    fair_energy::BezierSplineFairing { params }
+}
+
+/// `energy`: Hadenfeld's local energy fairing, with the seed's extension to Bézier-spline surfaces
+/// wherever the surface has an interior knot of full multiplicity (C⁰-joined Bézier patches in one
+/// surface): those joints come out C¹ ([H] part ②; `energy-bezier` forces that flow).
+struct EnergyFairing {
+    plain: fair_energy::LocalEnergyFairing,
+    bezier: fair_energy::BezierSplineFairing,
+}
+
+fn has_full_multiplicity_joint(surface: &nurbs_core::BSplineSurface) -> bool {
+    [surface.knots_u(), surface.knots_v()].iter().any(|kv| {
+        kv.interior_knots()
+            .iter()
+            .any(|&(_, m)| kv.degree() >= 2 && m >= kv.degree())
+    })
+}
+
+impl SurfaceFairing for EnergyFairing {
+    fn name(&self) -> &str {
+        "energy"
+    }
+
+    fn fair(
+        &self,
+        surface: &nurbs_core::BSplineSurface,
+        mask: &nurbs_core::ControlMask,
+        tolerance: f64,
+    ) -> nurbs_core::Result<(nurbs_core::BSplineSurface, nurbs_core::FairingReport)> {
+        if has_full_multiplicity_joint(surface) && !surface.is_rational() {
+            let (out, mut report) = self.bezier.fair(surface, mask, tolerance)?;
+            report.method = "energy".to_string();
+            Ok((out, report))
+        } else {
+            self.plain.fair(surface, mask, tolerance)
         }
     }
 }

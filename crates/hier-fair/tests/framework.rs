@@ -270,3 +270,34 @@ fn block_grid_reaches_g2_everywhere() {
         );
     }
 }
+
+/// `energy` on a Bézier-spline surface (the disturbed sphere zone: 2×5 bicubic Bézier patches
+/// C⁰-joined in one surface) takes the seed's extension: the interior joint kinks (the midpoint
+/// defect P_j − (P_{j−1} + P_{j+1})/2 of the equal-span triples across each joint) shrink by
+/// more than 10×, within the tolerance; the boundary rows stay.
+#[test]
+fn energy_on_a_bezier_spline_surface_smooths_its_joints() {
+    let (model, out, report) = run("bezier_sphere");
+    let kink = |s: &BSplineSurface| {
+        let (nu, nv) = (s.num_u(), s.num_v());
+        let p = |i: usize, j: usize| s.control_point(i, j).coords;
+        let mut worst: f64 = 0.0;
+        for j in 1..nv - 1 {
+            worst = worst.max((p(3, j) - (p(2, j) + p(4, j)) * 0.5).norm());
+        }
+        for i in 1..nu - 1 {
+            for j in [3, 6, 9, 12] {
+                worst = worst.max((p(i, j) - (p(i, j - 1) + p(i, j + 1)) * 0.5).norm());
+            }
+        }
+        worst
+    };
+    let (before, after) = (
+        kink(&model.surfaces[0].surface),
+        kink(&out.surfaces[0].surface),
+    );
+    assert!(before > 0.5, "the fixture has kinks: {before}");
+    assert!(after < 0.1 * before, "joint kinks {before} -> {after}");
+    assert!(report.surfaces[0].max_deviation <= model.tolerances.deviation);
+    assert_eq!(report.surfaces[0].method, "energy");
+}
