@@ -121,3 +121,74 @@ fn a_master_that_does_not_touch_ends_with_a_message_and_a_partial_report() {
     // the primaries were still faired
     assert_eq!(r["surfaces"].as_array().unwrap().len(), 3);
 }
+
+/// A G2 link on a slave of degree 1 across its linked sides (the fillet replaced by the ruled
+/// surface between its two boundary curves: 2 rows, no tangential or curvature row): the run
+/// never panics and never touches its input; the slave is elevated and refined ([SV] §3.2
+/// step 1), G2 needs 0.26 mm against the 0.1 mm tolerance: the report names both links as
+/// conflicts and keeps the slave at G1.
+#[test]
+fn a_g2_link_on_a_degree_one_slave_ends_with_a_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let text = std::fs::read_to_string(model("fillet_freeform.json")).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&text).unwrap();
+    let fillet = v["surfaces"][2]["surface"].clone();
+    let rows = fillet["control_points"].as_array().unwrap().clone();
+    let (first, last) = (rows[0].clone(), rows[rows.len() - 1].clone());
+    v["surfaces"][2]["surface"] = serde_json::json!({
+        "degree_u": 1,
+        "degree_v": fillet["degree_v"].clone(),
+        "knots_u": [0.0, 0.0, 1.0, 1.0],
+        "knots_v": fillet["knots_v"].clone(),
+        "control_points": [first, last],
+    });
+    let input = dir.path().join("ruled.json");
+    std::fs::write(&input, serde_json::to_string(&v).unwrap()).unwrap();
+    let before = std::fs::read(&input).unwrap();
+    let out = dir.path().join("out.json");
+    let report = dir.path().join("r.json");
+    let o = run(&[
+        "fair",
+        input.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--report",
+        report.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert_eq!(
+        std::fs::read(&input).unwrap(),
+        before,
+        "the input was touched"
+    );
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let problems = r["problems"].as_array().unwrap();
+    let missed: Vec<&serde_json::Value> = r["links"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|l| l["met"] == false)
+        .collect();
+    for l in &missed {
+        let label = format!(
+            "{}.{} -> {}",
+            l["slave"].as_str().unwrap(),
+            l["side"].as_str().unwrap(),
+            l["master"].as_str().unwrap()
+        );
+        assert!(
+            problems.iter().any(|p| p["link"] == label.as_str()),
+            "{label} missed silently: {problems:?}"
+        );
+    }
+    // the targets are out of reach within the tolerance: a reported result (conflict, named
+    // links), not a failed run — exit code 1 is for surfaces that could not be processed
+    assert!(!missed.is_empty());
+    assert!(problems.iter().any(|p| p["kind"] == "conflict"));
+    let failed = problems.iter().any(|p| p["kind"] == "failed");
+    assert_eq!(o.status.code(), Some(i32::from(failed)), "{stderr}");
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(stdout.contains("conflict"), "{stdout}");
+}
