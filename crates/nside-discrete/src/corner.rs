@@ -47,6 +47,8 @@ pub struct NsidedParams {
     /// mean-value weights keep the plane's coordinates too but do not reproduce the paraboloid
     /// (2 % off against 0.2 %: they are not symmetric).
     pub weights: UmbrellaWeights,
+    /// Data term of the fairing ([`DiscreteFairingParams::data_weight`]). Default 0.
+    pub data_weight: f64,
 }
 
 impl Default for NsidedParams {
@@ -57,6 +59,7 @@ impl Default for NsidedParams {
             fixed_rings: 0,
             solver: SpdSolver::DEFAULT,
             weights: UmbrellaWeights::Cotangent,
+            data_weight: 0.0,
         }
     }
 }
@@ -90,6 +93,7 @@ pub fn fair_corner(
         fixed_rings: 0,
         solver: params.solver,
         weights: params.weights,
+        data_weight: params.data_weight,
     };
     let layout = sampled.flat_layout();
     let (faired, fairing) = fair_mesh_with_layout(&sampled.mesh, &layout, &extra, &fairing_params)?;

@@ -58,6 +58,11 @@ pub struct DiscreteFairingParams {
     pub solver: SpdSolver,
     /// Umbrella weights. Default uniform ([K97]).
     pub weights: UmbrellaWeights,
+    /// Weight of a data term w Σ |p − p₀|² over the free vertices, relative to the mean diagonal
+    /// of the fairing system LᵀL (unit-free). Default 0: pure discrete fairing, as [K97]. A
+    /// positive weight keeps the faired mesh near its input (a caller with a deviation
+    /// tolerance raises it until the moves fit).
+    pub data_weight: f64,
 }
 
 impl Default for DiscreteFairingParams {
@@ -66,6 +71,7 @@ impl Default for DiscreteFairingParams {
             fixed_rings: 2,
             solver: SpdSolver::Faer(FillOrdering::NestedDissection),
             weights: UmbrellaWeights::Uniform,
+            data_weight: 0.0,
         }
     }
 }
@@ -277,6 +283,7 @@ pub fn fair_mesh_with_layout(
             &row_start,
             &row_vertex,
             &row_weight,
+            params.data_weight,
         )?;
         let x = if params.solver == SpdSolver::Faer(FillOrdering::NestedDissection) {
             // the free vertices' layout positions give the nested dissection its cuts
@@ -327,6 +334,7 @@ fn normal_equations(
     row_start: &[usize],
     row_vertex: &[usize],
     row_weight: &[f64],
+    data_weight: f64,
 ) -> Result<(SparseSpd, DMatrix<f64>)> {
     let rows = row_start.len() - 1;
     // the free entries of the rows (free column, weight) and the fixed part Σ w p of each row;
@@ -368,6 +376,19 @@ fn normal_equations(
         }
     }
     drop(next);
+    // the data term: w = data_weight × mean diagonal of LᵀL on every free vertex
+    let mut vertex_of = vec![0usize; nf];
+    for (v, &c) in col.iter().enumerate() {
+        if c != usize::MAX {
+            vertex_of[c] = v;
+        }
+    }
+    let data = if data_weight > 0.0 && nf > 0 {
+        let diagonal: f64 = free_entry.iter().map(|&(_, w)| w * w).sum();
+        data_weight * diagonal / nf as f64
+    } else {
+        0.0
+    };
     let mut rhs = vec![0.0; 3 * nf];
     let mut col_ptr = Vec::with_capacity(nf + 1);
     let mut row_idx = Vec::with_capacity(20 * nf);
@@ -390,6 +411,15 @@ fn normal_equations(
                 }
                 acc[b] += wa * wb;
             }
+        }
+        if data > 0.0 {
+            if mark[a] != a {
+                mark[a] = a;
+                acc[a] = 0.0;
+                pattern.push(a);
+            }
+            acc[a] += data;
+            b_a += data * positions[vertex_of[a]].coords;
         }
         rhs[a] = b_a.x;
         rhs[nf + a] = b_a.y;

@@ -186,3 +186,45 @@ fn bad_meshes_are_errors() {
         Err(NsideError::NothingFixed)
     ));
 }
+
+/// The data term: a noisy planar hexagon faired with a positive data weight moves less (in the
+/// sum of squared moves, which Tikhonov regularization makes monotone in the weight) than with
+/// pure fairing and less the larger the weight, while its umbrella energy still drops; with a
+/// huge weight the mesh stays put.
+#[test]
+fn data_term_keeps_the_mesh_near_its_input() {
+    let mut mesh = ngon(6, 8);
+    let mut r = rng(21);
+    let boundary_start = mesh.positions.len() - 6 * 8;
+    for p in mesh.positions[..boundary_start].iter_mut() {
+        p.z += r.random_range(-0.05..0.05);
+    }
+    let mut moves = Vec::new();
+    for w in [0.0, 0.01, 1.0, 1e6] {
+        let (out, report) = fair_mesh(
+            &mesh,
+            &[],
+            &DiscreteFairingParams {
+                fixed_rings: 0,
+                data_weight: w,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert!(
+            report.energy_after < report.energy_before,
+            "w {w}: {} -> {}",
+            report.energy_before,
+            report.energy_after
+        );
+        let squared: f64 = out
+            .positions
+            .iter()
+            .zip(&mesh.positions)
+            .map(|(a, b)| (a - b).norm_squared())
+            .sum();
+        moves.push(squared);
+    }
+    assert!(moves.windows(2).all(|m| m[1] < m[0]), "{moves:?}");
+    assert!(moves[3] < 1e-8 * moves[0], "{moves:?}");
+}
