@@ -17,7 +17,9 @@
 //!    centre, where the mesh has its valence-2n vertex. They are made consistent in the manner
 //!    of [SV] §4.1: along I_k the common normal n(t) is the mean of both quads' normals, and each
 //!    quad moves the inner points Q_j next to its two internal sides by the minimum-norm
-//!    least-squares displacements w_j with Σ_j N_j(t) (R_j − Q_j − w_j)·n(t) = 0 at
+//!    least-squares displacements w_j = β_j n(g_j) (along the common normal at the point's
+//!    Greville abscissa g_j: the paper's fixed directions) with
+//!    Σ_j N_j(t) (R_j − Q_j − w_j)·n(t) = 0 at
 //!    [`ANGLE_SAMPLES`] parameters per side (R_j the curve's points; the cross derivative is a
 //!    positive multiple of Σ_j N_j(t)(R_j − Q_j), so the constraint puts it in the plane ⊥ n(t)).
 //!    Points of the other frames (next to the outer boundary, on the other internal curve) stay;
@@ -211,6 +213,9 @@ fn align_cross_rows(quads: &mut [BSplineSurface]) -> f64 {
             .filter_map(|s| {
                 let t = s as f64 / (ANGLE_SAMPLES - 1) as f64;
                 let (a, b) = (unit_normal(q, 1.0, t)?, unit_normal(r, t, 1.0)?);
+                // quads of opposite orientation (a caller's patches need not agree): their
+                // normals are the same line; the mean of a and −a would be noise
+                let b = if a.dot(&b) < 0.0 { -b } else { b };
                 Some((t, (a + b).try_normalize(0.0)?))
             })
             .collect();
@@ -254,23 +259,42 @@ fn align_cross_rows(quads: &mut [BSplineSurface]) -> f64 {
                 rows.push((coeffs, rhs));
             }
         }
-        let mut a = nalgebra::DMatrix::<f64>::zeros(rows.len(), 3 * unknowns.len());
+        // each inner point moves along the common normal at its Greville abscissa only: with
+        // free 3D moves the tangential components enter only through the variation of n(t)
+        // (singular values ~1e-3 of the largest), and a least-squares solve fits the rows'
+        // inconsistencies with them — millimetre moves on the five-sided fixture
+        let directions: Vec<Vector3> = unknowns
+            .iter()
+            .map(|&(i, j)| {
+                let (kv, index, list) = if i == nu - 2 {
+                    (q.knots_v(), j, &normals[k])
+                } else {
+                    (q.knots_u(), i, &normals[prev])
+                };
+                let p = kv.degree();
+                let g = kv.knots()[index + 1..=index + p].iter().sum::<f64>() / p as f64;
+                list.iter()
+                    .min_by(|x, y| (x.0 - g).abs().total_cmp(&(y.0 - g).abs()))
+                    .map_or_else(Vector3::zeros, |&(_, n)| n)
+            })
+            .collect();
+        let mut a = nalgebra::DMatrix::<f64>::zeros(rows.len(), unknowns.len());
         let mut b = nalgebra::DVector::<f64>::zeros(rows.len());
         for (r, (coeffs, rhs)) in rows.iter().enumerate() {
             for &(c, v) in coeffs {
-                for x in 0..3 {
-                    a[(r, 3 * c + x)] += v[x];
-                }
+                a[(r, c)] += v.dot(&directions[c]);
             }
             b[r] = *rhs;
         }
-        // moving the inner point Q by w changes (R − Q)·n by −w·n: A w = b
+        // moving the inner point Q by β d changes (R − Q)·n by −β d·n: A β = b
         let svd = a.svd(true, true);
         let eps = ALIGN_RCOND * svd.singular_values.max();
-        let Ok(w) = svd.solve(&b, eps) else { continue };
+        let Ok(beta) = svd.solve(&b, eps) else {
+            continue;
+        };
         let pts = q.control_points_mut();
         for (c, &(i, j)) in unknowns.iter().enumerate() {
-            let d = Vector3::new(w[3 * c], w[3 * c + 1], w[3 * c + 2]);
+            let d = directions[c] * beta[c];
             if d.iter().all(|x| x.is_finite()) {
                 pts[i * nv + j] += d;
                 worst = worst.max(d.norm());
