@@ -17,6 +17,7 @@
 //! Both handle rational surfaces with their weights held fixed (then S is still linear in the
 //! control points). References (keys in brackets) are listed in `docs/references.md`.
 
+mod coupled;
 pub mod curve;
 pub mod error;
 pub mod greiner;

@@ -102,24 +102,8 @@ impl<'a> NormalSystem<'a> {
         }
     }
 
-    /// Flat index and band slot of the neighbour (di, dj) of point `a`, if it exists.
     fn neighbours(&self, a: usize) -> impl Iterator<Item = (usize, usize)> + '_ {
-        let n = self.atb.len();
-        let (ai, aj) = ((a / self.nv) as isize, (a % self.nv) as isize);
-        let (p, q) = (self.p as isize, self.q as isize);
-        let nu = (n / self.nv) as isize;
-        let nv = self.nv as isize;
-        (-p..=p).flat_map(move |di| {
-            (-q..=q).filter_map(move |dj| {
-                let (bi, bj) = (ai + di, aj + dj);
-                (bi >= 0 && bi < nu && bj >= 0 && bj < nv).then(|| {
-                    (
-                        (bi * nv + bj) as usize,
-                        ((di + p) * (2 * q + 1) + dj + q) as usize,
-                    )
-                })
-            })
-        })
+        band_neighbours(self.atb.len(), self.nv, self.p, self.q, a)
     }
 
     /// Solves for the displacements of the points with `free[k]`, with λ = ρ × mean diagonal.
@@ -223,6 +207,33 @@ impl<'a> NormalSystem<'a> {
     pub(crate) fn mean_square_before(&self) -> f64 {
         self.btb / self.weight_sum.max(f64::MIN_POSITIVE)
     }
+}
+
+/// Flat index and band slot of every neighbour (di, dj), |di| ≤ p, |dj| ≤ q, of control point
+/// `a` of an `n`-point net with `nv` points per row (slots laid out row by row over the
+/// (2p + 1) × (2q + 1) window).
+pub(crate) fn band_neighbours(
+    n: usize,
+    nv: usize,
+    p: usize,
+    q: usize,
+    a: usize,
+) -> impl Iterator<Item = (usize, usize)> {
+    let (ai, aj) = ((a / nv) as isize, (a % nv) as isize);
+    let (p, q) = (p as isize, q as isize);
+    let nu = (n / nv) as isize;
+    let nv = nv as isize;
+    (-p..=p).flat_map(move |di| {
+        (-q..=q).filter_map(move |dj| {
+            let (bi, bj) = (ai + di, aj + dj);
+            (bi >= 0 && bi < nu && bj >= 0 && bj < nv).then(|| {
+                (
+                    (bi * nv + bj) as usize,
+                    ((di + p) * (2 * q + 1) + dj + q) as usize,
+                )
+            })
+        })
+    })
 }
 
 /// Largest |δ_k|.
