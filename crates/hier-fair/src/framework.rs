@@ -611,7 +611,8 @@ impl Job<'_> {
 
     /// The continuity settings of this surface's set steps: where the surface or one of its
     /// masters is rational in the input, its joins are only as exact as the polynomial
-    /// re-approximation (within `rational_tolerance`), so the C0 step does not aim below that.
+    /// re-approximation (within `rational_tolerance`), so the C0 step does not aim below that;
+    /// a patch of a corner group aims at [`GROUP_CHAIN_SHARE`] × the G1/G2 tolerances.
     fn set_params(&self) -> ConnectParams {
         let rational = |k: usize| self.model.surfaces[k].surface.is_rational();
         let any_rational = rational(self.surface)
@@ -990,81 +991,71 @@ fn group_stage(
         .patches
         .first()
         .map_or_else(String::new, |&k| model.surfaces[k].name.clone());
-    match crate::corners::fair_group(model, out, group) {
-        Ok((quads, nsided)) => {
-            let worst = group
-                .patches
-                .iter()
-                .zip(&quads)
-                .map(|(&k, q)| max_deviation(&model.surfaces[k].surface, q, params.deviation_grid))
-                .fold(0.0, f64::max);
-            // the mesh fairing is for fairness: a refit that raises a patch's thin-plate energy
-            // above its start (a different parameterization, refit waves) is not used
-            let raised = group.patches.iter().zip(&quads).find_map(|(&k, q)| {
-                let (before, after) = (
-                    thin_plate_energy(&model.surfaces[k].surface),
-                    thin_plate_energy(q),
-                );
-                (after > before).then(|| (model.surfaces[k].name.clone(), before, after))
+    let (quads, nsided) = match crate::corners::fair_group(model, out, group) {
+        Ok(r) => r,
+        Err(message) => {
+            report.problems.push(Problem {
+                kind: ProblemKind::Limited,
+                surface: first,
+                link: None,
+                message: format!("{message}; the patches are faired one by one instead"),
+                amount: None,
             });
-            if let Some((name, before, after)) = raised {
-                report.groups.push(GroupFair {
-                    name: group.name.clone(),
-                    applied: false,
-                    max_deviation: worst,
-                    mesh_vertices: nsided.mesh_vertices,
-                    refit_max_error: nsided.refit.max_error,
-                    internal_angle_deg: nsided.refit.max_internal_angle_deg,
-                });
-                report.problems.push(Problem {
-                    kind: ProblemKind::Limited,
-                    surface: first,
-                    link: None,
-                    message: format!(
-                        "corner group {}: the refitted patch {name} would have thin-plate energy {after:.4} above its {before:.4}; the patches are faired one by one instead",
-                        group.name
-                    ),
-                    amount: Some(after / before),
-                });
-            } else if worst <= GROUP_SHARE * tolerance {
-                for (&k, q) in group.patches.iter().zip(quads) {
-                    out.surfaces[k].surface = q;
-                }
-                report.groups.push(GroupFair {
-                    name: group.name.clone(),
-                    applied: true,
-                    max_deviation: worst,
-                    mesh_vertices: nsided.mesh_vertices,
-                    refit_max_error: nsided.refit.max_error,
-                    internal_angle_deg: nsided.refit.max_internal_angle_deg,
-                });
-            } else {
-                report.groups.push(GroupFair {
-                    name: group.name.clone(),
-                    applied: false,
-                    max_deviation: worst,
-                    mesh_vertices: nsided.mesh_vertices,
-                    refit_max_error: nsided.refit.max_error,
-                    internal_angle_deg: nsided.refit.max_internal_angle_deg,
-                });
-                report.problems.push(Problem {
-                    kind: ProblemKind::Limited,
-                    surface: first,
-                    link: None,
-                    message: format!(
-                        "corner group {}: the n-sided mesh fairing moves the patches {worst:.4} from the original, above {GROUP_SHARE} × the tolerance; the patches are faired one by one instead",
-                        group.name
-                    ),
-                    amount: Some(worst),
-                });
+            return;
+        }
+    };
+    let worst = group
+        .patches
+        .iter()
+        .zip(&quads)
+        .map(|(&k, q)| max_deviation(&model.surfaces[k].surface, q, params.deviation_grid))
+        .fold(0.0, f64::max);
+    // the mesh fairing is for fairness: a refit that raises a patch's thin-plate energy above
+    // its start is not used, nor one that moves the patches beyond the group's share
+    let raised = group.patches.iter().zip(&quads).find_map(|(&k, q)| {
+        let (before, after) = (
+            thin_plate_energy(&model.surfaces[k].surface),
+            thin_plate_energy(q),
+        );
+        (after > before).then(|| (model.surfaces[k].name.clone(), before, after))
+    });
+    let refused = match raised {
+        Some((name, before, after)) => Some((
+            format!(
+                "corner group {}: the refitted patch {name} would have thin-plate energy {after:.4} above its {before:.4}; the patches are faired one by one instead",
+                group.name
+            ),
+            after / before,
+        )),
+        None if worst > GROUP_SHARE * tolerance => Some((
+            format!(
+                "corner group {}: the n-sided mesh fairing moves the patches {worst:.4} from the original, above {GROUP_SHARE} × the tolerance; the patches are faired one by one instead",
+                group.name
+            ),
+            worst,
+        )),
+        None => None,
+    };
+    report.groups.push(GroupFair {
+        name: group.name.clone(),
+        applied: refused.is_none(),
+        max_deviation: worst,
+        mesh_vertices: nsided.mesh_vertices,
+        refit_max_error: nsided.refit.max_error,
+        internal_angle_deg: nsided.refit.max_internal_angle_deg,
+    });
+    match refused {
+        None => {
+            for (&k, q) in group.patches.iter().zip(quads) {
+                out.surfaces[k].surface = q;
             }
         }
-        Err(message) => report.problems.push(Problem {
+        Some((message, amount)) => report.problems.push(Problem {
             kind: ProblemKind::Limited,
             surface: first,
             link: None,
-            message: format!("{message}; the patches are faired one by one instead"),
-            amount: None,
+            message,
+            amount: Some(amount),
         }),
     }
 }
