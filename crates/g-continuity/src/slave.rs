@@ -541,8 +541,7 @@ pub fn prepare_slave(
 /// and the step is repeated — after the rows of the lower steps are solved again with the new
 /// knots — up to [`ConnectParams::max_refinements`] rounds; the best round is returned. The C0
 /// step of a slave with G1/G2 links aims at [`C0_FOR_G1_SHARE`] × the G0 tolerance (not below
-/// [`ConnectParams::c0_floor`]). The slave
-/// must be prepared ([`prepare_slave`]).
+/// [`ConnectParams::c0_floor`]). The slave must be prepared ([`prepare_slave`]).
 pub fn set_step(
     slave: &BSplineSurface,
     links: &[SideLink],
