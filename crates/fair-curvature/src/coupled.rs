@@ -15,7 +15,7 @@ use nurbs_core::sparse::{SparseSpd, SpdSolver};
 use nurbs_core::{BSplineSurface, Point3, SurfaceBasis, Vector3};
 
 use crate::error::{CurvatureError, Result};
-use crate::normal::{Displacement, band_neighbours};
+use crate::normal::{Displacement, band_neighbours, band_objective, free_columns};
 
 /// Normal equations of rows along directions, over a control net.
 pub(crate) struct CoupledSystem<'a> {
@@ -102,14 +102,7 @@ impl<'a> CoupledSystem<'a> {
         stage: &'static str,
     ) -> Result<Displacement> {
         let n = self.atb.len();
-        let mut col = vec![usize::MAX; n];
-        let mut nf = 0;
-        for (k, &f) in free.iter().enumerate() {
-            if f {
-                col[k] = nf;
-                nf += 1;
-            }
-        }
+        let (col, nf) = free_columns(free);
         let mut delta = vec![Vector3::zeros(); n];
         if nf == 0 {
             return Ok(Displacement {
@@ -181,19 +174,13 @@ impl<'a> CoupledSystem<'a> {
 
     /// Σ w (n·c·δ − r)² = bᵀb − 2 δ·Aᵀb + δᵀ AᵀA δ.
     fn objective(&self, delta: &[Vector3]) -> f64 {
-        let mut total = self.btb;
-        for a in 0..delta.len() {
-            if delta[a] == Vector3::zeros() {
-                continue;
-            }
-            total -= 2.0 * delta[a].dot(&self.atb[a]);
-            let mut ad = Vector3::zeros();
-            for (b, slot) in self.neighbours(a) {
-                ad += self.ata[a * self.stride + slot] * delta[b];
-            }
-            total += delta[a].dot(&ad);
-        }
-        total.max(0.0)
+        band_objective(
+            self.btb,
+            &self.atb,
+            delta,
+            |a, b, slot| self.ata[a * self.stride + slot] * delta[b],
+            |a| self.neighbours(a),
+        )
     }
 
     /// The weighted mean square residual at δ = 0.

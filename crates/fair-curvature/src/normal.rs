@@ -114,14 +114,7 @@ impl<'a> NormalSystem<'a> {
         stage: &'static str,
     ) -> Result<Displacement> {
         let n = self.atb.len();
-        let mut col = vec![usize::MAX; n];
-        let mut nf = 0;
-        for (k, &f) in free.iter().enumerate() {
-            if f {
-                col[k] = nf;
-                nf += 1;
-            }
-        }
+        let (col, nf) = free_columns(free);
         let mut delta = vec![Vector3::zeros(); n];
         let mean_before = self.btb / self.weight_sum.max(f64::MIN_POSITIVE);
         if nf == 0 {
@@ -188,19 +181,13 @@ impl<'a> NormalSystem<'a> {
 
     /// Σ w |c·δ − r|² = bᵀb − 2 δ·Aᵀb + δᵀ AᵀA δ.
     pub(crate) fn objective(&self, delta: &[Vector3]) -> f64 {
-        let mut total = self.btb;
-        for a in 0..delta.len() {
-            if delta[a] == Vector3::zeros() {
-                continue;
-            }
-            total -= 2.0 * delta[a].dot(&self.atb[a]);
-            let mut ad = Vector3::zeros();
-            for (b, slot) in self.neighbours(a) {
-                ad += self.ata[a * self.stride + slot] * delta[b];
-            }
-            total += delta[a].dot(&ad);
-        }
-        total.max(0.0)
+        band_objective(
+            self.btb,
+            &self.atb,
+            delta,
+            |a, b, slot| self.ata[a * self.stride + slot] * delta[b],
+            |a| self.neighbours(a),
+        )
     }
 
     /// The weighted mean square residual at δ = 0.
@@ -234,6 +221,44 @@ pub(crate) fn band_neighbours(
             })
         })
     })
+}
+
+/// Column of each free control point among the free ones (`usize::MAX` for fixed points) and
+/// the number of free points.
+pub(crate) fn free_columns(free: &[bool]) -> (Vec<usize>, usize) {
+    let mut col = vec![usize::MAX; free.len()];
+    let mut nf = 0;
+    for (k, &f) in free.iter().enumerate() {
+        if f {
+            col[k] = nf;
+            nf += 1;
+        }
+    }
+    (col, nf)
+}
+
+/// bᵀb − 2 δ·Aᵀb + δᵀ AᵀA δ for a banded normal matrix: `block(a, b, slot)` is the (a, b) block
+/// of AᵀA applied to δ_b, `neighbours(a)` the band of a.
+pub(crate) fn band_objective<I: Iterator<Item = (usize, usize)>>(
+    btb: f64,
+    atb: &[Vector3],
+    delta: &[Vector3],
+    block: impl Fn(usize, usize, usize) -> Vector3,
+    neighbours: impl Fn(usize) -> I,
+) -> f64 {
+    let mut total = btb;
+    for a in 0..delta.len() {
+        if delta[a] == Vector3::zeros() {
+            continue;
+        }
+        total -= 2.0 * delta[a].dot(&atb[a]);
+        let mut ad = Vector3::zeros();
+        for (b, slot) in neighbours(a) {
+            ad += block(a, b, slot);
+        }
+        total += delta[a].dot(&ad);
+    }
+    total.max(0.0)
 }
 
 /// Largest |δ_k|.
