@@ -51,41 +51,39 @@ impl<'a> CoupledSystem<'a> {
         }
     }
 
-    /// Adds the row n · Σ_k coeffs[k] P_k ≈ target with weight `weight` ≥ 0; `coeffs` is laid
-    /// out like the entries of `basis`.
+    /// Adds the row Σ_k coeffs[k] · P_k ≈ target with weight `weight` ≥ 0 (one 3-vector per
+    /// control point); `coeffs` is laid out like the entries of `basis`.
     pub(crate) fn add_row(
         &mut self,
         basis: &SurfaceBasis,
-        coeffs: &[f64],
+        coeffs: &[Vector3],
         weight: f64,
-        direction: Vector3,
         target: f64,
     ) {
         let cv = basis.count_v;
         let index = |k: usize| (basis.first_u + k / cv) * self.nv + basis.first_v + k % cv;
         let mut residual = target;
-        for (k, &c) in coeffs.iter().enumerate() {
-            residual -= c * direction.dot(&self.original[index(k)].coords);
+        for (k, c) in coeffs.iter().enumerate() {
+            residual -= c.dot(&self.original[index(k)].coords);
         }
         self.btb += weight * residual * residual;
         self.weight_sum += weight;
-        let nn = direction * direction.transpose();
-        for (a, &ca) in coeffs.iter().enumerate() {
-            if ca == 0.0 {
+        for (a, ca) in coeffs.iter().enumerate() {
+            if *ca == Vector3::zeros() {
                 continue;
             }
             let ga = index(a);
             let wa = weight * ca;
-            self.atb[ga] += (wa * residual) * direction;
+            self.atb[ga] += residual * wa;
             let (ai, aj) = (a / cv, a % cv);
             let row = &mut self.ata[ga * self.stride..(ga + 1) * self.stride];
-            for (b, &cb) in coeffs.iter().enumerate() {
-                if cb == 0.0 {
+            for (b, cb) in coeffs.iter().enumerate() {
+                if *cb == Vector3::zeros() {
                     continue;
                 }
                 let (bi, bj) = (b / cv, b % cv);
                 let slot = (bi + self.p - ai) * self.width_v + (bj + self.q - aj);
-                row[slot] += (wa * cb) * nn;
+                row[slot] += wa * cb.transpose();
             }
         }
     }
@@ -100,6 +98,16 @@ impl<'a> CoupledSystem<'a> {
         free: &[bool],
         rho: f64,
         stage: &'static str,
+    ) -> Result<Displacement> {
+        self.solve_offset(free, rho, stage, None)
+    }
+
+    pub(crate) fn solve_offset(
+        &self,
+        free: &[bool],
+        rho: f64,
+        stage: &'static str,
+        offset: Option<&[Vector3]>,
     ) -> Result<Displacement> {
         let n = self.atb.len();
         let (col, nf) = free_columns(free);
@@ -130,7 +138,7 @@ impl<'a> CoupledSystem<'a> {
                 continue;
             }
             for d in 0..3 {
-                rhs[(3 * ca + d, 0)] = self.atb[a][d];
+                rhs[(3 * ca + d, 0)] = self.atb[a][d] - offset.map_or(0.0, |o| lambda * o[a][d]);
             }
             for (b, slot) in self.neighbours(a) {
                 let cb = col[b];

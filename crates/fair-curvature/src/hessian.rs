@@ -13,6 +13,16 @@
 //! parameterization, so least squares on the entries (Y11, √2 Y12, Y22) does not depend on the
 //! parametric directions either. tr Y = tr g⁻¹M = (G M11 − 2F M12 + E M22)/(EG − F²).
 //!
+//! # First variation of the metric
+//! Greiner's rows give the second fundamental form of S = R + δ to first order,
+//! II_S = n_R · M_R(S) + O(δ²), but measure it with R's metric; the shape operator of S is
+//! g_S⁻¹ II_S with g_S = g + δg, δg_ab = R_a·δ_b + R_b·δ_a + O(δ²), so
+//! X_S = g⁻¹ n·M_R(S) − g⁻¹ δg X_R + O(δ²). Dropping the second term is an error of first order
+//! in the displacement's derivative times the curvature: on a noisy surface it is as large as the
+//! curvature change the fairing asks for. In the orthonormal frame the complete linearization
+//! reads Y_S ≈ L⁻¹ n·M_R(S) L⁻ᵀ − sym(L⁻¹ G(S) L⁻ᵀ Y_R) + 2 Y_R with G_ab(S) = R_a·S_b + R_b·S_a,
+//! linear in the control points ([`SampleGeometry::metric_variation`]); at S = R it gives Y_R.
+//!
 //! # Tolerance
 //! A sample whose metric has EG − F² ≤ [`DEGENERATE_METRIC_REL`] · E·G (a pole or parallel
 //! tangents) carries no equation.
@@ -38,6 +48,8 @@ pub struct SampleGeometry {
     pub inverse_cholesky: [f64; 3],
     /// the shape operator g⁻¹ II of R, row-major
     pub shape: [f64; 4],
+    /// R_u, R_v
+    pub tangents: [Vector3; 2],
 }
 
 impl SampleGeometry {
@@ -70,7 +82,41 @@ impl SampleGeometry {
                 inv[1] * l + inv[2] * m,
                 inv[1] * m + inv[2] * n,
             ],
+            tangents: [d.du, d.dv],
         })
+    }
+
+    /// The metric term of the linearized shape operator for one basis function with first
+    /// derivatives (N_u, N_v): for each coordinate c, sym(L⁻¹ G L⁻ᵀ Y_R) as (·11, √2 ·12, ·22),
+    /// where G_ab = R_a,c N_b + R_b,c N_a is the metric variation of a unit move of the control
+    /// point along coordinate c (see the module docs).
+    pub fn metric_variation(&self, first: [f64; 2]) -> [[f64; 3]; 3] {
+        let y = self.orthonormal_mixed(self.shape);
+        let h = std::f64::consts::FRAC_1_SQRT_2;
+        let yr = [[y[0], h * y[1]], [h * y[1], y[2]]];
+        let [a, b, c] = self.inverse_cholesky;
+        let [ru, rv] = self.tangents;
+        let mut out = [[0.0; 3]; 3];
+        for (k, o) in out.iter_mut().enumerate() {
+            let e11 = 2.0 * ru[k] * first[0];
+            let e12 = ru[k] * first[1] + rv[k] * first[0];
+            let e22 = 2.0 * rv[k] * first[1];
+            // Z = L⁻¹ E L⁻ᵀ with L⁻¹ = [[a, 0], [b, c]]
+            let z11 = a * a * e11;
+            let z12 = a * (b * e11 + c * e12);
+            let z22 = b * b * e11 + 2.0 * b * c * e12 + c * c * e22;
+            let w11 = z11 * yr[0][0] + z12 * yr[1][0];
+            let w12 = z11 * yr[0][1] + z12 * yr[1][1];
+            let w21 = z12 * yr[0][0] + z22 * yr[1][0];
+            let w22 = z12 * yr[0][1] + z22 * yr[1][1];
+            *o = [w11, std::f64::consts::SQRT_2 * (w12 + w21) / 2.0, w22];
+        }
+        out
+    }
+
+    /// The constant of the linearized rows, 2 Y_R as (·11, √2 ·12, ·22).
+    pub fn metric_constant(&self) -> [f64; 3] {
+        self.orthonormal_mixed(self.shape).map(|v| 2.0 * v)
     }
 
     /// M(h) = (M11, M12, M22) of a function with first derivatives (h_u, h_v) and second

@@ -25,6 +25,7 @@ pub mod hessian;
 mod integrate;
 mod normal;
 pub mod polyline;
+pub mod quadric;
 pub mod sampling;
 pub mod smooth;
 pub mod target;
@@ -32,8 +33,8 @@ pub mod target;
 pub use curve::{CurveParams, CurveReport, arc_length_params, fair_curve};
 pub use error::{CurvatureError, Result};
 pub use greiner::{
-    GREINER_METHOD, GreinerFairing, GreinerParams, GreinerReport, GreinerTarget,
-    fair_surface_greiner,
+    DEFAULT_HALF_WINDOW_SPANS, GREINER_METHOD, GreinerFairing, GreinerParams, GreinerReport,
+    GreinerTarget, TargetSmoothing, fair_surface_greiner,
 };
 pub use normal::SCALE_MARGIN;
 pub use polyline::{EndCurvature, PolylineParams, fair_polyline};
