@@ -191,7 +191,7 @@ impl GreinerParams {
 pub struct GreinerReport {
     /// samples in u and v
     pub samples: (usize, usize),
-    /// samples skipped for a singular metric
+    /// samples skipped for a singular metric or a degenerate quadric fit
     pub singular_samples: usize,
     /// number of free control points
     pub free_points: usize,
