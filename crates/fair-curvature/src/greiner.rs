@@ -301,6 +301,7 @@ pub fn fair_surface_greiner(
     let len = basis.len();
     let mut rows = vec![vec![0.0; len]; 3];
     let mut coeffs = vec![nurbs_core::Vector3::zeros(); len];
+    let mut metric = vec![[[0.0; 3]; 3]; len];
     for (a, &u) in us.iter().enumerate() {
         for (b, &v) in vs.iter().enumerate() {
             let s = a * mv + b;
@@ -310,6 +311,9 @@ pub fn fair_surface_greiner(
             let weight = g.area * wu[a] * wv[b];
             eval.eval(u, v, &mut basis);
             for k in 0..len {
+                if params.normal_rows {
+                    metric[k] = g.metric_variation([basis.du[k], basis.dv[k]]);
+                }
                 let m = g.covariant(
                     [basis.du[k], basis.dv[k]],
                     [basis.duu[k], basis.duv[k], basis.dvv[k]],
@@ -338,9 +342,8 @@ pub fn fair_surface_greiner(
                 if params.normal_rows {
                     // n · M_R(S) − sym(L⁻¹ G(S) L⁻ᵀ Y_R) = target − 2 Y_R
                     for k in 0..len {
-                        let metric = g.metric_variation([basis.du[k], basis.dv[k]]);
                         let mut c = rows[r][k] * g.normal;
-                        for (d, m) in metric.iter().enumerate() {
+                        for (d, m) in metric[k].iter().enumerate() {
                             c[d] -= entries.iter().map(|&e| m[e]).sum::<f64>();
                         }
                         coeffs[k] = c;

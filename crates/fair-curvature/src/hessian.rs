@@ -50,6 +50,8 @@ pub struct SampleGeometry {
     pub shape: [f64; 4],
     /// R_u, R_v
     pub tangents: [Vector3; 2],
+    /// Y_R = Lᵀ (g⁻¹ II) L⁻ᵀ as (Y11, √2 Y12, Y22)
+    pub orthonormal_shape: [f64; 3],
 }
 
 impl SampleGeometry {
@@ -70,7 +72,7 @@ impl SampleGeometry {
         let l11 = e.sqrt();
         let l21 = f / l11;
         let l22 = (g - l21 * l21).sqrt();
-        Some(Self {
+        let mut out = Self {
             normal,
             area: det.sqrt(),
             metric: [e, f, g],
@@ -83,7 +85,10 @@ impl SampleGeometry {
                 inv[1] * m + inv[2] * n,
             ],
             tangents: [d.du, d.dv],
-        })
+            orthonormal_shape: [0.0; 3],
+        };
+        out.orthonormal_shape = out.orthonormal_mixed(out.shape);
+        Some(out)
     }
 
     /// The metric term of the linearized shape operator for one basis function with first
@@ -91,7 +96,7 @@ impl SampleGeometry {
     /// where G_ab = R_a,c N_b + R_b,c N_a is the metric variation of a unit move of the control
     /// point along coordinate c (see the module docs).
     pub fn metric_variation(&self, first: [f64; 2]) -> [[f64; 3]; 3] {
-        let y = self.orthonormal_mixed(self.shape);
+        let y = self.orthonormal_shape;
         let h = std::f64::consts::FRAC_1_SQRT_2;
         let yr = [[y[0], h * y[1]], [h * y[1], y[2]]];
         let [a, b, c] = self.inverse_cholesky;
@@ -116,7 +121,7 @@ impl SampleGeometry {
 
     /// The constant of the linearized rows, 2 Y_R as (·11, √2 ·12, ·22).
     pub fn metric_constant(&self) -> [f64; 3] {
-        self.orthonormal_mixed(self.shape).map(|v| 2.0 * v)
+        self.orthonormal_shape.map(|v| 2.0 * v)
     }
 
     /// M(h) = (M11, M12, M22) of a function with first derivatives (h_u, h_v) and second
