@@ -54,6 +54,19 @@ pub struct SampleGeometry {
     pub orthonormal_shape: [f64; 3],
 }
 
+/// The shape operator g⁻¹ II (row-major) from the inverse metric (g¹¹, g¹², g²²) and
+/// II = (L, M, N).
+#[inline]
+pub fn shape_operator(inverse_metric: [f64; 3], ii: [f64; 3]) -> [f64; 4] {
+    let [a, b, c] = inverse_metric;
+    [
+        a * ii[0] + b * ii[1],
+        a * ii[1] + b * ii[2],
+        b * ii[0] + c * ii[1],
+        b * ii[1] + c * ii[2],
+    ]
+}
+
 impl SampleGeometry {
     /// The reference data at a point of R, `None` at a singular sample.
     pub fn new(d: &SurfaceDerivatives) -> Option<Self> {
@@ -78,12 +91,7 @@ impl SampleGeometry {
             metric: [e, f, g],
             christoffel: [gamma(&d.duu), gamma(&d.duv), gamma(&d.dvv)],
             inverse_cholesky: [1.0 / l11, -l21 / (l11 * l22), 1.0 / l22],
-            shape: [
-                inv[0] * l + inv[1] * m,
-                inv[0] * m + inv[1] * n,
-                inv[1] * l + inv[2] * m,
-                inv[1] * m + inv[2] * n,
-            ],
+            shape: shape_operator(inv, [l, m, n]),
             tangents: [d.du, d.dv],
             orthonormal_shape: [0.0; 3],
         };

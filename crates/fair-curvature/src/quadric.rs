@@ -26,6 +26,8 @@
 use nalgebra::{Matrix3, SMatrix, SVector, SymmetricEigen};
 use nurbs_core::{Point3, Vector3};
 
+use crate::hessian::shape_operator;
+
 /// Relative eigenvalue of the normal matrix below which a direction of the quadric's
 /// coefficients counts as undetermined (squared singular value ratio 1e-7).
 pub const QUADRIC_RANK_REL: f64 = 1e-14;
@@ -126,13 +128,7 @@ pub fn osculating_shape(frame: &SampleFrame, points: &[Point3]) -> Option<[f64; 
     if !(det > 0.0) {
         return None;
     }
-    let inv = [g / det, -ff / det, e / det];
-    let shape = [
-        inv[0] * ii[0] + inv[1] * ii[1],
-        inv[0] * ii[1] + inv[1] * ii[2],
-        inv[1] * ii[0] + inv[2] * ii[1],
-        inv[1] * ii[1] + inv[2] * ii[2],
-    ];
+    let shape = shape_operator([g / det, -ff / det, e / det], ii);
     shape.iter().all(|v| v.is_finite()).then_some(shape)
 }
 
@@ -161,13 +157,7 @@ mod tests {
         let (e, ff, g) = (du.dot(&du), du.dot(&dv), dv.dot(&dv));
         let ii = [2.0 * a * normal.z, 0.0, 2.0 * b * normal.z];
         let det = e * g - ff * ff;
-        let inv = [g / det, -ff / det, e / det];
-        let shape = [
-            inv[0] * ii[0] + inv[1] * ii[1],
-            inv[0] * ii[1] + inv[1] * ii[2],
-            inv[1] * ii[0] + inv[2] * ii[1],
-            inv[1] * ii[1] + inv[2] * ii[2],
-        ];
+        let shape = shape_operator([g / det, -ff / det, e / det], ii);
         let frame = SampleFrame {
             point: f(x0, y0),
             du,
