@@ -23,18 +23,6 @@ pub enum Error {
         /// the side
         side: Side,
     },
-    /// A rational slave that no polynomial re-approximation meets within the tolerance.
-    #[error(
-        "the slave is rational (weights {min_weight}..{max_weight}) and its polynomial re-approximation stays above {tolerance}"
-    )]
-    RationalSlave {
-        /// smallest weight
-        min_weight: f64,
-        /// largest weight
-        max_weight: f64,
-        /// the tolerance asked for (model units)
-        tolerance: f64,
-    },
     /// A setting parameter outside its range.
     #[error("invalid parameter {name} = {value}: {reason}")]
     InvalidParameter {

@@ -11,6 +11,7 @@
 //! hier-fair's job). References (keys in brackets) are listed in `docs/references.md`.
 
 pub mod error;
+pub mod lead_in;
 pub mod lsq;
 pub mod measure;
 pub mod params;
@@ -19,9 +20,10 @@ pub mod sampling;
 pub mod slave;
 
 pub use error::{Error, Result};
+pub use lead_in::{LEAD_IN_DEGREE, LeadInReport, MAX_LEAD_IN, with_lead_in};
 pub use measure::{LinkMeasure, MeasureParams, SampleMeasure, measure_link};
 pub use params::{ConnectParams, G2Method, SetParams, Tolerances};
 pub use slave::{
-    C0_FOR_G1_SHARE, ConnectReport, SideLink, SideReport, StepReport, connect_slave, prepare_slave,
-    set_g0, set_g1, set_g2, set_rows, set_step,
+    C0_FOR_G1_SHARE, ConnectReport, SideLink, SideReport, StepReport, connect_slave, new_knots,
+    prepare_slave, set_g0, set_g1, set_g2, set_rows, set_step,
 };

@@ -3,11 +3,13 @@
 //! At K samples t_k along the slave side (both ends included), with slave point S_k and master
 //! point M_k = the closest point of the master (projection; the master may be trimmed):
 //! - G0: the gap |S_k − M_k|;
-//! - G1: the angle between the unit normals, atan2(|n_s × n_m|, |n_s · n_m|) in degrees, which
-//!   does not depend on how either normal is oriented;
+//! - G1: the angle between the unit normals, atan2(|n_s × σ n_m|, n_s · σ n_m) in degrees, where
+//!   σ = ±1 is the relative orientation of the two surfaces along the join (that of the majority
+//!   of the samples): the figure does not depend on how either surface is oriented, but a normal
+//!   that turns over along the join — next to a pole, a degenerate corner — shows as ≈ 180°;
 //! - G2: the normal curvatures in the slave's cross-boundary direction d = S_u (u sides) or S_v
 //!   (v sides): κ_s = II_s(d, d)/I_s(d, d) and κ_m = II_m(d, d)/I_m(d, d) of the master in the same
-//!   3D direction (its tangential part), signed with respect to n_s (κ_m flips when n_m · n_s < 0);
+//!   3D direction (its tangential part), signed with respect to n_s (κ_m flips with σ);
 //!   g2_abs = |κ_s − κ_m| and g2_rel = |κ_s − κ_m| / max(|κ_s|, |κ_m|), taken as 0 when both are
 //!   below the flatness cut-off (the measure of CATIA's connect checker, model-format.md).
 //!   Normal curvature is even in d, so the direction of d (into the slave) needs no sign fix.
@@ -183,23 +185,42 @@ pub fn measure_link(
         undefined_curvatures: 0,
         detail: Vec::with_capacity(ts.len()),
     };
+    // first pass: points, foot points and both normals at every sample
+    let mut pairs = Vec::with_capacity(ts.len());
     for &t in &ts {
         let (u, v) = side.params(slave, t);
         let ds = slave_eval.derivatives(u, v);
         let proj = tracker.project(&ds.point);
         let dm = master_eval.derivatives(proj.u, proj.v);
-        let mut sample = SampleMeasure {
+        if proj.distance > m.g0 {
+            m.g0 = proj.distance;
+            m.worst_g0_t = t;
+        }
+        m.detail.push(SampleMeasure {
             t,
             master_params: (proj.u, proj.v),
             gap: proj.distance,
             angle_deg: None,
             kappa_slave: None,
             kappa_master: None,
-        };
-        if proj.distance > m.g0 {
-            m.g0 = proj.distance;
-            m.worst_g0_t = t;
-        }
+        });
+        pairs.push((ds, dm));
+    }
+    // the relative orientation of the two normals along the join: that of the majority of the
+    // samples (weighted by |n_s · n_m|), so that a normal turned over next to a pole or a
+    // degenerate corner shows as an angle near 180° instead of being folded back to 0°
+    let orientation = if collapsed {
+        1.0
+    } else {
+        let sum: f64 = pairs
+            .iter()
+            .filter_map(|(ds, dm)| ds.normal().zip(dm.normal()))
+            .map(|(ns, nm)| ns.dot(&nm))
+            .sum();
+        if sum < 0.0 { -1.0 } else { 1.0 }
+    };
+    for ((ds, dm), sample) in pairs.iter().zip(m.detail.iter_mut()) {
+        let t = sample.t;
         let normals = if collapsed {
             None
         } else {
@@ -213,17 +234,17 @@ pub fn measure_link(
                 }
             }
             Some((ns, nm)) => {
-                let dot = ns.dot(&nm);
-                let angle = ns.cross(&nm).norm().atan2(dot.abs()).to_degrees();
+                let nm = nm * orientation;
+                let angle = ns.cross(&nm).norm().atan2(ns.dot(&nm)).to_degrees();
                 sample.angle_deg = Some(angle);
                 if m.g1_deg.is_none_or(|a| angle > a) {
                     m.g1_deg = Some(angle);
                     m.worst_g1_t = Some(t);
                 }
-                let dir = cross_derivative(&ds, side);
+                let dir = cross_derivative(ds, side);
                 match (ds.normal_curvature(&dir), dm.normal_curvature(&dir)) {
                     (Some(ks), Some(km)) => {
-                        let km = if dot < 0.0 { -km } else { km };
+                        let km = km * orientation;
                         sample.kappa_slave = Some(ks);
                         sample.kappa_master = Some(km);
                         let abs = (ks - km).abs();
@@ -241,7 +262,6 @@ pub fn measure_link(
                 }
             }
         }
-        m.detail.push(sample);
     }
     Ok(m)
 }

@@ -104,15 +104,14 @@ pub struct ConnectParams {
     /// rounds of knot insertion along failing sides (default 6: each halves the spans where the
     /// tolerance is missed, so a span can shrink to 1/64; the trimmed-master test needs 4–6)
     pub max_refinements: usize,
-    /// Largest sampled deviation (model units) of the polynomial re-approximation of a rational
-    /// slave (default 1e-4: a tenth of the Class-A gap, so the re-approximation never decides a
-    /// G0 check).
-    pub rational_tolerance: f64,
     /// Smallest gap (model units) worth aiming at in [`crate::set_step`]'s C0 step when G1/G2
-    /// follow (see [`crate::C0_FOR_G1_SHARE`]): e.g. the re-approximation error of rational
-    /// masters, below which the joins — and the corners shared by several masters — cannot get.
-    /// Default 0.
+    /// follow (see [`crate::C0_FOR_G1_SHARE`]), e.g. a known error of the masters below which
+    /// the joins cannot get. Default 0.
     pub c0_floor: f64,
+    /// Width of the curvature lead-in [`crate::prepare_slave`] places at every G2 side, as a
+    /// fraction of the cross domain ([`crate::lead_in`]); `None` (default): none, the freedom
+    /// comes from knots inserted where the tolerances are missed.
+    pub lead_in: Option<f64>,
 }
 
 impl Default for ConnectParams {
@@ -122,8 +121,8 @@ impl Default for ConnectParams {
             measure: MeasureParams::default(),
             tolerances: Tolerances::default(),
             max_refinements: 6,
-            rational_tolerance: 1e-4,
             c0_floor: 0.0,
+            lead_in: None,
         }
     }
 }

@@ -269,7 +269,7 @@ fn solve_row_once(
         let (u, v) = side.params(slave, t);
         let ds = slave_eval.evaluate(u, v, if step == Continuity::G2 { 2 } else { 1 });
         let proj = tracker.project(&ds.point);
-        let first = basis.along_basis(t, &mut mvals);
+        let first = basis.row_basis(k, t, &mut mvals);
         match step {
             Continuity::G0 => {
                 for (l, &mv) in mvals.iter().enumerate() {

@@ -87,7 +87,14 @@ pub fn cross_knots(surface: &BSplineSurface, side: Side) -> &KnotVector {
     }
 }
 
-/// Row coefficients and along-side basis of one side of a clamped polynomial slave.
+/// Row coefficients and along-side basis of one side of a clamped slave, polynomial or rational.
+///
+/// For a rational slave with its weights held fixed, S = A/W with A = Σ N_i M_j w_ij P_ij; on a
+/// clamped side the r-th cross derivative is S^(r) = (A^(r) − Σ_{i=1..r} C(r,i) W^(i) S^(r−i))/W,
+/// and only A^(r) holds control row r. So row r enters S^(r)(c, t) linearly with the coefficient
+/// a_r · w_rj M_j(t) / W(c, t), W(c, t) = Σ_j w_0j M_j(t): the row equations keep their form with
+/// the along basis M_j replaced by the *rational row basis* of [`SideBasis::row_basis`] ([SV] §4
+/// with fixed weights; [NB] §4.4). Nothing is re-approximated.
 #[derive(Debug, Clone)]
 pub struct SideBasis {
     /// the side
@@ -97,6 +104,8 @@ pub struct SideBasis {
     pub row_coefficient: [f64; 3],
     along: KnotVector,
     evaluator: BasisEvaluator,
+    /// weights of rows 0, 1, 2 along the side (rational slaves only; rows beyond the net empty)
+    row_weights: Option<[Vec<f64>; 3]>,
 }
 
 impl SideBasis {
@@ -116,12 +125,49 @@ impl SideBasis {
         }
         let along = along_knots(slave, side).clone();
         let evaluator = BasisEvaluator::new(along.degree());
+        let row_weights = slave.weights().map(|_| {
+            let (nu, nv) = (slave.num_u(), slave.num_v());
+            let rows_across = n;
+            std::array::from_fn(|r| {
+                if r < rows_across {
+                    side.row(r, nu, nv)
+                        .iter()
+                        .map(|&(i, j)| slave.weight(i, j))
+                        .collect()
+                } else {
+                    Vec::new()
+                }
+            })
+        });
         Self {
             side,
             row_coefficient,
             along,
             evaluator,
+            row_weights,
         }
+    }
+
+    /// Whether the slave is rational (the row basis then carries its weights).
+    pub fn is_rational(&self) -> bool {
+        self.row_weights.is_some()
+    }
+
+    /// The basis with which control row `r` enters the r-th cross derivative at `t` (divided by
+    /// a_r): M_j(t) for a polynomial slave, w_rj M_j(t) / W(c, t) for a rational one (see the
+    /// type's documentation). Returns the first along index; the q + 1 values go into `out`.
+    pub fn row_basis(&mut self, r: usize, t: f64, out: &mut [f64]) -> usize {
+        let first = self.along_basis(t, out);
+        if let Some(w) = &self.row_weights {
+            let q1 = self.along.degree() + 1;
+            let w0: f64 = (0..q1).map(|l| w[0][first + l] * out[l]).sum();
+            if let Some(wr) = w.get(r).filter(|x| !x.is_empty()) {
+                for (l, o) in out.iter_mut().enumerate().take(q1) {
+                    *o *= wr[first + l] / w0;
+                }
+            }
+        }
+        first
     }
 
     /// Degree along the side.

@@ -15,10 +15,10 @@
 //!   [`SetParams::move_unlinked_boundaries`] allows it).
 //!
 //! More freedom ([SV] §3.2 step 1): a slave whose degree across a G_r side is below r is degree
-//! elevated; one with too few control rows for the frames of two opposite sides gets knots across;
-//! a rational slave is made polynomial: equal weights are dropped, otherwise it is re-approximated
-//! by least squares on its own knots, halving all spans until the sampled deviation is within
-//! [`ConnectParams::rational_tolerance`] (an error when it is not reached).
+//! elevated; one with too few control rows for the frames of two opposite sides gets knots across.
+//! A rational slave keeps its weights: with the weights fixed it is linear in its control points
+//! through the rational basis, so the row equations stay linear ([`crate::sampling::SideBasis`]),
+//! and knot insertion and degree elevation are exact in homogeneous coordinates.
 //! When a side misses the tolerances after setting, the knot spans along it that hold failing
 //! samples are halved and the whole slave is set again, up to
 //! [`ConnectParams::max_refinements`] rounds.
@@ -91,10 +91,9 @@ pub struct ConnectReport {
     pub refinements: usize,
     /// degree elevation (u, v)
     pub degree_elevation: (usize, usize),
-    /// whether the slave was made polynomial (equal weights dropped, or re-approximated)
+    /// whether the slave's weights were all equal and were dropped (exact; a rational slave
+    /// with unequal weights stays rational)
     pub made_polynomial: bool,
-    /// sampled deviation of the polynomial re-approximation of a rational slave (model units)
-    pub rational_fit_error: Option<f64>,
     /// twist (and shared corner) points set by averaging
     pub twists_averaged: usize,
     /// largest control point movement against the input refined the same way (model units)
@@ -200,6 +199,15 @@ fn step_all(
     for l in &active {
         let m = l.side.row(k, nu, nv).len();
         let mut status = classify(l.side, k, m, &levels, params.move_unlinked_boundaries);
+        // the end point on a neighbouring side collapsed to a point (a pole) is that point: it
+        // never moves, so the pole stays one point and the rows next to it stay consistent
+        let (start, end) = neighbours(l.side);
+        if is_collapsed(&base, start) {
+            status[0] = Status::Fixed;
+        }
+        if is_collapsed(&base, end) {
+            status[m - 1] = Status::Fixed;
+        }
         // an end point on an unlinked side lies on that free boundary: it stays where it is when
         // its corner is already continuous (the corner sample alone asks for no move), and is
         // free otherwise (the boundary has to change for the corner anyway)
@@ -272,7 +280,7 @@ fn step_all(
 }
 
 /// Sets C0, then G1, then G2 (as far as each link's target asks) on a prepared slave (clamped,
-/// polynomial, enough rows); returns the number of averaged twists.
+/// enough rows); returns the number of averaged twists.
 pub fn set_rows(
     slave: &mut BSplineSurface,
     links: &[SideLink],
@@ -330,7 +338,7 @@ fn single(
 }
 
 /// Fits the positional row of `side` to the master (C0); returns the largest row movement. The
-/// slave must be clamped and polynomial.
+/// slave must be clamped.
 pub fn set_g0(
     master: &BSplineSurface,
     slave: &mut BSplineSurface,
@@ -362,113 +370,26 @@ pub fn set_g2(
     single(master, slave, side, Continuity::G2, params)
 }
 
-/// Rounds of knot refinement (all spans halved) a rational slave's polynomial re-approximation
-/// may take.
-pub const RATIONAL_REFINEMENTS: usize = 6;
-
-/// Least degree of the polynomial re-approximation of a rational slave.
-pub const RATIONAL_MIN_DEGREE: usize = 3;
-
-/// Samples per knot span and direction of the re-approximation fit (4 for a cubic span: one
-/// more than its degree, so the fit is well determined even after refinement).
-pub const RATIONAL_FIT_SAMPLES: usize = 5;
-
-/// Grid of the deviation check of the re-approximation (per direction).
-pub const RATIONAL_CHECK_GRID: usize = 61;
-
-fn span_params(kv: &nurbs_core::KnotVector, per_span: usize) -> Vec<f64> {
-    let k = kv.knots();
-    let mut out: Vec<f64> = kv
-        .spans()
-        .flat_map(|s| {
-            (0..per_span).map(move |i| k[s] + (k[s + 1] - k[s]) * i as f64 / per_span as f64)
-        })
-        .collect();
-    out.push(kv.domain().1);
-    out
-}
-
-/// Least-squares polynomial approximation of a rational surface on its own knots, refined until
-/// the sampled deviation is within `tolerance`; `None` when it never gets there.
-fn reapproximate(
-    rational: &BSplineSurface,
-    mut template: BSplineSurface,
-    tolerance: f64,
-) -> Option<(BSplineSurface, f64)> {
-    for round in 0..=RATIONAL_REFINEMENTS {
-        if round > 0 {
-            let mids = |kv: &nurbs_core::KnotVector| -> Vec<f64> {
-                kv.spans()
-                    .map(|s| 0.5 * (kv.knots()[s] + kv.knots()[s + 1]))
-                    .collect()
-            };
-            let (mu, mv) = (mids(template.knots_u()), mids(template.knots_v()));
-            template = template
-                .refine(Direction::U, &mu)
-                .ok()?
-                .refine(Direction::V, &mv)
-                .ok()?;
-        }
-        let (us, vs) = (
-            span_params(template.knots_u(), RATIONAL_FIT_SAMPLES),
-            span_params(template.knots_v(), RATIONAL_FIT_SAMPLES),
-        );
-        let params: Vec<(f64, f64)> = us
-            .iter()
-            .flat_map(|&u| vs.iter().map(move |&v| (u, v)))
-            .collect();
-        let points: Vec<Point3> = params.iter().map(|&(u, v)| rational.point(u, v)).collect();
-        let mask = nurbs_core::ControlMask::for_surface(&template);
-        let Ok((fitted, _)) = nurbs_core::fit_surface(
-            &template,
-            &mask,
-            &params,
-            &points,
-            &nurbs_core::FitParams::default(),
-        ) else {
-            continue;
-        };
-        let error = nurbs_core::energy::max_deviation(rational, &fitted, RATIONAL_CHECK_GRID);
-        if error <= tolerance {
-            return Some((fitted, error));
-        }
-    }
-    None
-}
-
-/// Makes the slave clamped, polynomial, of sufficient degree and with enough control rows.
+/// Makes the slave clamped, of sufficient degree and with enough control rows. A rational slave
+/// stays rational with its weights (the row equations take them, [`crate::sampling::SideBasis`]);
+/// only weights that are all equal are dropped, which is exact.
 fn prepare(
     slave: &BSplineSurface,
     links: &[SideLink],
-    rational_tolerance: f64,
+    lead_in: Option<f64>,
     report: &mut ConnectReport,
 ) -> Result<BSplineSurface> {
     let mut s = slave.clamped()?;
     if let Some(w) = s.weights() {
-        let (lo, hi) = w
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
-                (a.min(x), b.max(x))
-            });
-        let polynomial = BSplineSurface::new(
-            s.knots_u().clone(),
-            s.knots_v().clone(),
-            s.control_points().to_vec(),
-            None,
-        )?;
-        if lo == hi {
-            s = polynomial;
-        } else {
-            let (fitted, error) =
-                reapproximate(&s, polynomial, rational_tolerance).ok_or(Error::RationalSlave {
-                    min_weight: lo,
-                    max_weight: hi,
-                    tolerance: rational_tolerance,
-                })?;
-            report.rational_fit_error = Some(error);
-            s = fitted;
+        if w.iter().all(|&x| x == w[0]) {
+            s = BSplineSurface::new(
+                s.knots_u().clone(),
+                s.knots_v().clone(),
+                s.control_points().to_vec(),
+                None,
+            )?;
+            report.made_polynomial = true;
         }
-        report.made_polynomial = true;
     }
     for dir in [Direction::U, Direction::V] {
         let need_degree = links
@@ -488,6 +409,13 @@ fn prepare(
                 Direction::V => report.degree_elevation.1 += need_degree - degree,
             }
         }
+    }
+    if let Some(width) = lead_in {
+        let (more, lead) = crate::lead_in::with_lead_in(&s, links, width)?;
+        s = more;
+        report.knots_inserted += lead.knots_inserted;
+        report.degree_elevation.0 += lead.degree_elevation.0;
+        report.degree_elevation.1 += lead.degree_elevation.1;
     }
     let levels = levels_of(links);
     for (dir, a, b) in [
@@ -520,9 +448,10 @@ pub struct StepReport {
     pub after: Vec<LinkMeasure>,
 }
 
-/// Makes a slave ready for the staged framework ([SV] §3.2 step 1): clamped, polynomial, of
-/// sufficient degree and with enough control rows for the frames of all its `links`. The shape
-/// is unchanged (up to the re-approximation of a rational slave, reported).
+/// Makes a slave ready for the staged framework ([SV] §3.2 step 1): clamped, of sufficient
+/// degree and with enough control rows for the frames of all its `links`, with the curvature
+/// lead-in of [`ConnectParams::lead_in`] at its G2 sides. The shape is unchanged (rational
+/// slaves stay rational).
 pub fn prepare_slave(
     slave: &BSplineSurface,
     links: &[SideLink],
@@ -530,7 +459,7 @@ pub fn prepare_slave(
 ) -> Result<(BSplineSurface, ConnectReport)> {
     check_links(links)?;
     let mut report = ConnectReport::default();
-    let s = prepare(slave, links, params.rational_tolerance, &mut report)?;
+    let s = prepare(slave, links, params.lead_in, &mut report)?;
     Ok((s, report))
 }
 
@@ -618,6 +547,10 @@ pub fn set_step(
                 if count + xs.len() > MAX_CONTROL_POINTS {
                     continue;
                 }
+                let xs = new_knots(&work, dir, &xs);
+                if xs.is_empty() {
+                    continue;
+                }
                 work = work.refine(dir, &xs)?;
                 report.knots_inserted += xs.len();
                 inserted = true;
@@ -630,6 +563,33 @@ pub fn set_step(
         report.refinements += 1;
     }
 }
+
+/// The knots of `xs` worth inserting in direction `dir` of `s`: sorted, each once, none that is
+/// a knot already (two links along the same direction ask for the same span midpoints; a
+/// repeated knot would only lower the continuity, and on a degree-1 direction it cannot be
+/// inserted at all), none outside the open domain.
+pub fn new_knots(s: &BSplineSurface, dir: Direction, xs: &[f64]) -> Vec<f64> {
+    let kv = match dir {
+        Direction::U => s.knots_u(),
+        Direction::V => s.knots_v(),
+    };
+    let (a, b) = kv.domain();
+    let close = KNOT_MERGE_RELATIVE * (b - a);
+    let mut out: Vec<f64> = Vec::new();
+    let mut sorted: Vec<f64> = xs.iter().copied().filter(|x| x.is_finite()).collect();
+    sorted.sort_by(f64::total_cmp);
+    for x in sorted {
+        let known = kv.knots().iter().any(|&k| (k - x).abs() <= close)
+            || out.last().is_some_and(|&y| (x - y).abs() <= close);
+        if x - a > close && b - x > close && !known {
+            out.push(x);
+        }
+    }
+    out
+}
+
+/// Knots closer than this fraction of the domain are one knot (rounding of span midpoints).
+pub const KNOT_MERGE_RELATIVE: f64 = 1e-9;
 
 /// Share of the G0 tolerance that [`set_step`]'s C0 step aims at (knots inserted until reached)
 /// when a link of the slave targets G1 or G2: a boundary off its master by a gap g that varies
@@ -799,7 +759,7 @@ pub fn connect_slave(
         .iter()
         .map(|l| measure_link(l.master, slave, l.side, &params.measure))
         .collect::<Result<_>>()?;
-    let mut work = prepare(slave, links, params.rational_tolerance, &mut report)?;
+    let mut work = prepare(slave, links, params.lead_in, &mut report)?;
     let mut reference = work.clone();
     let mut refiner = Refiner::new(&work, links);
     // the best round so far: (worst excess, surface, its measures, its reference, knots, rounds)
@@ -849,6 +809,10 @@ pub fn connect_slave(
                 Direction::V => work.num_v(),
             };
             if count + xs.len() > MAX_CONTROL_POINTS {
+                continue;
+            }
+            let xs = new_knots(&work, dir, &xs);
+            if xs.is_empty() {
                 continue;
             }
             work = work.refine(dir, &xs)?;

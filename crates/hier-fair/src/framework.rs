@@ -35,8 +35,10 @@
 //! instead of σ·τ: its slaves must follow its changes along their joins. If the sampled deviation still ends above τ the continuity-only result is used
 //! instead (reported).
 //!
-//! A rational surface is re-approximated by a polynomial one within [`RATIONAL_SHARE`]·τ first
-//! (the fairing methods and the row solves work on polynomial surfaces).
+//! A rational surface stays rational: with its weights fixed it is linear in its control points
+//! through the rational basis R_ij ≥ 0, Σ R_ij = 1, so the row solves stay linear and a control
+//! move ≤ ε still moves the surface ≤ ε. A fairing method that takes only polynomial surfaces
+//! is skipped on it (reported as limited).
 //!
 //! # Failures
 //! A surface whose continuity steps fail (a master that does not touch, a singular system) is
@@ -88,10 +90,6 @@ pub const GROUP_CHAIN_SHARE: f64 = 0.1;
 /// the fillets' energy rose 2–15× while following the primaries' faired tangent rows). The
 /// curvature row stays free, so the master's curvature across the join is still faired.
 pub const MASTER_FRAME: nurbs_core::Frame = nurbs_core::Frame::Tangential;
-
-/// Share of the deviation tolerance a rational surface's polynomial re-approximation may use
-/// (the fairing methods work on polynomial surfaces; [SV] §3.2 step 1).
-pub const RATIONAL_SHARE: f64 = 0.1;
 
 /// Settings of [`fair_model`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -334,7 +332,6 @@ pub fn fair_model_with(
         g1_deg: t.g1_deg,
         g2_rel: t.g2_rel,
     };
-    connect.rational_tolerance = RATIONAL_SHARE * tolerance;
     let cap = |c: Continuity| params.target.map_or(c, |t| c.min(t));
     let before = measure_links(model, &connect);
     let waves = waves(model)?;
@@ -366,6 +363,7 @@ pub fn fair_model_with(
                 connect: &connect,
                 params,
                 cap: &cap,
+                before: &before,
             };
             (k, job.run())
         };
@@ -534,6 +532,8 @@ struct Job<'a> {
     connect: &'a ConnectParams,
     params: &'a FairParams,
     cap: &'a (dyn Fn(Continuity) -> Continuity + Sync),
+    /// every link of the model measured on the input (the "never worse" reference)
+    before: &'a [Option<LinkMeasure>],
 }
 
 /// Per-surface state while the stages run.
@@ -609,18 +609,9 @@ impl Job<'_> {
         }
     }
 
-    /// The continuity settings of this surface's set steps: where the surface or one of its
-    /// masters is rational in the input, its joins are only as exact as the polynomial
-    /// re-approximation (within `rational_tolerance`), so the C0 step does not aim below that;
-    /// a patch of a corner group aims at [`GROUP_CHAIN_SHARE`] × the G1/G2 tolerances.
+    /// The continuity settings of this surface's set steps: a patch of a corner group aims at
+    /// [`GROUP_CHAIN_SHARE`] × the G1/G2 tolerances.
     fn set_params(&self) -> ConnectParams {
-        let rational = |k: usize| self.model.surfaces[k].surface.is_rational();
-        let any_rational = rational(self.surface)
-            || self
-                .model
-                .links_of_slave(self.surface)
-                .into_iter()
-                .any(|k| rational(self.model.links[k].master));
         let in_group = self
             .model
             .corners
@@ -632,11 +623,6 @@ impl Job<'_> {
             tolerances.g2_rel *= GROUP_CHAIN_SHARE;
         }
         ConnectParams {
-            c0_floor: if any_rational {
-                self.connect.rational_tolerance
-            } else {
-                0.0
-            },
             tolerances,
             ..*self.connect
         }
@@ -685,55 +671,115 @@ impl Job<'_> {
             .collect()
     }
 
-    /// Runs the continuity steps alone (no fairing) from `prepared`, up to the highest step
-    /// whose deviation stays within the tolerance; a step beyond it is a conflict naming its
-    /// links. Returns the result and that highest step (`None` when there are no links or not
-    /// even C0 fits).
-    fn continuity_only(
+    /// Runs the continuity steps alone (no fairing) from `prepared`: every step up to the
+    /// highest target, each with its sampled deviation from the original.
+    fn dry_run(
         &self,
         prepared: &BSplineSurface,
-        labelled: &[(usize, SideLink<'_>)],
-        problems: &mut Vec<Problem>,
-    ) -> std::result::Result<(BSplineSurface, Option<Continuity>), String> {
+        links: &[SideLink<'_>],
+    ) -> std::result::Result<DryRun, String> {
         let name = &self.model.surfaces[self.surface].name;
-        let links: Vec<SideLink> = labelled.iter().map(|(_, l)| *l).collect();
-        let Some(top) = links.iter().map(|l| l.target).max() else {
-            return Ok((prepared.clone(), None));
-        };
         let original = &self.model.surfaces[self.surface].surface;
+        let mut steps = Vec::new();
+        let Some(top) = links.iter().map(|l| l.target).max() else {
+            return Ok(DryRun {
+                steps,
+                met: true,
+                prepared: prepared.clone(),
+                width: None,
+            });
+        };
+        let params = self.set_params();
         let mut s = prepared.clone();
-        let mut last_ok = None;
+        let mut met = false;
         for step in [Continuity::G0, Continuity::G1, Continuity::G2] {
             if step > top {
                 break;
             }
-            let (next, _) = set_step(&s, &links, step, &self.set_params())
+            let (next, report) = set_step(&s, links, step, &params)
                 .map_err(|e| format!("setting {step:?} on {name}: {e}"))?;
             let d = max_deviation(original, &next, self.params.deviation_grid);
-            if d > self.tolerance {
-                let kept = last_ok.map_or("its input continuity".to_string(), |c: Continuity| {
-                    format!("{c:?}")
-                });
-                for (k, l) in labelled {
-                    if l.target >= step {
-                        problems.push(Problem {
-                            kind: ProblemKind::Conflict,
-                            surface: name.clone(),
-                            link: Some(self.model.link_label(*k)),
-                            message: format!(
-                                "setting {step:?} needs a deviation of {d:.4} from the original, above the tolerance {:.4}; the surface is kept at {kept}",
-                                self.tolerance
-                            ),
-                            amount: Some(d),
-                        });
-                    }
-                }
-                break;
-            }
-            last_ok = Some(step);
+            let t = &params.tolerances;
+            met = links
+                .iter()
+                .zip(&report.after)
+                .all(|(l, m)| m.meets(l.target.min(step), t.g0, t.g1_deg, t.g2_rel));
+            steps.push((step, next.clone(), d));
             s = next;
         }
-        Ok((s, last_ok))
+        Ok(DryRun {
+            steps,
+            met,
+            prepared: prepared.clone(),
+            width: None,
+        })
+    }
+
+    /// Prepares the surface and runs the continuity steps alone, with the widest curvature
+    /// lead-in at its G2 sides whose deviation fits [`LEAD_IN_SHARE`] of the tolerance
+    /// ([`g_continuity::lead_in`]): the deviation of the G2 step grows with the square of the
+    /// lead-in width, so after a trial the next width is w·√(budget/d), narrowed by
+    /// [`LEAD_IN_MARGIN`] against the neglected higher-order terms. Returns the chosen trial and
+    /// the smallest deviation any trial that met every link needed (the honest figure of a
+    /// conflict).
+    fn prepare_and_dry_run(
+        &self,
+        links: &[SideLink<'_>],
+    ) -> std::result::Result<(DryRun, Option<f64>), String> {
+        let name = &self.model.surfaces[self.surface].name;
+        let g2 = links.iter().any(|l| {
+            l.target >= Continuity::G2 && !g_continuity::measure::is_collapsed(self.start, l.side)
+        });
+        let budget = LEAD_IN_SHARE * self.tolerance;
+        let mut width = g2.then_some(g_continuity::MAX_LEAD_IN);
+        let mut trials: Vec<DryRun> = Vec::new();
+        for _ in 0..LEAD_IN_TRIALS {
+            let connect = ConnectParams {
+                lead_in: width,
+                ..*self.connect
+            };
+            let (prepared, prep) = prepare_slave(self.start, links, &connect)
+                .map_err(|e| format!("preparing {name}: {e}"))?;
+            let (prepared, extra) = free_rows(prepared, links, self.params.min_free_rows)
+                .map_err(|e| format!("inserting knots into {name}: {e}"))?;
+            let _ = (prep, extra);
+            let mut dry = self.dry_run(&prepared, links)?;
+            dry.width = width;
+            let d = dry.deviation();
+            let done = d <= budget;
+            trials.push(dry);
+            let Some(w) = width else { break };
+            if done {
+                break;
+            }
+            let next = w * (budget / d).sqrt() * LEAD_IN_MARGIN;
+            let next = next.clamp(w / LEAD_IN_MAX_NARROWING, w * LEAD_IN_MARGIN);
+            if next < MIN_LEAD_IN {
+                break;
+            }
+            width = Some(next);
+        }
+        let needed = trials
+            .iter()
+            .filter(|t| t.met)
+            .map(DryRun::deviation)
+            .fold(None, |a: Option<f64>, d| Some(a.map_or(d, |a| a.min(d))));
+        // the widest trial that met its links within the budget; else the one that met them
+        // with the least deviation; else the one with the least deviation
+        let pick = trials
+            .iter()
+            .position(|t| t.met && t.deviation() <= budget)
+            .or_else(|| {
+                (0..trials.len())
+                    .filter(|&k| trials[k].met)
+                    .min_by(|&a, &b| trials[a].deviation().total_cmp(&trials[b].deviation()))
+            })
+            .unwrap_or_else(|| {
+                (0..trials.len())
+                    .min_by(|&a, &b| trials[a].deviation().total_cmp(&trials[b].deviation()))
+                    .unwrap_or(0)
+            });
+        Ok((trials.swap_remove(pick), needed))
     }
 
     fn stages(
@@ -764,19 +810,44 @@ impl Job<'_> {
             grid: self.params.deviation_grid,
             stages: Vec::new(),
         };
-        // 0. prepare
-        let (prepared, prep) = prepare_slave(self.start, &links, self.connect)
-            .map_err(|e| format!("preparing {name}: {e}"))?;
-        let (prepared, extra) = free_rows(prepared, &links, self.params.min_free_rows)
-            .map_err(|e| format!("inserting knots into {name}: {e}"))?;
+        // 0. prepare, with the curvature lead-in the continuity steps alone can afford
+        let (dry, needed) = self.prepare_and_dry_run(&links)?;
+        let prepared = dry.prepared.clone();
         run.record(Stage::Prepare, self.start, &prepared);
-        run.stages[0].knots_inserted = prep.knots_inserted + extra;
+        run.stages[0].knots_inserted = knots_between(self.start, &prepared);
         let top = links.iter().map(|l| l.target).max();
-        // continuity alone: what the steps cost in deviation; also the fallback result
-        let (connected, highest) = self.continuity_only(&prepared, &labelled, problems)?;
+        // the highest step whose deviation stays within the tolerance; a step beyond it is a
+        // conflict naming its links, with the least deviation a trial needed to meet them
+        let highest = dry
+            .steps
+            .iter()
+            .take_while(|(_, _, d)| *d <= self.tolerance)
+            .map(|(c, _, _)| *c)
+            .last();
+        if let Some((step, _, d)) = dry.steps.iter().find(|(_, _, d)| *d > self.tolerance) {
+            let kept = highest.map_or("its input continuity".to_string(), |c| format!("{c:?}"));
+            let amount = needed.filter(|&n| n > self.tolerance).unwrap_or(*d);
+            for (k, l) in &labelled {
+                if l.target >= *step {
+                    problems.push(Problem {
+                        kind: ProblemKind::Conflict,
+                        surface: name.clone(),
+                        link: Some(self.model.link_label(*k)),
+                        message: format!(
+                            "setting {step:?} needs a deviation of {amount:.4} from the original, above the tolerance {:.4}; the surface is kept at {kept}",
+                            self.tolerance
+                        ),
+                        amount: Some(amount),
+                    });
+                }
+            }
+        }
+        let connected = highest
+            .and_then(|h| dry.steps.iter().find(|(c, _, _)| *c == h))
+            .map_or_else(|| prepared.clone(), |(_, s, _)| s.clone());
         if top.is_some() && highest.is_none() {
             // not even C0 fits within the tolerance: keep the input
-            return Ok((prepared, run.stages));
+            return Ok((self.start.clone(), run.stages));
         }
         let levels: Vec<Continuity> = match highest {
             None => vec![Continuity::G0],
@@ -809,14 +880,9 @@ impl Job<'_> {
         let mut fair_left = levels.len();
         for level in levels {
             if highest.is_some() {
-                let stage = match level {
-                    Continuity::G0 => Stage::SetG0,
-                    Continuity::G1 => Stage::SetG1,
-                    Continuity::G2 => Stage::SetG2,
-                };
                 let (next, step) = set_step(&s, &links, level, &self.set_params())
                     .map_err(|e| format!("setting {level:?} on {name}: {e}"))?;
-                run.record(stage, &s, &next);
+                run.record(Stage::set(level), &s, &next);
                 if let Some(r) = run.stages.last_mut() {
                     r.knots_inserted = step.knots_inserted;
                     r.max_move = step.max_move;
@@ -824,11 +890,7 @@ impl Job<'_> {
                 s = next;
             }
             // fairing keeping `level`
-            let stage = match level {
-                Continuity::G0 => Stage::FairC0,
-                Continuity::G1 => Stage::FairG1,
-                Continuity::G2 => Stage::FairG2,
-            };
+            let stage = Stage::fair(level);
             let mut mask = stage_mask(&s, &links, level);
             for &side in &master_sides {
                 mask.fix_frame(side, MASTER_FRAME);
@@ -869,25 +931,169 @@ impl Job<'_> {
                 }
             }
         }
-        if run.deviation() > self.tolerance {
-            // the sampled deviation ended above τ: fall back to continuity only
+        // never worse than the input: the faired result, else continuity alone, else the input
+        let mut fallback = |why: String, amount: Option<f64>| {
             problems.push(Problem {
                 kind: ProblemKind::Limited,
                 surface: name.clone(),
                 link: None,
-                message: format!(
+                message: why,
+                amount,
+            });
+        };
+        if run.deviation() > self.tolerance {
+            fallback(
+                format!(
                     "the faired surface deviates {:.4} (tolerance {:.4}); fairing dropped, continuity setting kept",
                     run.deviation(),
                     self.tolerance
                 ),
-                amount: Some(run.deviation()),
-            });
-            let mut c = run.stages[0].clone();
-            c.deviation = max_deviation(original, &connected, self.params.deviation_grid);
-            c.energy = thin_plate_energy(&connected);
-            return Ok((connected, vec![c]));
+                Some(run.deviation()),
+            );
+        } else if let Some(worse) = self.worse_link(&labelled, &s) {
+            fallback(
+                format!("fairing dropped, continuity setting kept: {worse}"),
+                None,
+            );
+        } else {
+            return Ok((s, run.stages));
         }
-        Ok((s, run.stages))
+        if let Some(worse) = self.worse_link(&labelled, &connected) {
+            fallback(format!("the surface is left as it was: {worse}"), None);
+            return Ok((self.start.clone(), vec![run.stages[0].clone()]));
+        }
+        let mut c = run.stages[0].clone();
+        c.deviation = max_deviation(original, &connected, self.params.deviation_grid);
+        c.energy = thin_plate_energy(&connected);
+        Ok((connected, vec![c]))
+    }
+
+    /// The first link of this surface that `result` leaves worse than the input (a larger gap,
+    /// angle or curvature difference, up to its target, beyond both the input's value and the
+    /// tolerance), described; `None` when every link is at least as good.
+    fn worse_link(
+        &self,
+        labelled: &[(usize, SideLink<'_>)],
+        result: &BSplineSurface,
+    ) -> Option<String> {
+        let t = &self.connect.tolerances;
+        for (k, l) in labelled {
+            let Some(before) = self.before.get(*k).and_then(Option::as_ref) else {
+                continue;
+            };
+            let Ok(after) = measure_link(l.master, result, l.side, &self.connect.measure) else {
+                return Some(format!(
+                    "link {} could not be measured",
+                    self.model.link_label(*k)
+                ));
+            };
+            if let Some(what) = worse_than(before, &after, l.target, t) {
+                return Some(format!(
+                    "it would leave link {} {what}",
+                    self.model.link_label(*k)
+                ));
+            }
+        }
+        None
+    }
+}
+
+/// How `after` is worse than `before` up to `target` (beyond the tolerance), or `None`.
+pub fn worse_than(
+    before: &LinkMeasure,
+    after: &LinkMeasure,
+    target: Continuity,
+    t: &Tolerances,
+) -> Option<String> {
+    if after.g0 > before.g0.max(t.g0) {
+        return Some(format!(
+            "with a gap of {:.3e} (input {:.3e})",
+            after.g0, before.g0
+        ));
+    }
+    if target >= Continuity::G1 {
+        let (a, b) = (after.g1_deg.unwrap_or(0.0), before.g1_deg.unwrap_or(0.0));
+        if a > b.max(t.g1_deg) {
+            return Some(format!("with a normal angle of {a:.3e}° (input {b:.3e}°)"));
+        }
+    }
+    if target >= Continuity::G2 {
+        let (a, b) = (after.g2_rel.unwrap_or(0.0), before.g2_rel.unwrap_or(0.0));
+        if a > b.max(t.g2_rel) {
+            return Some(format!(
+                "with a relative curvature difference of {a:.3e} (input {b:.3e})"
+            ));
+        }
+    }
+    None
+}
+
+/// Knots of `after` that `before` lacks, both directions (with multiplicity).
+fn knots_between(before: &BSplineSurface, after: &BSplineSurface) -> usize {
+    missing_knots(before.knots_u().knots(), after.knots_u().knots()).len()
+        + missing_knots(before.knots_v().knots(), after.knots_v().knots()).len()
+}
+
+/// Share of the deviation tolerance the continuity steps alone may use when the framework
+/// chooses the width of a G2 lead-in: the rest is left to the fairing stages. The lead-in's
+/// width grows with the square root of the deviation it may use, so half the budget still
+/// gives 1/√2 ≈ 71 % of the widest transition the whole budget would allow, and the fairing
+/// keeps as much room as the continuity steps take.
+pub const LEAD_IN_SHARE: f64 = 0.5;
+
+/// Trials of the lead-in width search: the first at the widest lead-in, each next one scaled by
+/// √(budget/d); the error of the square law shrinks with the width, so the third trial is
+/// usually within the budget and six are a bound, not a typical count.
+pub const LEAD_IN_TRIALS: usize = 6;
+
+/// Factor applied to each predicted width: 0.9, so a prediction that is 20 % optimistic on the
+/// deviation (0.9² ≈ 0.81) still lands within the budget.
+pub const LEAD_IN_MARGIN: f64 = 0.9;
+
+/// A trial narrows the lead-in by at most this factor (the square law is a local estimate).
+pub const LEAD_IN_MAX_NARROWING: f64 = 8.0;
+
+/// Narrowest lead-in tried, as a fraction of the cross domain: 1/64, where the three lead-in
+/// knots are 1/192 of the domain apart and the curvature ramp is steeper than any fairing
+/// would keep.
+pub const MIN_LEAD_IN: f64 = 1.0 / 64.0;
+
+/// The continuity steps alone from one prepared surface.
+struct DryRun {
+    /// each step with its result and its sampled deviation from the original
+    steps: Vec<(Continuity, BSplineSurface, f64)>,
+    /// whether the last step met every link's tolerances
+    met: bool,
+    /// the prepared surface the steps started from
+    prepared: BSplineSurface,
+    /// the lead-in width it was prepared with
+    width: Option<f64>,
+}
+
+impl DryRun {
+    /// The deviation of the last step (0 without steps).
+    fn deviation(&self) -> f64 {
+        self.steps.last().map_or(0.0, |s| s.2)
+    }
+}
+
+impl Stage {
+    /// The set stage of `level`.
+    pub fn set(level: Continuity) -> Stage {
+        match level {
+            Continuity::G0 => Stage::SetG0,
+            Continuity::G1 => Stage::SetG1,
+            Continuity::G2 => Stage::SetG2,
+        }
+    }
+
+    /// The fairing stage keeping `level`.
+    pub fn fair(level: Continuity) -> Stage {
+        match level {
+            Continuity::G0 => Stage::FairC0,
+            Continuity::G1 => Stage::FairG1,
+            Continuity::G2 => Stage::FairG2,
+        }
     }
 }
 
