@@ -1,5 +1,6 @@
 //! Local and global energy fairing on the seed's example: the 52×52 quartic of `shared/data/bench`
-//! (ε = 0.02, 10,000 iterations, [H] slide "Examples (1)"), and the global variant on 200×200.
+//! (ε = 0.02, 10,000 iterations, [H] slide "Examples (1)"), the local scheme on the same net made
+//! rational (smooth weights in [0.75, 1.25], held fixed), and the global variant on 200×200.
 //!
 //! Run: `cargo bench -p fair-energy` (`FAIR_BENCH_SLOW=1` adds nalgebra-sparse on 200×200). Goals (issue 4): local fairing ≤ 10 ms, global ≤ 20 ms on
 //! the 52×52 surface, ≤ 1 s on 200×200 control points.
@@ -7,7 +8,9 @@
 use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
-use fair_energy::{EnergyParams, GlobalParams, SparseSolver, fair_surface, fair_surface_global};
+use fair_energy::{
+    EnergyParams, GlobalParams, RationalStiffness, SparseSolver, fair_surface, fair_surface_global,
+};
 use nurbs_core::{BSplineSurface, ControlMask, Frame, KnotVector, Point3};
 
 /// ε of the seed's example (model units).
@@ -63,6 +66,38 @@ fn local(c: &mut Criterion) {
     g.finish();
 }
 
+/// `s` with the smooth weights w_ij = 1 + 0.25 sin(0.37 i) cos(0.23 j) ∈ [0.75, 1.25].
+fn with_weights(s: &BSplineSurface) -> BSplineSurface {
+    let nv = s.num_v();
+    let weights = (0..s.control_points().len())
+        .map(|r| 1.0 + 0.25 * (0.37 * (r / nv) as f64).sin() * (0.23 * (r % nv) as f64).cos())
+        .collect();
+    BSplineSurface::new(
+        s.knots_u().clone(),
+        s.knots_v().clone(),
+        s.control_points().to_vec(),
+        Some(weights),
+    )
+    .expect("rational surface")
+}
+
+fn local_rational(c: &mut Criterion) {
+    let s = with_weights(&seed_surface());
+    let mask = ControlMask::with_boundary_frame(&s, Frame::Positional);
+    let params = EnergyParams::default();
+    let (_, r) = fair_surface(&s, &mask, SEED_TOLERANCE, &params).expect("fairs");
+    eprintln!("local rational 52x52: {r:?}");
+    let mut g = c.benchmark_group("energy_local_rational_52x52");
+    g.sample_size(20);
+    g.bench_function("stiffness", |b| {
+        b.iter(|| RationalStiffness::thin_plate(black_box(&s)))
+    });
+    g.bench_function("10000_iterations", |b| {
+        b.iter(|| fair_surface(black_box(&s), &mask, SEED_TOLERANCE, &params).expect("fairs"))
+    });
+    g.finish();
+}
+
 fn global(c: &mut Criterion) {
     #[allow(unused_mut)]
     let mut solvers = vec![SparseSolver::NalgebraSparse];
@@ -99,5 +134,5 @@ fn global(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, local, global);
+criterion_group!(benches, local, local_rational, global);
 criterion_main!(benches);

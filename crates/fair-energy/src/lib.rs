@@ -7,8 +7,13 @@
 //! (curves ∫ |x''|² + β |x'''|²), a quadratic form in the control points built from nurbs-core's
 //! Gram integrals ([`stiffness`]). The local scheme ([`local`]) repeatedly moves the free control
 //! point with the largest energy decrease to its optimal position, clamped to a ball of radius ε
-//! around its original. [`global`] minimizes Π + w Σ |d − d_orig|² over all free points with a sparse
-//! Cholesky factorization and then clamps to ε.
+//! around its original. [`global`] minimizes Π + w Σ |d − d_orig|² over all free points with a
+//! sparse Cholesky factorization and then clamps to ε.
+//!
+//! Rational surfaces: the local scheme takes them with their weights held fixed — the thin plate
+//! is then a quadratic form through the rational basis functions ([`rational`],
+//! [`RationalStiffness`]). The global variant, the Bézier-spline flow and curve fairing need
+//! polynomial input and return [`EnergyError::Rational`] otherwise.
 //!
 //! Bézier-spline surfaces (interior knots of full multiplicity, [H] part ②): [`bezier`] runs the
 //! seed's flow — remove the knots that are C¹ already, fair with the jump-weighted functional,
@@ -22,11 +27,13 @@
 
 pub mod error;
 pub mod local;
+pub mod rational;
 pub mod stiffness;
 pub mod surface;
 
 pub use error::{EnergyError, Result};
 pub use local::{LocalOutcome, StopReason};
+pub use rational::RationalStiffness;
 pub use stiffness::SeparableStiffness;
 pub use surface::{EnergyParams, EnergyReport, LOCAL_METHOD, LocalEnergyFairing, fair_surface};
 pub mod bezier;

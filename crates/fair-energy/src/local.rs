@@ -24,7 +24,29 @@
 use nurbs_core::max_tree::{MaxTree, NEVER};
 use nurbs_core::{Point3, Vector3};
 
-use crate::stiffness::{MAX_TERMS, SeparableStiffness, kron};
+/// What the local scheme needs of a stiffness matrix K: its net shape and stencil, g = K d, the
+/// diagonal, and the couplings of one point row by row. Implemented by the separable K of
+/// polynomial surfaces and curves ([`crate::SeparableStiffness`]) and the stencil-stored K of
+/// rational surfaces ([`crate::RationalStiffness`]).
+pub(crate) trait LocalStiffness {
+    /// Scratch holding the stencil of one point.
+    type Stencil;
+    /// Control points (n_u, n_v); flat index i·n_v + j.
+    fn shape(&self) -> (usize, usize);
+    /// (w_u, w_v): K couples (i, j) and (k, l) only when |i − k| ≤ w_u and |j − l| ≤ w_v.
+    fn half_widths(&self) -> (usize, usize);
+    /// K_rr.
+    fn diagonal(&self, r: usize) -> f64;
+    /// g = K d.
+    fn multiply(&self, d: &[Point3], g: &mut [Vector3]);
+    /// Scratch for [`LocalStiffness::load`].
+    fn new_stencil(&self) -> Self::Stencil;
+    /// Loads the couplings of point (k, l).
+    fn load(&self, k: usize, l: usize, st: &mut Self::Stencil);
+    /// K_{(i0 + a, j),(k, l)} for j = j0, j0 + 1, … of the loaded point (k, l), where
+    /// i0 = k − w_u and j0 = l − w_v clamped to the net; the caller takes the first j1 − j0 + 1.
+    fn row(&self, st: &Self::Stencil, a: usize) -> impl Iterator<Item = f64>;
+}
 
 /// Factor (just below 1) applied to ε when a point is projected onto its tolerance sphere, so that
 /// the stored point is within ε despite rounding.
@@ -131,21 +153,19 @@ fn candidate(d: &Point3, g: &Vector3, kr: f64, inv_kr: f64, o: &Point3, eps: f64
 
 /// Runs the local scheme on `current` (inside the ε-balls around `origin`), moving only points
 /// with `free[r]`.
-pub(crate) fn run_local(
-    k: &SeparableStiffness,
+pub(crate) fn run_local<K: LocalStiffness>(
+    k: &K,
     origin: &[Point3],
     current: &mut [Point3],
     free: &[bool],
     s: LocalSettings,
 ) -> LocalOutcome {
-    let (nu, nv) = (k.num_u(), k.num_v());
+    let (nu, nv) = k.shape();
     let n = nu * nv;
     let mut g = vec![Vector3::zeros(); n];
     k.multiply(current, &mut g);
     let energy_before: f64 = current.iter().zip(&g).map(|(p, v)| p.coords.dot(v)).sum();
-    let diag: Vec<f64> = (0..n)
-        .map(|r| k.entry((r / nv, r % nv), (r / nv, r % nv)))
-        .collect();
+    let diag: Vec<f64> = (0..n).map(|r| k.diagonal(r)).collect();
     let diag_cut = NULL_DIAGONAL_REL * diag.iter().cloned().fold(0.0, f64::max);
     let movable: Vec<bool> = (0..n).map(|r| free[r] && diag[r] > diag_cut).collect();
     let inv_diag: Vec<f64> = diag
@@ -166,9 +186,8 @@ pub(crate) fn run_local(
     }
     tree.rebuild();
     let threshold = s.min_relative_decrease * energy_before.max(0.0);
-    let (wu, wv) = k.stencil();
-    let mut fa = vec![[0.0; MAX_TERMS]; 2 * wu + 1];
-    let mut fb = vec![[0.0; MAX_TERMS]; 2 * wv + 1];
+    let (wu, wv) = k.half_widths();
+    let mut stencil = k.new_stencil();
     let mut block_ranges: Vec<(usize, usize)> = Vec::with_capacity(2 * wu + 1);
     let mut stop = if movable.iter().any(|&m| m) {
         StopReason::IterationLimit
@@ -198,12 +217,11 @@ pub(crate) fn run_local(
         current[r] = new;
         iterations += 1;
         let (kr, lr) = (r / nv, r % nv);
-        k.factors_u(kr, &mut fa);
-        k.factors_v(lr, &mut fb);
-        let (i0, i1) = k.range_u(kr);
-        let (j0, j1) = k.range_v(lr);
+        k.load(kr, lr, &mut stencil);
+        let (i0, i1) = (kr.saturating_sub(wu), (kr + wu).min(nu - 1));
+        let (j0, j1) = (lr.saturating_sub(wv), (lr + wv).min(nv - 1));
         // one pass over the stencil: update g, then each point's candidate and rank
-        for (i, fi) in (i0..=i1).zip(&fa) {
+        for (di, i) in (i0..=i1).enumerate() {
             let (lo, hi) = (i * nv + j0, i * nv + j1 + 1);
             let rows = g[lo..hi]
                 .iter_mut()
@@ -213,11 +231,11 @@ pub(crate) fn run_local(
                 .iter()
                 .zip(&inv_diag[lo..hi])
                 .zip(&movable[lo..hi])
-                .zip(&fb);
-            for (idx, (((gj, dj), oj), ((kj, ikj), mj), fj)) in
+                .zip(k.row(&stencil, di));
+            for (idx, (((gj, dj), oj), ((kj, ikj), mj), kij)) in
                 (lo..hi).zip(rows.zip(data).map(|(a, (b, c))| (a, b, c)))
             {
-                *gj += kron(fi, fj) * delta;
+                *gj += kij * delta;
                 if *mj {
                     tree.set(idx, candidate(dj, gj, *kj, *ikj, oj, s.tolerance).1);
                 }

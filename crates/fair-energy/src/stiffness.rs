@@ -19,6 +19,7 @@ use nurbs_core::{BandedMatrix, KnotVector, Point3, Vector3, gram_matrix};
 
 use crate::error::{EnergyError, Result};
 use crate::joints::knot_joints;
+use crate::local::LocalStiffness;
 
 /// A square band matrix stored row by row: entry (i, k) at `i·(2w + 1) + k + w − i`.
 #[derive(Debug, Clone, PartialEq)]
@@ -308,5 +309,48 @@ impl SeparableStiffness {
         let mut g = vec![Vector3::zeros(); d.len()];
         self.multiply(d, &mut g);
         d.iter().zip(&g).map(|(p, v)| p.coords.dot(v)).sum()
+    }
+}
+
+/// The u- and v-factors of one point's stencil ([`SeparableStiffness::factors_u`],
+/// [`SeparableStiffness::factors_v`]).
+pub(crate) struct Factors {
+    fa: Vec<[f64; MAX_TERMS]>,
+    fb: Vec<[f64; MAX_TERMS]>,
+}
+
+impl LocalStiffness for SeparableStiffness {
+    type Stencil = Factors;
+
+    #[inline]
+    fn shape(&self) -> (usize, usize) {
+        (self.nu, self.nv)
+    }
+    #[inline]
+    fn half_widths(&self) -> (usize, usize) {
+        (self.wu, self.wv)
+    }
+    fn diagonal(&self, r: usize) -> f64 {
+        let (i, j) = (r / self.nv, r % self.nv);
+        self.entry((i, j), (i, j))
+    }
+    fn multiply(&self, d: &[Point3], g: &mut [Vector3]) {
+        SeparableStiffness::multiply(self, d, g);
+    }
+    fn new_stencil(&self) -> Factors {
+        Factors {
+            fa: vec![[0.0; MAX_TERMS]; 2 * self.wu + 1],
+            fb: vec![[0.0; MAX_TERMS]; 2 * self.wv + 1],
+        }
+    }
+    #[inline]
+    fn load(&self, k: usize, l: usize, st: &mut Factors) {
+        self.factors_u(k, &mut st.fa);
+        self.factors_v(l, &mut st.fb);
+    }
+    #[inline(always)]
+    fn row(&self, st: &Factors, a: usize) -> impl Iterator<Item = f64> {
+        let fi = &st.fa[a];
+        st.fb.iter().map(move |fj| kron(fi, fj))
     }
 }

@@ -5,6 +5,12 @@
 //! frames of [SV] §3.1 come back bit-identical. Every moved point stays within the tolerance ε of
 //! its original, which by the convex hull property bounds the surface deviation by ε ([H] slide
 //! "Distance tolerance").
+//!
+//! Rational surfaces are faired with their weights held fixed (the weights come back
+//! bit-identical): S = Σ R_ij P_ij is then linear in the control points, the thin plate is the
+//! quadratic form of [`RationalStiffness`], and since R_ij ≥ 0 with Σ R_ij = 1 the surface still
+//! moves by at most ε. The Bézier-spline extension (`joint_weight` > 0) needs a polynomial
+//! surface.
 
 use std::time::Instant;
 
@@ -12,6 +18,7 @@ use nurbs_core::{BSplineSurface, ControlMask, FairingReport, SurfaceFairing};
 
 use crate::error::{EnergyError, Result, check_tolerance};
 use crate::local::{LocalOutcome, LocalSettings, run_local};
+use crate::rational::RationalStiffness;
 use crate::stiffness::SeparableStiffness;
 
 /// Settings of the local surface scheme.
@@ -71,7 +78,8 @@ pub type EnergyReport = LocalOutcome;
 
 /// Fairs `surface` by the local scheme, moving only points `mask` frees, each within `tolerance`
 /// (model units) of its original. A mask that frees nothing returns the surface unchanged with
-/// [`crate::StopReason::NothingFree`].
+/// [`crate::StopReason::NothingFree`]. A rational surface keeps its weights; it must have
+/// `joint_weight` = 0 ([`EnergyError::InvalidParameter`] otherwise).
 pub fn fair_surface(
     surface: &BSplineSurface,
     mask: &ControlMask,
@@ -81,11 +89,6 @@ pub fn fair_surface(
     check_tolerance(tolerance)?;
     params.check()?;
     mask.check_shape(surface)?;
-    if surface.is_rational() {
-        return Err(EnergyError::Rational { what: "surface" });
-    }
-    let k =
-        SeparableStiffness::with_joints(surface.knots_u(), surface.knots_v(), params.joint_weight)?;
     let mut out = surface.clone();
     let settings = LocalSettings {
         tolerance,
@@ -94,24 +97,40 @@ pub fn fair_surface(
             .max(params.min_iterations_per_free_point * mask.free_count()),
         min_relative_decrease: params.min_relative_decrease,
     };
-    let outcome = run_local(
-        &k,
-        surface.control_points(),
-        out.control_points_mut(),
-        mask.as_slice(),
-        settings,
-    );
+    let (origin, free) = (surface.control_points(), mask.as_slice());
+    let outcome = if surface.is_rational() {
+        if params.joint_weight != 0.0 {
+            return Err(EnergyError::InvalidParameter {
+                name: "joint_weight",
+                value: params.joint_weight,
+                expected: "0 for a rational surface (the joint terms need polynomial geometry)",
+            });
+        }
+        let k = RationalStiffness::thin_plate(surface);
+        run_local(&k, origin, out.control_points_mut(), free, settings)
+    } else {
+        let k = SeparableStiffness::with_joints(
+            surface.knots_u(),
+            surface.knots_v(),
+            params.joint_weight,
+        )?;
+        run_local(&k, origin, out.control_points_mut(), free, settings)
+    };
     Ok((out, outcome))
 }
 
 /// The local energy fairing method (`energy`) for the framework.
+///
+/// Of the workspace's energy methods only this one takes rational surfaces (weights held fixed,
+/// `joint_weight` = 0); `energy-global` ([`crate::GlobalEnergyFairing`]) and `energy-bezier`
+/// ([`crate::BezierSplineFairing`]) refuse them with [`EnergyError::Rational`].
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct LocalEnergyFairing {
     /// its settings
     pub params: EnergyParams,
 }
 
-/// Name of the local method.
+/// Name of the local method (the one energy method that takes rational surfaces).
 pub const LOCAL_METHOD: &str = "energy";
 
 impl SurfaceFairing for LocalEnergyFairing {

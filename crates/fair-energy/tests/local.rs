@@ -215,10 +215,20 @@ fn bad_input_is_an_error_or_a_report_that_nothing_moved() {
         fair_surface(&s, &mask, 0.1, &bad),
         Err(EnergyError::InvalidParameter { .. })
     ));
+    // rational surfaces are faired with fixed weights (tests/rational.rs), but not with the
+    // polynomial-only joint terms
     let rational = random_surface(1, 3..=3, 8, true);
+    let joints = EnergyParams {
+        joint_weight: 0.5,
+        ..EnergyParams::default()
+    };
+    let rational_mask = ControlMask::with_boundary_frame(&rational, Frame::Positional);
     assert!(matches!(
-        fair_surface(&rational, &mask, 0.1, &params(10)),
-        Err(EnergyError::Rational { .. })
+        fair_surface(&rational, &rational_mask, 0.1, &joints),
+        Err(EnergyError::InvalidParameter {
+            name: "joint_weight",
+            ..
+        })
     ));
     // the trait maps our errors into the kernel's FairingFailed
     let method = LocalEnergyFairing::default();
