@@ -107,6 +107,11 @@ enum Status {
     /// end point of a row k ≥ 1 on an unlinked neighbouring side: it lies on that free boundary,
     /// so it moves only by what its own corner sample needs
     End,
+    /// end point of a row k ≥ 1 on a neighbouring side linked G0 only (e.g. a fillet's end on a
+    /// face it meets at a sharp edge): it lies on that side's boundary, so it moves only within
+    /// the G0 master's tangent plane at the corner, which keeps that join C0 (exactly on a plane
+    /// master, to first order on a curved one) while the corner takes part in the G1/G2 solve
+    Sliding,
     Fixed,
 }
 
@@ -140,6 +145,7 @@ fn classify(
             let mut status = Status::Free;
             for (e, adj) in [(j, start), (m - 1 - j, end)] {
                 let s = match levels[side_index(adj)] {
+                    Some(0) if e == 0 && k > 0 => Status::Sliding,
                     Some(la) if e < k && la >= e => Status::Fixed,
                     Some(la) if e == k && la >= k => Status::Shared,
                     None if e == 0 && k > 0 && !move_unlinked => Status::Fixed,
@@ -149,6 +155,7 @@ fn classify(
                 status = match (status, s) {
                     (Status::Fixed, _) | (_, Status::Fixed) => Status::Fixed,
                     (Status::Shared, _) | (_, Status::Shared) => Status::Shared,
+                    (Status::Sliding, _) | (_, Status::Sliding) => Status::Sliding,
                     (Status::End, _) | (_, Status::End) => Status::End,
                     _ => Status::Free,
                 };
@@ -230,7 +237,9 @@ fn step_all(
     let mut moves = Vec::with_capacity(active.len());
     for (l, status) in active.iter().zip(&statuses) {
         let movable: Vec<bool> = status.iter().map(|s| *s != Status::Fixed).collect();
-        moves.push(solve_row(l.master, &base, l.side, step, &movable, params)?);
+        let mut mv = solve_row(l.master, &base, l.side, step, &movable, params)?;
+        slide(&mut mv, k, status, l.side, links, &base, params);
+        moves.push(mv);
     }
     // average the candidates of shared points
     let mut shared: BTreeMap<(usize, usize), (Vector3, usize)> = BTreeMap::new();
@@ -267,8 +276,13 @@ fn step_all(
         .iter()
         .zip(&statuses)
         .map(|(l, status)| {
-            let movable: Vec<bool> = status.iter().map(|s| *s == Status::Free).collect();
-            solve_row(l.master, &pinned, l.side, step, &movable, params)
+            let movable: Vec<bool> = status
+                .iter()
+                .map(|s| matches!(s, Status::Free | Status::Sliding))
+                .collect();
+            let mut mv = solve_row(l.master, &pinned, l.side, step, &movable, params)?;
+            slide(&mut mv, k, status, l.side, links, &pinned, params);
+            Ok(mv)
         })
         .collect::<Result<_>>()?;
     for mv in &second {
@@ -277,6 +291,43 @@ fn step_all(
     }
     *slave = pinned;
     Ok(outcome)
+}
+
+/// Restricts the moves of [`Status::Sliding`] end points of `side`'s row to the tangent plane of
+/// the G0 master of the neighbouring side at that corner.
+fn slide(
+    mv: &mut RowMove,
+    k: usize,
+    status: &[Status],
+    side: Side,
+    links: &[SideLink],
+    slave: &BSplineSurface,
+    params: &SetParams,
+) {
+    let m = status.len();
+    let (start, end) = neighbours(side);
+    let (t0, t1) = side.along_domain(slave);
+    let (nu, nv) = (slave.num_u(), slave.num_v());
+    let row = side.row(k, nu, nv);
+    for (j, adj, t) in [(0, start, t0), (m - 1, end, t1)] {
+        if status.get(j) != Some(&Status::Sliding) {
+            continue;
+        }
+        let Some(link) = links.iter().find(|l| l.side == adj) else {
+            continue;
+        };
+        let (u, v) = side.params(slave, t);
+        let corner = slave.point(u, v);
+        let foot = nurbs_core::project_to_surface(link.master, &corner, &params.projection);
+        let Some(n) = link.master.derivatives(foot.u, foot.v).normal() else {
+            continue;
+        };
+        for (ij, d) in mv.indices.iter().zip(mv.displacements.iter_mut()) {
+            if *ij == row[j] {
+                *d -= n * n.dot(d);
+            }
+        }
+    }
 }
 
 /// Sets C0, then G1, then G2 (as far as each link's target asks) on a prepared slave (clamped,
