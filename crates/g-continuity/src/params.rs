@@ -112,6 +112,10 @@ pub struct ConnectParams {
     /// fraction of the cross domain ([`crate::lead_in`]); `None` (default): none, the freedom
     /// comes from knots inserted where the tolerances are missed.
     pub lead_in: Option<f64>,
+    /// Largest number of control points per direction that knot insertion along failing sides
+    /// may create (default [`crate::slave::MAX_CONTROL_POINTS`]); a side that would need more
+    /// keeps its best round.
+    pub max_control_points: usize,
 }
 
 impl Default for ConnectParams {
@@ -123,6 +127,7 @@ impl Default for ConnectParams {
             max_refinements: 6,
             c0_floor: 0.0,
             lead_in: None,
+            max_control_points: crate::slave::MAX_CONTROL_POINTS,
         }
     }
 }

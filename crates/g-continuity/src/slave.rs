@@ -595,7 +595,7 @@ pub fn set_step(
                     Direction::U => work.num_u(),
                     Direction::V => work.num_v(),
                 };
-                if count + xs.len() > MAX_CONTROL_POINTS {
+                if count + xs.len() > params.max_control_points {
                     continue;
                 }
                 let xs = new_knots(&work, dir, &xs);
@@ -859,7 +859,7 @@ pub fn connect_slave(
                 Direction::U => work.num_u(),
                 Direction::V => work.num_v(),
             };
-            if count + xs.len() > MAX_CONTROL_POINTS {
+            if count + xs.len() > params.max_control_points {
                 continue;
             }
             let xs = new_knots(&work, dir, &xs);

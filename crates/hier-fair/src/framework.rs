@@ -91,6 +91,12 @@ pub const GROUP_CHAIN_SHARE: f64 = 0.1;
 /// curvature row stays free, so the master's curvature across the join is still faired.
 pub const MASTER_FRAME: nurbs_core::Frame = nurbs_core::Frame::Tangential;
 
+/// Largest control net per direction the framework's knot refinement may create: 64, the
+/// net of a 61-span cubic — far beyond what a fillet or corner of a kernel model needs once its
+/// lead-in is placed, and a bound on the work (the row solves are dense in the samples along a
+/// side) that keeps every surface of a model within seconds.
+pub const MAX_NET: usize = 64;
+
 /// Settings of [`fair_model`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FairParams {
@@ -118,6 +124,7 @@ impl Default for FairParams {
                     g2_move_factor: FRAMEWORK_G2_MOVE_FACTOR,
                     ..g_continuity::SetParams::default()
                 },
+                max_control_points: MAX_NET,
                 ..ConnectParams::default()
             },
             min_free_rows: 2,
@@ -653,6 +660,44 @@ impl Job<'_> {
         sides
     }
 
+    /// Control points of `me` (this surface as the stages have it) that carry the join of a
+    /// slave whose linked side lies *inside* this surface rather than on one of its boundary
+    /// sides (a trimmed master, model-format.md): every control point whose basis function is
+    /// non-zero at a foot point of the slave side. Fixing them keeps the master exactly as it
+    /// was on every knot span the join crosses — position, tangent plane and curvature — so the
+    /// slave, set against the input, stays continuous whatever the fairing does elsewhere.
+    fn interior_join_points(&self, me: &BSplineSurface) -> Vec<(usize, usize)> {
+        let tol = TOUCH_FACTOR * self.connect.tolerances.g0;
+        let mut out: Vec<(usize, usize)> = Vec::new();
+        let (p, q) = (me.degree_u(), me.degree_v());
+        for l in self.model.links.iter().filter(|l| l.master == self.surface) {
+            let slave = &self.current.surfaces[l.slave].surface;
+            if Side::ALL
+                .iter()
+                .any(|&side| lies_on_side(slave, l.side, me, side, tol))
+            {
+                continue;
+            }
+            let (a, b) = l.side.along_domain(slave);
+            let mut projector =
+                nurbs_core::SurfaceProjector::new(me, nurbs_core::ProjectionParams::default());
+            for k in 0..=JOIN_SAMPLES {
+                let t = a + (b - a) * k as f64 / JOIN_SAMPLES as f64;
+                let (u, v) = l.side.params(slave, t);
+                let foot = projector.project(&slave.point(u, v));
+                let (su, sv) = (me.knots_u().span(foot.u), me.knots_v().span(foot.v));
+                for i in su - p..=su {
+                    for j in sv - q..=sv {
+                        if !out.contains(&(i, j)) {
+                            out.push((i, j));
+                        }
+                    }
+                }
+            }
+        }
+        out
+    }
+
     fn links(&self) -> Vec<(usize, SideLink<'_>)> {
         self.model
             .links_of_slave(self.surface)
@@ -895,6 +940,9 @@ impl Job<'_> {
             for &side in &master_sides {
                 mask.fix_frame(side, MASTER_FRAME);
             }
+            for &(i, j) in &self.interior_join_points(&s) {
+                mask.set_free(i, j, false);
+            }
             let budget = if self.is_master() {
                 MASTER_SHARE * self.tolerance
             } else {
@@ -959,13 +1007,54 @@ impl Job<'_> {
             return Ok((s, run.stages));
         }
         if let Some(worse) = self.worse_link(&labelled, &connected) {
-            fallback(format!("the surface is left as it was: {worse}"), None);
-            return Ok((self.start.clone(), vec![run.stages[0].clone()]));
+            // continuity alone is worse somewhere too: of it and the start, the one whose worst
+            // link grows the least against the input (the start may no longer fit masters that
+            // were faired before it)
+            let (a, b) = (
+                self.worst_growth(&labelled, &connected),
+                self.worst_growth(&labelled, self.start),
+            );
+            if b <= a {
+                fallback(format!("the surface is left as it was: {worse}"), Some(b));
+                return Ok((self.start.clone(), vec![run.stages[0].clone()]));
+            }
+            fallback(
+                format!(
+                    "continuity setting kept although {worse}: leaving the surface as it was grows its worst link {b:.3} × against the input, this {a:.3} ×"
+                ),
+                Some(a),
+            );
         }
         let mut c = run.stages[0].clone();
         c.deviation = max_deviation(original, &connected, self.params.deviation_grid);
         c.energy = thin_plate_energy(&connected);
         Ok((connected, vec![c]))
+    }
+
+    /// The largest factor by which `result` makes one of this surface's links worse than the
+    /// input, each measure (up to the link's target) against the larger of its input value and
+    /// its tolerance (≤ 1: no link worse).
+    fn worst_growth(&self, labelled: &[(usize, SideLink<'_>)], result: &BSplineSurface) -> f64 {
+        let t = &self.connect.tolerances;
+        let mut worst: f64 = 0.0;
+        for (k, l) in labelled {
+            let Some(before) = self.before.get(*k).and_then(Option::as_ref) else {
+                continue;
+            };
+            let Ok(after) = measure_link(l.master, result, l.side, &self.connect.measure) else {
+                return f64::INFINITY;
+            };
+            worst = worst.max(after.g0 / before.g0.max(t.g0));
+            if l.target >= Continuity::G1 {
+                worst = worst
+                    .max(after.g1_deg.unwrap_or(0.0) / before.g1_deg.unwrap_or(0.0).max(t.g1_deg));
+            }
+            if l.target >= Continuity::G2 {
+                worst = worst
+                    .max(after.g2_rel.unwrap_or(0.0) / before.g2_rel.unwrap_or(0.0).max(t.g2_rel));
+            }
+        }
+        worst
     }
 
     /// The first link of this surface that `result` leaves worse than the input (a larger gap,
@@ -1033,6 +1122,12 @@ fn knots_between(before: &BSplineSurface, after: &BSplineSurface) -> usize {
     missing_knots(before.knots_u().knots(), after.knots_u().knots()).len()
         + missing_knots(before.knots_v().knots(), after.knots_v().knots()).len()
 }
+
+/// Samples along a slave side lying inside its master whose knot spans the master keeps
+/// ([`Job::interior_join_points`]): 64 intervals, so a master span is skipped only when the
+/// join crosses it in less than 1/64 of the side — and a span crossed that briefly is also
+/// held by its neighbours' supports, which overlap it by p of its control points.
+pub const JOIN_SAMPLES: usize = 64;
 
 /// Share of the deviation tolerance the continuity steps alone may use when the framework
 /// chooses the width of a G2 lead-in: the rest is left to the fairing stages. The lead-in's
