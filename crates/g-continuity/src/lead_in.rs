@@ -101,6 +101,14 @@ pub fn with_lead_in(
                 xs.push(if side.is_start() { a + d } else { b - d });
             }
         }
+        // a lead-in knot that is a knot already needs no insertion (a repeated knot would
+        // only lower the continuity inside the lead-in)
+        let kv = match dir {
+            Direction::U => s.knots_u(),
+            Direction::V => s.knots_v(),
+        };
+        let close = crate::slave::KNOT_MERGE_RELATIVE * (b - a);
+        xs.retain(|&x| kv.knots().iter().all(|&k| (k - x).abs() > close));
         let xs = new_knots(&s, dir, &xs);
         if !xs.is_empty() {
             s = s.refine(dir, &xs)?;

@@ -615,10 +615,11 @@ pub fn set_step(
     }
 }
 
-/// The knots of `xs` worth inserting in direction `dir` of `s`: sorted, each once, none that is
-/// a knot already (two links along the same direction ask for the same span midpoints; a
-/// repeated knot would only lower the continuity, and on a degree-1 direction it cannot be
-/// inserted at all), none outside the open domain.
+/// The knots of `xs` that can be inserted in direction `dir` of `s`: sorted, inside the open
+/// domain, and none that would raise a knot's multiplicity above the degree (two links along
+/// the same direction ask for the same span midpoints; on a degree-1 direction the second
+/// insertion is impossible). A value within [`KNOT_MERGE_RELATIVE`] of the domain of a knot
+/// counts as that knot.
 pub fn new_knots(s: &BSplineSurface, dir: Direction, xs: &[f64]) -> Vec<f64> {
     let kv = match dir {
         Direction::U => s.knots_u(),
@@ -626,13 +627,25 @@ pub fn new_knots(s: &BSplineSurface, dir: Direction, xs: &[f64]) -> Vec<f64> {
     };
     let (a, b) = kv.domain();
     let close = KNOT_MERGE_RELATIVE * (b - a);
+    let p = kv.degree();
     let mut out: Vec<f64> = Vec::new();
     let mut sorted: Vec<f64> = xs.iter().copied().filter(|x| x.is_finite()).collect();
     sorted.sort_by(f64::total_cmp);
     for x in sorted {
-        let known = kv.knots().iter().any(|&k| (k - x).abs() <= close)
-            || out.last().is_some_and(|&y| (x - y).abs() <= close);
-        if x - a > close && b - x > close && !known {
+        if x - a <= close || b - x <= close {
+            continue;
+        }
+        // snap onto a knot that is there already, so that multiplicities add up exactly
+        let x = kv
+            .knots()
+            .iter()
+            .chain(out.iter())
+            .copied()
+            .find(|&k| (k - x).abs() <= close)
+            .unwrap_or(x);
+        let mult = kv.knots().iter().filter(|&&k| k == x).count()
+            + out.iter().filter(|&&k| k == x).count();
+        if mult < p {
             out.push(x);
         }
     }

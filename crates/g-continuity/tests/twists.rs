@@ -220,9 +220,9 @@ fn trimmed_master_non_isoparametric_boundary_with_knot_insertion() {
 }
 
 #[test]
-fn rational_slave_is_reapproximated_then_connected() {
-    // a quarter cylinder (rational) of radius 2 standing on the plane z = 0 ... its side u0 is the
-    // circle arc on z = 0; the master is the horizontal plane around it, G1 fails by 90°
+fn rational_slave_is_kept_exact_and_connected() {
+    // a quarter cylinder (rational) of radius 2 standing on the plane z = 0: its side u0 is the
+    // circle arc on z = 0 and the master is the horizontal plane around it (a G0 join, 90°)
     let cyl = nurbs_core::shapes::cylinder(2.0, 1.0).unwrap();
     let plane = bicubic(4, 4, |i, j| {
         Point3::new(
@@ -237,14 +237,100 @@ fn rational_slave_is_reapproximated_then_connected() {
         target: Continuity::G0,
     }];
     let (s, report) = connect_slave(&cyl, &links, &ConnectParams::default()).unwrap();
-    assert!(!s.is_rational());
-    let err = report.rational_fit_error.unwrap();
-    assert!(err <= 1e-4, "{err}");
+    // the weights stay: no polynomial re-approximation
+    assert!(s.is_rational());
+    assert!(!report.made_polynomial);
     assert!(
         report.sides[0].after.g0 <= 1e-9,
         "{}",
         report.sides[0].after.g0
     );
-    // the rest of the cylinder is kept within the re-approximation tolerance
-    assert!(nurbs_core::energy::max_deviation(&cyl, &s, 21) <= 1e-4 + 1e-12);
+    // the join was exact already, so the cylinder is the same surface (to rounding)
+    assert!(nurbs_core::energy::max_deviation(&cyl, &s, 21) <= 1e-12);
+}
+
+#[test]
+fn rational_slave_moves_its_rows_with_the_rational_basis() {
+    // the quarter cylinder tilted off the plane (z += 0.01·(1 + x)): C0 must bring its boundary
+    // circle down onto z = 0. The control moves that do it exactly, δ_j = −0.01·(1 + x_j), are
+    // found in one solve only through the rational row basis w_j M_j / W; the polynomial basis
+    // M_j fits another combination and leaves a gap after the C0 passes
+    let mut cyl = nurbs_core::shapes::cylinder(2.0, 1.0).unwrap();
+    for p in cyl.control_points_mut() {
+        p.z += 0.01 * (1.0 + p.x);
+    }
+    let plane = bicubic(4, 4, |i, j| {
+        Point3::new(
+            -3.0 + 6.0 * i as f64 / 3.0,
+            -3.0 + 6.0 * j as f64 / 3.0,
+            0.0,
+        )
+    });
+    let links = [SideLink {
+        side: Side::U0,
+        master: &plane,
+        target: Continuity::G0,
+    }];
+    let (s, report) = connect_slave(&cyl, &links, &ConnectParams::default()).unwrap();
+    assert!(s.is_rational());
+    assert_eq!(s.weights(), cyl.weights(), "weights are never changed");
+    assert!(
+        report.sides[0].after.g0 <= 1e-12,
+        "{}",
+        report.sides[0].after.g0
+    );
+    // the arc stays an arc of radius 2 about the z axis
+    let (a, b) = Side::U0.along_domain(&s);
+    for k in 0..=20 {
+        let t = a + (b - a) * k as f64 / 20.0;
+        let (u, v) = Side::U0.params(&s, t);
+        let p = s.point(u, v);
+        assert!(
+            (p.x.hypot(p.y) - 2.0).abs() < 1e-12 && p.z.abs() < 1e-12,
+            "{p:?}"
+        );
+    }
+}
+
+#[test]
+fn a_normal_turned_over_along_the_join_shows_as_180_degrees() {
+    // master: the plane z = 0; slave: a patch in that plane, x = u across the side u0 and
+    // y = f(v) = 4v − 3v² along it. Its normal (0, 0, sign f′) turns over where f′ = 4 − 6v < 0
+    // (v > 2/3): there the surface folds back onto itself, and a measure that folds the angle
+    // into [0°, 90°] reports 0° everywhere
+    let plane = bicubic(4, 4, |i, j| {
+        Point3::new(
+            -1.0 + 4.0 * i as f64 / 3.0,
+            -1.0 + 4.0 * j as f64 / 3.0,
+            0.0,
+        )
+    });
+    let ys = [0.0, 2.0, 1.0];
+    let pts: Vec<Point3> = (0..2)
+        .flat_map(|i| ys.iter().map(move |&y| Point3::new(0.5 * i as f64, y, 0.0)))
+        .collect();
+    let slave = BSplineSurface::new(
+        nurbs_core::KnotVector::bezier(1).unwrap(),
+        nurbs_core::KnotVector::bezier(2).unwrap(),
+        pts,
+        None,
+    )
+    .unwrap();
+    let m = measure_link(&plane, &slave, Side::U0, &MeasureParams::default()).unwrap();
+    assert!(m.g0 < 1e-12);
+    assert!(m.g1_deg.unwrap() > 179.0, "{:?}", m.g1_deg);
+    let flipped = m
+        .detail
+        .iter()
+        .filter(|s| s.angle_deg.unwrap_or(0.0) > 179.0);
+    // every sample beyond v = 2/3 (and none before) is turned over
+    assert!(flipped.clone().all(|s| s.t > 2.0 / 3.0 - 1e-9));
+    let count = flipped.count();
+    let expected = m.detail.iter().filter(|s| s.t > 2.0 / 3.0 + 1e-9).count();
+    assert!(
+        count >= expected,
+        "{count} flipped, {expected} beyond v = 2/3"
+    );
+    let first = &m.detail[5];
+    assert!(first.angle_deg.unwrap() < 1e-9, "{:?}", first.angle_deg);
 }

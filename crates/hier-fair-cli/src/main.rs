@@ -132,8 +132,12 @@ enum Command {
         #[arg(long, value_enum)]
         method: Option<hier_fair_cli::fair::FairMethod>,
         /// deviation tolerance in model units (default: the model's; 0.02 for a bare surface)
-        #[arg(long)]
+        #[arg(long, allow_negative_numbers = true)]
         tolerance: Option<f64>,
+        /// models: deviation tolerance of one role, ROLE=MM (primary, connecting, corner;
+        /// repeatable); a surface's own "deviation" in the model still wins
+        #[arg(long = "tolerance-role", value_parser = parse_role_tolerance)]
+        tolerance_role: Vec<(hier_fair::Role, f64)>,
         #[arg(long)]
         iterations: Option<usize>,
         /// bare surfaces: the frame kept on all four sides
@@ -246,6 +250,7 @@ fn run(cli: Cli) -> Result<()> {
             output,
             method,
             tolerance,
+            tolerance_role,
             iterations,
             keep,
             target,
@@ -253,11 +258,16 @@ fn run(cli: Cli) -> Result<()> {
             images,
             quiet,
         } => {
+            let mut role_tolerance = [None; 3];
+            for (role, mm) in tolerance_role {
+                role_tolerance[role.rank()] = Some(mm);
+            }
             let text = files::read_text(&input)?;
             if hier_fair_cli::pipeline::is_model(&text) {
                 let options = hier_fair_cli::pipeline::ModelOptions {
                     method,
                     tolerance,
+                    role_tolerance,
                     iterations,
                     target,
                     quiet,
@@ -337,6 +347,26 @@ fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
     }
+}
+
+/// `ROLE=MM` of `--tolerance-role`.
+fn parse_role_tolerance(s: &str) -> Result<(hier_fair::Role, f64), String> {
+    let (role, mm) = s
+        .split_once('=')
+        .ok_or_else(|| format!("expected ROLE=MM (e.g. connecting=0.5), got {s:?}"))?;
+    let role = hier_fair::Role::parse(role.trim())
+        .ok_or_else(|| format!("unknown role {role:?}: expected primary, connecting or corner"))?;
+    let mm: f64 = mm
+        .trim()
+        .parse()
+        .map_err(|_| format!("{mm:?} is not a length"))?;
+    if !(mm.is_finite() && mm > 0.0) {
+        return Err(format!(
+            "the tolerance of {} must be a finite length > 0, got {mm}",
+            role.name()
+        ));
+    }
+    Ok((role, mm))
 }
 
 fn parse_keep(text: &str) -> Result<nurbs_core::Continuity, String> {

@@ -24,6 +24,8 @@ pub struct ModelOptions {
     pub method: Option<FairMethod>,
     /// deviation tolerance (`None`: the model's)
     pub tolerance: Option<f64>,
+    /// deviation tolerance per role (primary, connecting, corner), over the model's
+    pub role_tolerance: [Option<f64>; 3],
     /// iteration limit of the methods
     pub iterations: Option<usize>,
     /// highest continuity set
@@ -59,6 +61,7 @@ pub fn fair(model: &Model, options: &ModelOptions) -> Result<(Model, FairModelRe
     let params = FairParams {
         target: options.target,
         tolerance: options.tolerance,
+        role_tolerance: options.role_tolerance,
         ..FairParams::default()
     };
     let show = !options.quiet && std::io::stdout().is_terminal();

@@ -102,8 +102,13 @@ pub const MAX_NET: usize = 64;
 pub struct FairParams {
     /// Highest continuity set on any link (`None`: each link's own target).
     pub target: Option<Continuity>,
-    /// Deviation tolerance (model units); `None`: the model's `tolerances.deviation`.
+    /// Deviation tolerance (model units); `None`: the model's `tolerances.deviation`. A
+    /// surface's own `deviation` and a role's ([`FairParams::role_tolerance`], or the model's
+    /// per-role object) win over it ([`Model::deviation_of`]).
     pub tolerance: Option<f64>,
+    /// Deviation tolerance per role (primary, connecting, corner; model units), over the
+    /// model's per-role values; a surface's own `deviation` still wins.
+    pub role_tolerance: [Option<f64>; 3],
     /// Continuity setting and measuring; its tolerances are replaced by the model's.
     pub connect: ConnectParams,
     /// Control rows per direction left free besides the fixed frames (default 2).
@@ -119,6 +124,7 @@ impl Default for FairParams {
         Self {
             target: None,
             tolerance: None,
+            role_tolerance: [None; 3],
             connect: ConnectParams {
                 set: g_continuity::SetParams {
                     g2_move_factor: FRAMEWORK_G2_MOVE_FACTOR,
@@ -204,6 +210,12 @@ pub struct SurfaceFair {
     pub energy_after: f64,
     /// sampled deviation of the result from the input (model units)
     pub max_deviation: f64,
+    /// this surface's deviation tolerance (model units, [`Model::deviation_of`])
+    pub tolerance: f64,
+    /// degree (u, v) of the result
+    pub degree: (usize, usize),
+    /// control net (u, v) of the input and of the result
+    pub net: ((usize, usize), (usize, usize)),
     /// fairing iterations, all stages
     pub iterations: usize,
     /// knots inserted, all stages
@@ -357,7 +369,13 @@ pub fn fair_model_with(
                 continue;
             }
             group_done[g] = true;
-            group_stage(model, &mut out, group, tolerance, params, &mut report);
+            // the group moves all its patches together: the tightest of their tolerances
+            let group_tolerance = group
+                .patches
+                .iter()
+                .map(|&k| model.deviation_of(k, &params.role_tolerance, params.tolerance))
+                .fold(f64::INFINITY, f64::min);
+            group_stage(model, &mut out, group, group_tolerance, params, &mut report);
         }
         let job = |&k: &usize| -> (usize, Outcome) {
             let job = Job {
@@ -366,7 +384,7 @@ pub fn fair_model_with(
                 start: &out.surfaces[k].surface,
                 surface: k,
                 fairing: fairers.of(model.surfaces[k].role),
-                tolerance,
+                tolerance: model.deviation_of(k, &params.role_tolerance, params.tolerance),
                 connect: &connect,
                 params,
                 cap: &cap,
@@ -598,6 +616,12 @@ impl Job<'_> {
             method: self.fairing.name().to_string(),
             energy_before: thin_plate_energy(original),
             energy_after: thin_plate_energy(&surface),
+            tolerance: self.tolerance,
+            degree: (surface.degree_u(), surface.degree_v()),
+            net: (
+                (original.num_u(), original.num_v()),
+                (surface.num_u(), surface.num_v()),
+            ),
             max_deviation: if processed {
                 max_deviation(original, &surface, self.params.deviation_grid)
             } else {

@@ -57,6 +57,9 @@ pub struct ModelSurface {
     pub role: Role,
     /// the geometry
     pub surface: BSplineSurface,
+    /// this surface's own deviation tolerance (model units), when the file gives one; it wins
+    /// over the role's and the model's ([`Model::deviation_of`])
+    pub deviation: Option<f64>,
 }
 
 /// A continuity link: the slave's side lies on the master.
@@ -87,6 +90,10 @@ pub struct CornerGroup {
 pub struct ModelTolerances {
     /// largest distance of a faired surface from its original (model units)
     pub deviation: f64,
+    /// per role (primary, connecting, corner, by [`Role::rank`]) where the file gives an object
+    /// `{"primary": mm, "connecting": mm, "corner": mm}`: [SV] §1.1, primaries keep the design
+    /// intent, connecting surfaces and corners may deviate more
+    pub role_deviation: [Option<f64>; 3],
     /// largest gap (model units)
     pub g0: f64,
     /// largest normal angle (degrees)
@@ -99,6 +106,7 @@ impl Default for ModelTolerances {
     fn default() -> Self {
         Self {
             deviation: 0.05,
+            role_deviation: [None; 3],
             g0: 1e-3,
             g1_deg: 1e-2,
             g2_rel: 5e-3,
@@ -141,6 +149,27 @@ struct SurfaceEntry {
     name: String,
     role: String,
     surface: SurfaceRecord,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    deviation: Option<f64>,
+}
+
+/// `tolerances.deviation`: one length for every surface, or one per role.
+#[derive(Debug, Clone, Copy, Serialize, Deserialize)]
+#[serde(untagged)]
+enum DeviationRecord {
+    All(f64),
+    Roles(RoleDeviations),
+}
+
+#[derive(Debug, Clone, Copy, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RoleDeviations {
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    primary: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    connecting: Option<f64>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    corner: Option<f64>,
 }
 
 #[derive(Debug, Serialize, Deserialize)]
@@ -160,7 +189,7 @@ struct CornerRecord {
 #[derive(Debug, Default, Serialize, Deserialize)]
 struct TolerancesRecord {
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    deviation: Option<f64>,
+    deviation: Option<DeviationRecord>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     g0: Option<f64>,
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -210,6 +239,7 @@ impl Model {
                 },
                 role: Role::Primary,
                 surface,
+                deviation: None,
             })
             .collect();
         Self {
@@ -255,10 +285,17 @@ impl Model {
                     name: entry.name.clone(),
                     source,
                 })?;
+            if let Some(d) = entry.deviation.filter(|d| !(d.is_finite() && *d > 0.0)) {
+                return Err(Error::BadTolerance {
+                    name: "surface deviation",
+                    value: d,
+                });
+            }
             surfaces.push(ModelSurface {
                 name: entry.name,
                 role,
                 surface,
+                deviation: entry.deviation,
             });
         }
         if surfaces.is_empty() {
@@ -323,8 +360,14 @@ impl Model {
         }
         let t = record.tolerances.unwrap_or_default();
         let d = ModelTolerances::default();
+        let (all, roles) = match t.deviation {
+            None => (None, RoleDeviations::default()),
+            Some(DeviationRecord::All(x)) => (Some(x), RoleDeviations::default()),
+            Some(DeviationRecord::Roles(r)) => (None, r),
+        };
         let tolerances = ModelTolerances {
-            deviation: t.deviation.unwrap_or(d.deviation),
+            deviation: all.unwrap_or(d.deviation),
+            role_deviation: [roles.primary, roles.connecting, roles.corner],
             g0: t.g0.unwrap_or(d.g0),
             g1_deg: t.g1_deg.unwrap_or(d.g1_deg),
             g2_rel: t.g2_rel.unwrap_or(d.g2_rel),
@@ -336,7 +379,7 @@ impl Model {
             corners,
             tolerances,
             tolerances_given: [
-                t.deviation.is_some(),
+                all.is_some(),
                 t.g0.is_some(),
                 t.g1_deg.is_some(),
                 t.g2_rel.is_some(),
@@ -350,8 +393,18 @@ impl Model {
     pub fn to_json(&self) -> String {
         let t = &self.tolerances;
         let g = self.tolerances_given;
-        let tolerances = g.iter().any(|&x| x).then(|| TolerancesRecord {
-            deviation: g[0].then_some(t.deviation),
+        let roles = t.role_deviation;
+        let deviation = if roles.iter().any(Option::is_some) {
+            Some(DeviationRecord::Roles(RoleDeviations {
+                primary: roles[0],
+                connecting: roles[1],
+                corner: roles[2],
+            }))
+        } else {
+            g[0].then_some(DeviationRecord::All(t.deviation))
+        };
+        let tolerances = (deviation.is_some() || g.iter().any(|&x| x)).then(|| TolerancesRecord {
+            deviation,
             g0: g[1].then_some(t.g0),
             g1_deg: g[2].then_some(t.g1_deg),
             g2_rel: g[3].then_some(t.g2_rel),
@@ -365,6 +418,7 @@ impl Model {
                     name: s.name.clone(),
                     role: s.role.name().into(),
                     surface: SurfaceRecord::from_surface(&s.surface),
+                    deviation: s.deviation,
                 })
                 .collect(),
             links: self
@@ -403,6 +457,19 @@ impl Model {
         )
     }
 
+    /// The deviation tolerance of surface `k` (model units): its own `deviation`, else its
+    /// role's in `role` (e.g. from the command line), else its role's in the file, else
+    /// `global` (e.g. `--tolerance`), else the model's `tolerances.deviation`.
+    pub fn deviation_of(&self, k: usize, role: &[Option<f64>; 3], global: Option<f64>) -> f64 {
+        let s = &self.surfaces[k];
+        let r = s.role.rank();
+        s.deviation
+            .or(role[r])
+            .or(self.tolerances.role_deviation[r])
+            .or(global)
+            .unwrap_or(self.tolerances.deviation)
+    }
+
     /// Index of the surface named `name`.
     pub fn find(&self, name: &str) -> Option<usize> {
         self.surfaces.iter().position(|s| s.name == name)
@@ -412,6 +479,9 @@ impl Model {
     pub fn validate(&self) -> Result<()> {
         let t = &self.tolerances;
         for (name, value) in [
+            ("primary deviation", t.role_deviation[0].unwrap_or(1.0)),
+            ("connecting deviation", t.role_deviation[1].unwrap_or(1.0)),
+            ("corner deviation", t.role_deviation[2].unwrap_or(1.0)),
             ("deviation", t.deviation),
             ("g0", t.g0),
             ("g1_deg", t.g1_deg),

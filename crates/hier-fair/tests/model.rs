@@ -162,3 +162,49 @@ fn link_that_does_not_touch_its_master_is_an_error_with_the_gap() {
     );
     assert_eq!(out.surfaces[0], m.surfaces[0], "the master never moves");
 }
+
+#[test]
+fn deviation_per_surface_and_per_role_with_its_precedence() {
+    let mut fillet = entry("fillet", "connecting", &patch(1.0, 0.0));
+    fillet["deviation"] = json!(0.3);
+    let text = json!({
+        "surfaces": [entry("top", "primary", &patch(0.0, 0.0)), fillet, entry("corner", "corner", &patch(2.0, 0.0))],
+        "links": [link("fillet", "u0", "top")],
+        "tolerances": {"deviation": {"primary": 0.02, "corner": 0.4}}
+    })
+    .to_string();
+    let m = Model::from_json(&text).unwrap();
+    let none = [None; 3];
+    // the surface's own value wins, then the role's, then the global default
+    assert_eq!(m.deviation_of(0, &none, None), 0.02);
+    assert_eq!(m.deviation_of(1, &none, None), 0.3);
+    assert_eq!(m.deviation_of(2, &none, None), 0.4);
+    // the command line's role value wins over the file's role value, never over the surface's
+    let cli = [Some(0.07), Some(0.9), None];
+    assert_eq!(m.deviation_of(0, &cli, None), 0.07);
+    assert_eq!(m.deviation_of(1, &cli, None), 0.3);
+    // --tolerance only where neither the surface nor its role gives one
+    let plain = Model::from_json(&two(0.0, vec![link("fillet", "u0", "top")])).unwrap();
+    assert_eq!(plain.deviation_of(1, &none, Some(0.11)), 0.11);
+    assert_eq!(plain.deviation_of(1, &none, None), 0.05);
+    // written back as given
+    let again = Model::from_json(&m.to_json()).unwrap();
+    assert_eq!(again, m);
+    assert!(m.to_json().contains("\"corner\":0.4"));
+}
+
+#[test]
+fn bad_deviations_are_named() {
+    let mut fillet = entry("fillet", "connecting", &patch(1.0, 0.0));
+    fillet["deviation"] = json!(-1.0);
+    let text = json!({"surfaces": [entry("top", "primary", &patch(0.0, 0.0)), fillet]}).to_string();
+    let e = Model::from_json(&text).unwrap_err().to_string();
+    assert!(e.contains("deviation") && e.contains("-1"), "{e}");
+    let text = json!({
+        "surfaces": [entry("top", "primary", &patch(0.0, 0.0))],
+        "tolerances": {"deviation": {"connecting": 0.0}}
+    })
+    .to_string();
+    let e = Model::from_json(&text).unwrap_err().to_string();
+    assert!(e.contains("connecting deviation"), "{e}");
+}
