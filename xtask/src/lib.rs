@@ -205,7 +205,8 @@ pub fn regress_line(name: &str, report: &hier_fair::FairModelReport) -> String {
 pub const REGRESS_HEADER: &str = "model                        surf  met/links        gap     angle°   curv.rel  deviation   energy  seconds  probl";
 
 /// The fixture models followed by the third-party models of `external` (car_shell1.model.json,
-/// submarine_body.model.json, teapot.json; each skipped with a note when absent).
+/// submarine_body.model.json, teapot.json and the six kernel models of `occt/`; each skipped
+/// with a note when absent).
 pub fn regress_paths(external: &Path) -> Result<(Vec<PathBuf>, Vec<String>)> {
     let mut paths = model_files()?;
     let mut notes = Vec::new();
@@ -213,6 +214,12 @@ pub fn regress_paths(external: &Path) -> Result<(Vec<PathBuf>, Vec<String>)> {
         "car_shell1.model.json",
         "submarine_body.model.json",
         "teapot.json",
+        "occt/occt_corner3_radii.json",
+        "occt/occt_box12_r5.json",
+        "occt/occt_box12_variable.json",
+        "occt/occt_plate_boss.json",
+        "occt/occt_pipe_tee.json",
+        "occt/occt_loft_block.json",
     ] {
         let p = external.join(name);
         if p.exists() {
