@@ -755,7 +755,6 @@ impl Job<'_> {
                 steps,
                 met: true,
                 prepared: prepared.clone(),
-                width: None,
             });
         };
         let params = self.set_params();
@@ -780,7 +779,6 @@ impl Job<'_> {
             steps,
             met,
             prepared: prepared.clone(),
-            width: None,
         })
     }
 
@@ -807,13 +805,11 @@ impl Job<'_> {
                 lead_in: width,
                 ..*self.connect
             };
-            let (prepared, prep) = prepare_slave(self.start, links, &connect)
+            let (prepared, _) = prepare_slave(self.start, links, &connect)
                 .map_err(|e| format!("preparing {name}: {e}"))?;
-            let (prepared, extra) = free_rows(prepared, links, self.params.min_free_rows)
+            let (prepared, _) = free_rows(prepared, links, self.params.min_free_rows)
                 .map_err(|e| format!("inserting knots into {name}: {e}"))?;
-            let _ = (prep, extra);
-            let mut dry = self.dry_run(&prepared, links)?;
-            dry.width = width;
+            let dry = self.dry_run(&prepared, links)?;
             let d = dry.deviation();
             let done = d <= budget;
             trials.push(dry);
@@ -1185,8 +1181,6 @@ struct DryRun {
     met: bool,
     /// the prepared surface the steps started from
     prepared: BSplineSurface,
-    /// the lead-in width it was prepared with
-    width: Option<f64>,
 }
 
 impl DryRun {
