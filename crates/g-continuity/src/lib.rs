@@ -18,12 +18,14 @@ pub mod params;
 pub mod rows;
 pub mod sampling;
 pub mod slave;
+pub mod transfer;
 
 pub use error::{Error, Result};
 pub use lead_in::{LEAD_IN_DEGREE, LeadInReport, MAX_LEAD_IN, with_lead_in};
 pub use measure::{LinkMeasure, MeasureParams, SampleMeasure, measure_link};
 pub use params::{ConnectParams, G2Method, SetParams, Tolerances};
 pub use slave::{
-    C0_FOR_G1_SHARE, ConnectReport, SideLink, SideReport, StepReport, connect_slave, new_knots,
-    prepare_slave, set_g0, set_g1, set_g2, set_rows, set_step,
+    C0_FOR_G1_SHARE, ConnectReport, SideLink, SideReport, StepReport, connect_slave,
+    new_breakpoints, new_knots, prepare_slave, set_g0, set_g1, set_g2, set_rows, set_step,
 };
+pub use transfer::{TransferReport, with_master_knots};

@@ -116,6 +116,10 @@ pub struct ConnectParams {
     /// may create (default [`crate::slave::MAX_CONTROL_POINTS`]); a side that would need more
     /// keeps its best round.
     pub max_control_points: usize,
+    /// Whether [`crate::prepare_slave`] first makes each side's along spline space compatible
+    /// with its master's ([`crate::transfer`]: degree and the master's knots along the join),
+    /// where the slave's along direction is a single polynomial piece. Default `true`.
+    pub transfer_knots: bool,
 }
 
 impl Default for ConnectParams {
@@ -128,6 +132,7 @@ impl Default for ConnectParams {
             c0_floor: 0.0,
             lead_in: None,
             max_control_points: crate::slave::MAX_CONTROL_POINTS,
+            transfer_knots: true,
         }
     }
 }

@@ -150,3 +150,52 @@ fn per_role_deviation_gives_fillets_their_own_budget() {
     );
     assert!(report.links.iter().all(|l| l.met), "{:?}", report.problems);
 }
+
+/// Spherical vertex blends (rational 2×2, one side collapsed to a pole) between three fillets
+/// that received their G2 lead-in: the blend takes the fillets' knots along each join
+/// (`g_continuity::transfer`) and reaches G2 on all three sides — every link of the box met,
+/// none worse than in the input.
+#[test]
+fn vertex_blends_reach_g2_on_their_faired_fillets() {
+    let Some(m) = model("occt_box12_r5") else {
+        return;
+    };
+    let (_, report) =
+        fair_model(&m, &RoleMethods::default(), None, &FairParams::default()).unwrap();
+    let t = tolerances(&m);
+    let mut corner_links = 0;
+    for l in &report.links {
+        let (Some(b), Some(a)) = (&l.before, &l.after) else {
+            panic!("{} not measured", l.label);
+        };
+        assert!(l.met, "{} after {a:?}", l.label);
+        assert_eq!(worse_than(b, a, l.target, &t), None, "{}", l.label);
+        if m.surfaces[m.links[l.link].slave].role == Role::Corner {
+            corner_links += 1;
+            // the input is G1 with the sphere's full curvature against the fillet's straight
+            // axial direction
+            assert!(b.g2_rel.unwrap() > 0.9, "{} {b:?}", l.label);
+        }
+    }
+    assert_eq!(corner_links, 24);
+}
+
+/// A degenerate corner (two coincident control points, a zero end tangent: box12_variable's
+/// freeform vertex blend C07 closes its side on the plane that way) keeps its normal: the
+/// normal angle there stays within the tolerance instead of turning by the angle between the
+/// neighbouring rows.
+#[test]
+fn a_degenerate_corner_keeps_its_normal() {
+    let Some(m) = model("occt_box12_variable") else {
+        return;
+    };
+    let (_, report) =
+        fair_model(&m, &RoleMethods::default(), None, &FairParams::default()).unwrap();
+    let l = report
+        .links
+        .iter()
+        .find(|l| l.label == "C07_bspline.u0 -> P11_plane")
+        .expect("the link is in the model");
+    let a = l.after.as_ref().unwrap();
+    assert!(a.g1_deg.unwrap() <= m.tolerances.g1_deg, "{a:?}");
+}
