@@ -307,8 +307,11 @@ fn step_all(
 
 /// The control points of the 2 × 2 corner blocks of `s` at its degenerate corners: those where
 /// the corner point coincides with its neighbour along u or along v (within
-/// [`crate::measure::COLLAPSED_SIDE_RELATIVE`] of the size). A corner of a side collapsed to a
-/// point (a pole) is not counted: the pole rule keeps it.
+/// [`crate::measure::COLLAPSED_SIDE_RELATIVE`] of the size). The two corners of a side collapsed
+/// to a point (a pole) count too — there the corner coincides with its neighbour along the
+/// collapsed side, and the normal at the pole is the same kind of limit, set by the row next to
+/// it. A corner that coincides with both neighbours has no such limit and is left to the other
+/// rules.
 fn degenerate_corner_blocks(s: &BSplineSurface) -> Vec<(usize, usize)> {
     let (nu, nv) = (s.num_u(), s.num_v());
     let mut out = Vec::new();
@@ -326,7 +329,7 @@ fn degenerate_corner_blocks(s: &BSplineSurface) -> Vec<(usize, usize)> {
         let corner = at(i0, j0);
         let along_u = (at(i1, j0) - corner).norm() <= tiny;
         let along_v = (at(i0, j1) - corner).norm() <= tiny;
-        // both neighbours coincide: the corner lies on a collapsed side (a pole)
+        // exactly one neighbour coincides: a zero end tangent along one side
         if along_u != along_v {
             out.extend([(i0, j0), (i1, j0), (i0, j1), (i1, j1)]);
         }
