@@ -686,6 +686,13 @@ pub fn set_step(
 /// insertion is impossible). A value within [`KNOT_MERGE_RELATIVE`] of the domain of a knot
 /// counts as that knot.
 pub fn new_knots(s: &BSplineSurface, dir: Direction, xs: &[f64]) -> Vec<f64> {
+    insertable(s, dir, xs, true)
+}
+
+/// The values of `xs` to insert into direction `dir` of `s`, sorted, inside the open domain, a
+/// value within [`KNOT_MERGE_RELATIVE`] of a knot snapped onto it; with `repeat` a knot may be
+/// raised up to the degree, without it every value is a new breakpoint.
+fn insertable(s: &BSplineSurface, dir: Direction, xs: &[f64], repeat: bool) -> Vec<f64> {
     let kv = match dir {
         Direction::U => s.knots_u(),
         Direction::V => s.knots_v(),
@@ -701,17 +708,22 @@ pub fn new_knots(s: &BSplineSurface, dir: Direction, xs: &[f64]) -> Vec<f64> {
             continue;
         }
         // snap onto a knot that is there already, so that multiplicities add up exactly
-        let x = kv
+        let known = kv
             .knots()
             .iter()
             .chain(out.iter())
             .copied()
-            .find(|&k| (k - x).abs() <= close)
-            .unwrap_or(x);
-        let mult = kv.knots().iter().filter(|&&k| k == x).count()
-            + out.iter().filter(|&&k| k == x).count();
-        if mult < p {
-            out.push(x);
+            .find(|&k| (k - x).abs() <= close);
+        match known {
+            None => out.push(x),
+            Some(k) if repeat => {
+                let mult = kv.knots().iter().filter(|&&t| t == k).count()
+                    + out.iter().filter(|&&t| t == k).count();
+                if mult < p {
+                    out.push(k);
+                }
+            }
+            Some(_) => {}
         }
     }
     out
@@ -726,27 +738,7 @@ pub fn new_knots(s: &BSplineSurface, dir: Direction, xs: &[f64]) -> Vec<f64> {
 /// rows at once and keeps [`new_knots`]: the X-node centre of the twist tests meets G2 only with
 /// the knots its opposite sides repeat.
 pub fn new_breakpoints(s: &BSplineSurface, dir: Direction, xs: &[f64]) -> Vec<f64> {
-    let kv = match dir {
-        Direction::U => s.knots_u(),
-        Direction::V => s.knots_v(),
-    };
-    let (a, b) = kv.domain();
-    let close = KNOT_MERGE_RELATIVE * (b - a);
-    let mut out: Vec<f64> = Vec::new();
-    let mut sorted: Vec<f64> = xs.iter().copied().filter(|x| x.is_finite()).collect();
-    sorted.sort_by(f64::total_cmp);
-    for x in sorted {
-        let inside = x - a > close && b - x > close;
-        let taken = kv
-            .knots()
-            .iter()
-            .chain(out.iter())
-            .any(|&k| (k - x).abs() <= close);
-        if inside && !taken {
-            out.push(x);
-        }
-    }
-    out
+    insertable(s, dir, xs, false)
 }
 
 /// Knots closer than this fraction of the domain are one knot (rounding of span midpoints).

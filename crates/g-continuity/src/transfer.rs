@@ -29,7 +29,7 @@ use nurbs_core::{BSplineSurface, Direction, ProjectionParams};
 use crate::error::Result;
 use crate::lead_in::LEAD_IN_DEGREE;
 use crate::measure::is_collapsed;
-use crate::sampling::MasterTracker;
+use crate::sampling::{MasterTracker, uniform_side_params};
 use crate::slave::{SideLink, new_knots};
 
 /// Samples along a side used to bracket the master knots (a bracket per 1/64 of the side: the
@@ -100,7 +100,8 @@ pub fn with_master_knots(
         if !piece || is_collapsed(&s, link.side) {
             continue;
         }
-        let Some(along) = master_along(&s, link, projection) else {
+        let mut tracker = MasterTracker::new(link.master, projection);
+        let Some(along) = master_along(&s, link, &mut tracker) else {
             continue;
         };
         let dir = link.side.along_direction();
@@ -116,7 +117,7 @@ pub fn with_master_knots(
                 Direction::V => report.degree_elevation.1 += want - degree,
             }
         }
-        let xs = slave_params(&s, link, &along, projection);
+        let xs = slave_params(&s, link, &along, &mut tracker);
         let kv = match dir {
             Direction::U => s.knots_u(),
             Direction::V => s.knots_v(),
@@ -173,15 +174,12 @@ struct MasterAlong {
 fn master_along(
     slave: &BSplineSurface,
     link: &SideLink,
-    projection: ProjectionParams,
+    tracker: &mut MasterTracker,
 ) -> Option<MasterAlong> {
     let master = link.master;
-    let mut tracker = MasterTracker::new(master, projection);
-    let (a, b) = link.side.along_domain(slave);
-    let n = TRANSFER_SAMPLES;
-    let mut feet = Vec::with_capacity(n);
-    for k in 0..n {
-        let t = a + (b - a) * k as f64 / (n - 1) as f64;
+    let ts = uniform_side_params(slave, link.side, TRANSFER_SAMPLES).ok()?;
+    let mut feet = Vec::with_capacity(ts.len());
+    for t in ts {
         let (u, v) = link.side.params(slave, t);
         let f = tracker.project(&slave.point(u, v));
         feet.push((t, f.u, f.v));
@@ -241,7 +239,7 @@ fn slave_params(
     slave: &BSplineSurface,
     link: &SideLink,
     along: &MasterAlong,
-    projection: ProjectionParams,
+    tracker: &mut MasterTracker,
 ) -> Vec<f64> {
     let master = link.master;
     let (m0, m1) = match along.dir {
@@ -249,7 +247,8 @@ fn slave_params(
         Direction::V => master.domain_v(),
     };
     let accuracy = TRANSFER_PARAMETER_RELATIVE * (m1 - m0);
-    let mut tracker = MasterTracker::new(master, projection);
+    // the first knot's bracket may lie anywhere along the side: start from a global projection
+    tracker.reset();
     let mut foot = |t: f64| {
         let (u, v) = link.side.params(slave, t);
         let f = tracker.project(&slave.point(u, v));
@@ -329,6 +328,20 @@ mod tests {
         BSplineSurface::new(ku, kv, pts, None).unwrap()
     }
 
+    /// A quadratic Bézier strip in u (control abscissae `xs`), linear in v, y ∈ [1, 2], z = 0:
+    /// its side v0 lies on the side v1 of a [`strip`].
+    fn quadratic_strip(xs: [f64; 3]) -> BSplineSurface {
+        BSplineSurface::new(
+            KnotVector::bezier(2).unwrap(),
+            KnotVector::bezier(1).unwrap(),
+            (0..3)
+                .flat_map(|i| (0..2).map(move |j| Point3::new(xs[i], 1.0 + j as f64, 0.0)))
+                .collect(),
+            None,
+        )
+        .unwrap()
+    }
+
     fn strip(knots_u: Vec<f64>, degree_u: usize) -> BSplineSurface {
         strip_at(knots_u, degree_u, 0.0)
     }
@@ -344,15 +357,7 @@ mod tests {
             ],
             5,
         );
-        let slave = BSplineSurface::new(
-            KnotVector::bezier(2).unwrap(),
-            KnotVector::bezier(1).unwrap(),
-            (0..3)
-                .flat_map(|i| (0..2).map(move |j| Point3::new(0.5 * i as f64, 1.0 + j as f64, 0.0)))
-                .collect(),
-            None,
-        )
-        .unwrap();
+        let slave = quadratic_strip([0.0, 0.5, 1.0]);
         let links = [SideLink {
             side: Side::V0,
             master: &master,
@@ -380,16 +385,7 @@ mod tests {
         // the slave runs over x ∈ [0, 1] with x = t² (control points 0, 0, 1 in a quadratic
         // Bézier: x(t) = t²), so master knot 0.25 lands at t = 0.5 and 0.64 at t = 0.8
         let master = strip(vec![0.0, 0.0, 0.0, 0.0, 0.25, 0.64, 1.0, 1.0, 1.0, 1.0], 3);
-        let xs = [0.0, 0.0, 1.0];
-        let slave = BSplineSurface::new(
-            KnotVector::bezier(2).unwrap(),
-            KnotVector::bezier(1).unwrap(),
-            (0..3)
-                .flat_map(|i| (0..2).map(move |j| Point3::new(xs[i], 1.0 + j as f64, 0.0)))
-                .collect(),
-            None,
-        )
-        .unwrap();
+        let slave = quadratic_strip([0.0, 0.0, 1.0]);
         let links = [SideLink {
             side: Side::V0,
             master: &master,
