@@ -1082,9 +1082,8 @@ impl Job<'_> {
         Ok((connected, vec![c]))
     }
 
-    /// The largest factor by which `result` makes one of this surface's links worse than the
-    /// input, each measure (up to the link's target) against the larger of its input value and
-    /// its tolerance (≤ 1: no link worse).
+    /// The largest [`growths`] factor of `result` over this surface's links against the input
+    /// (≤ 1: no link worse).
     fn worst_growth(&self, labelled: &[(usize, SideLink<'_>)], result: &BSplineSurface) -> f64 {
         let t = &self.connect.tolerances;
         let mut worst: f64 = 0.0;
@@ -1095,15 +1094,9 @@ impl Job<'_> {
             let Ok(after) = measure_link(l.master, result, l.side, &self.connect.measure) else {
                 return f64::INFINITY;
             };
-            worst = worst.max(after.g0 / before.g0.max(t.g0));
-            if l.target >= Continuity::G1 {
-                worst = worst
-                    .max(after.g1_deg.unwrap_or(0.0) / before.g1_deg.unwrap_or(0.0).max(t.g1_deg));
-            }
-            if l.target >= Continuity::G2 {
-                worst = worst
-                    .max(after.g2_rel.unwrap_or(0.0) / before.g2_rel.unwrap_or(0.0).max(t.g2_rel));
-            }
+            worst = growths(before, &after, l.target, t)
+                .into_iter()
+                .fold(worst, f64::max);
         }
         worst
     }
@@ -1161,41 +1154,58 @@ impl Job<'_> {
     }
 }
 
-/// How `after` is worse than `before` up to `target` (beyond the tolerance), or `None`: a larger
-/// gap, a larger normal angle, or a larger relative curvature difference together with a larger
-/// absolute one.
+/// The factors by which `after` exceeds `before` in gap, normal angle and relative curvature
+/// difference (each against the larger of its input value and its tolerance; 0 above the
+/// target). A relative curvature figure counts only where the absolute difference grew too: a
+/// relative figure that grows while the absolute difference shrinks means that both curvatures
+/// went down — a lead-in flattening a vertex blend next to a fillet that is straight across the
+/// join (box12_r5: 1.000 → 1.002 while |Δκ| went 0.2 → 2e-4): the join got better, not worse.
+fn growths(
+    before: &LinkMeasure,
+    after: &LinkMeasure,
+    target: Continuity,
+    t: &Tolerances,
+) -> [f64; 3] {
+    let mut out = [after.g0 / before.g0.max(t.g0), 0.0, 0.0];
+    if target >= Continuity::G1 {
+        out[1] = after.g1_deg.unwrap_or(0.0) / before.g1_deg.unwrap_or(0.0).max(t.g1_deg);
+    }
+    if target >= Continuity::G2 && after.g2_abs.unwrap_or(0.0) > before.g2_abs.unwrap_or(0.0) {
+        out[2] = after.g2_rel.unwrap_or(0.0) / before.g2_rel.unwrap_or(0.0).max(t.g2_rel);
+    }
+    out
+}
+
+/// How `after` is worse than `before` up to `target` (beyond the tolerance), or `None`: a
+/// [`growths`] factor above 1 — a larger gap, a larger normal angle, or a larger relative
+/// curvature difference together with a larger absolute one.
 pub fn worse_than(
     before: &LinkMeasure,
     after: &LinkMeasure,
     target: Continuity,
     t: &Tolerances,
 ) -> Option<String> {
-    if after.g0 > before.g0.max(t.g0) {
-        return Some(format!(
+    let [g0, g1, g2] = growths(before, after, target, t);
+    if g0 > 1.0 {
+        Some(format!(
             "with a gap of {:.3e} (input {:.3e})",
             after.g0, before.g0
-        ));
+        ))
+    } else if g1 > 1.0 {
+        Some(format!(
+            "with a normal angle of {:.3e}° (input {:.3e}°)",
+            after.g1_deg.unwrap_or(0.0),
+            before.g1_deg.unwrap_or(0.0)
+        ))
+    } else if g2 > 1.0 {
+        Some(format!(
+            "with a relative curvature difference of {:.3e} (input {:.3e})",
+            after.g2_rel.unwrap_or(0.0),
+            before.g2_rel.unwrap_or(0.0)
+        ))
+    } else {
+        None
     }
-    if target >= Continuity::G1 {
-        let (a, b) = (after.g1_deg.unwrap_or(0.0), before.g1_deg.unwrap_or(0.0));
-        if a > b.max(t.g1_deg) {
-            return Some(format!("with a normal angle of {a:.3e}° (input {b:.3e}°)"));
-        }
-    }
-    if target >= Continuity::G2 {
-        // a relative figure that grows while the absolute difference shrinks means that both
-        // curvatures went down — a lead-in flattening a vertex blend next to a fillet that is
-        // straight across the join (box12_r5: 1.000 → 1.002 while |Δκ| went 0.2 → 2e-4): the
-        // join got better, not worse
-        let (a, b) = (after.g2_rel.unwrap_or(0.0), before.g2_rel.unwrap_or(0.0));
-        let absolute_grew = after.g2_abs.unwrap_or(0.0) > before.g2_abs.unwrap_or(0.0);
-        if a > b.max(t.g2_rel) && absolute_grew {
-            return Some(format!(
-                "with a relative curvature difference of {a:.3e} (input {b:.3e})"
-            ));
-        }
-    }
-    None
 }
 
 /// Knots of `after` that `before` lacks, both directions (with multiplicity).
