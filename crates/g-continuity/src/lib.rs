@@ -26,6 +26,7 @@ pub use measure::{LinkMeasure, MeasureParams, SampleMeasure, measure_link};
 pub use params::{ConnectParams, G2Method, SetParams, Tolerances};
 pub use slave::{
     C0_FOR_G1_SHARE, ConnectReport, SideLink, SideReport, StepReport, connect_slave,
-    new_breakpoints, new_knots, prepare_slave, set_g0, set_g1, set_g2, set_rows, set_step,
+    degenerate_corner_blocks, new_breakpoints, new_knots, prepare_slave, set_g0, set_g1, set_g2,
+    set_rows, set_step,
 };
 pub use transfer::{TransferReport, with_master_knots};

@@ -51,6 +51,11 @@ pub struct SetParams {
     pub c0_iterations: usize,
     /// Projection onto the masters (kernel defaults).
     pub projection: ProjectionParams,
+    /// After each C0 step, turn the end tangents of the boundary rows into the tangent plane of
+    /// the neighbouring side's master where that side carries G1 or more (default off: it moves
+    /// a point the boundary fit chose, which costs curvature accuracy at the corner; callers
+    /// turn it on where a corner's normal misses, see `slave::tangent_corners`).
+    pub tangent_corners: bool,
 }
 
 impl Default for SetParams {
@@ -66,6 +71,7 @@ impl Default for SetParams {
             g2_move_factor: crate::rows::G2_MOVE_FACTOR,
             c0_iterations: 4,
             projection: ProjectionParams::default(),
+            tangent_corners: false,
         }
     }
 }

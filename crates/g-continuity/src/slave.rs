@@ -275,6 +275,10 @@ fn step_all(
             mv.apply(slave);
             outcome.max_move = outcome.max_move.max(mv.max_displacement());
         }
+        if step == Continuity::G0 && params.tangent_corners {
+            let t = tangent_corners(slave, links, &active, params);
+            outcome.max_move = outcome.max_move.max(t);
+        }
         return Ok(outcome);
     }
     let mut pinned = base;
@@ -302,7 +306,62 @@ fn step_all(
         outcome.max_move = outcome.max_move.max(mv.max_displacement());
     }
     *slave = pinned;
+    if step == Continuity::G0 && params.tangent_corners {
+        let t = tangent_corners(slave, links, &active, params);
+        outcome.max_move = outcome.max_move.max(t);
+    }
     Ok(outcome)
+}
+
+/// After the C0 rows: at a corner where the neighbouring side carries G1 or more, the second
+/// point of this side's boundary row moves into the tangent plane of that neighbour's master
+/// at the corner ([`SetParams::tangent_corners`]). The corner's normal is
+/// (P₁₀ − P₀₀) × (P₀₁ − P₀₀) and each edge lies on one side's boundary: fitted to its own master
+/// by positions only, an edge's end tangent misses the other master's tangent plane by the
+/// fit's slope error (1.5e-4 rad on a kernel's freeform vertex blend), which no later G1 row
+/// can take back — at the corner the G1 rows keep the block the C0 rows made. Where the two
+/// masters share their tangent plane (they are G1 there) the moved point stays on its own
+/// master to first order; the move does change the boundary's end curvature, the neighbour's
+/// G2 at the corner, which is why the correction is not the default. Returns the largest move.
+fn tangent_corners(
+    slave: &mut BSplineSurface,
+    links: &[SideLink],
+    active: &[&SideLink],
+    params: &SetParams,
+) -> f64 {
+    let (nu, nv) = (slave.num_u(), slave.num_v());
+    let fixed = degenerate_corner_blocks(slave);
+    let mut largest: f64 = 0.0;
+    for l in active {
+        let row = l.side.row(0, nu, nv);
+        let m = row.len();
+        if m < 3 {
+            continue;
+        }
+        let (start, end) = neighbours(l.side);
+        for (c, j, adj) in [(0, 1, start), (m - 1, m - 2, end)] {
+            let Some(nb) = links
+                .iter()
+                .find(|x| x.side == adj && x.target >= Continuity::G1)
+            else {
+                continue;
+            };
+            let (corner, second) = (row[c], row[j]);
+            if is_collapsed(slave, adj) || fixed.contains(&corner) || fixed.contains(&second) {
+                continue;
+            }
+            let p0 = slave.control_point(corner.0, corner.1);
+            let foot = nurbs_core::project_to_surface(nb.master, &p0, &params.projection);
+            let Some(n) = nb.master.derivatives(foot.u, foot.v).normal() else {
+                continue;
+            };
+            let idx = slave.index(second.0, second.1);
+            let d = n * n.dot(&(slave.control_points()[idx] - p0));
+            slave.control_points_mut()[idx] -= d;
+            largest = largest.max(d.norm());
+        }
+    }
+    largest
 }
 
 /// The control points of the 2 × 2 corner blocks of `s` at its degenerate corners: those where
@@ -312,7 +371,7 @@ fn step_all(
 /// collapsed side, and the normal at the pole is the same kind of limit, set by the row next to
 /// it. A corner that coincides with both neighbours has no such limit and is left to the other
 /// rules.
-fn degenerate_corner_blocks(s: &BSplineSurface) -> Vec<(usize, usize)> {
+pub fn degenerate_corner_blocks(s: &BSplineSurface) -> Vec<(usize, usize)> {
     let (nu, nv) = (s.num_u(), s.num_v());
     let mut out = Vec::new();
     if nu < 3 || nv < 3 {

@@ -753,16 +753,22 @@ impl Job<'_> {
         let name = &self.model.surfaces[self.surface].name;
         let original = &self.model.surfaces[self.surface].surface;
         let mut steps = Vec::new();
+        let params = self.set_params();
         let Some(top) = links.iter().map(|l| l.target).max() else {
             return Ok(DryRun {
                 steps,
                 met: true,
+                met_steps: Vec::new(),
                 prepared: prepared.clone(),
+                tangent_corners: false,
             });
         };
-        let params = self.set_params();
         let mut s = prepared.clone();
         let mut met = false;
+        let mut met_steps = Vec::new();
+        // the step settings in use; a variant that met a step stays for the steps after it (a
+        // G2 step solves the C0 and G1 rows again after refining)
+        let mut set = params.set;
         for step in [Continuity::G0, Continuity::G1, Continuity::G2] {
             if step > top {
                 break;
@@ -774,35 +780,60 @@ impl Job<'_> {
                     .zip(after)
                     .all(|(l, m)| m.meets(l.target.min(step), t.g0, t.g1_deg, t.g2_rel))
             };
-            let (mut next, report) = set_step(&s, links, step, &params)
-                .map_err(|e| format!("setting {step:?} on {name}: {e}"))?;
+            let run = |set: g_continuity::SetParams| {
+                set_step(&s, links, step, &ConnectParams { set, ..params })
+                    .map_err(|e| format!("setting {step:?} on {name}: {e}"))
+            };
+            let (mut next, report) = run(set)?;
             met = meets(&report.after);
-            // G2 missed with the framework's tight move bound: the bound of `connect`, which
-            // exact joins of constructed pairs need (a vertex blend between faired fillets)
+            // missed: the variants of the step, in order, the first that meets is kept —
+            // G2 with the move bound of `connect`, which exact joins of constructed pairs need
+            // (a vertex blend between faired fillets); then the corners' end tangents turned
+            // into the neighbouring masters' tangent planes (a corner normal the C0 fit left
+            // off by more than the G1 tolerance), see `SetParams::tangent_corners`
             let connect_bound = g_continuity::SetParams::default().g2_move_factor;
-            if !met && step == Continuity::G2 && params.set.g2_move_factor < connect_bound {
-                let wider = ConnectParams {
-                    set: g_continuity::SetParams {
-                        g2_move_factor: connect_bound,
-                        ..params.set
-                    },
-                    ..params
+            let mut variants = Vec::new();
+            if step == Continuity::G2 && set.g2_move_factor < connect_bound {
+                variants.push(g_continuity::SetParams {
+                    g2_move_factor: connect_bound,
+                    ..set
+                });
+            }
+            if step >= Continuity::G1 && !set.tangent_corners {
+                let turned = g_continuity::SetParams {
+                    tangent_corners: true,
+                    ..set
                 };
-                let (other, again) = set_step(&s, links, step, &wider)
-                    .map_err(|e| format!("setting {step:?} on {name}: {e}"))?;
+                variants.push(turned);
+                if step == Continuity::G2 && set.g2_move_factor < connect_bound {
+                    variants.push(g_continuity::SetParams {
+                        g2_move_factor: connect_bound,
+                        ..turned
+                    });
+                }
+            }
+            for variant in variants {
+                if met {
+                    break;
+                }
+                let (other, again) = run(variant)?;
                 if meets(&again.after) {
                     next = other;
                     met = true;
+                    set = variant;
                 }
             }
             let d = max_deviation(original, &next, self.params.deviation_grid);
             steps.push((step, next.clone(), d));
+            met_steps.push(met);
             s = next;
         }
         Ok(DryRun {
             steps,
             met,
+            met_steps,
             prepared: prepared.clone(),
+            tangent_corners: set.tangent_corners,
         })
     }
 
@@ -907,12 +938,32 @@ impl Job<'_> {
         let top = links.iter().map(|l| l.target).max();
         // the highest step whose deviation stays within the tolerance; a step beyond it is a
         // conflict naming its links, with the least deviation a trial needed to meet them
-        let highest = dry
+        let mut highest = dry
             .steps
             .iter()
             .take_while(|(_, _, d)| *d <= self.tolerance)
             .map(|(c, _, _)| *c)
             .last();
+        // a step that misses its level and leaves a link worse than the input is not taken where
+        // the step below met its own: G2 attempted and missed must not cost the G1 that was there
+        if let Some(k) = highest.and_then(|h| dry.steps.iter().position(|(c, _, _)| *c == h)) {
+            if k > 0 && !dry.met_steps[k] && dry.met_steps[k - 1] {
+                if let Some(worse) = self.worse_link(&labelled, &dry.steps[k].1) {
+                    let (step, below) = (dry.steps[k].0, dry.steps[k - 1].0);
+                    problems.push(Problem {
+                        kind: ProblemKind::Limited,
+                        surface: name.clone(),
+                        link: None,
+                        message: format!(
+                            "setting {step:?} misses its links within the deviations tried (up to {:.4}) and {worse}; the surface is kept at {below:?}",
+                            dry.steps[k].2
+                        ),
+                        amount: Some(dry.steps[k].2),
+                    });
+                    highest = Some(below);
+                }
+            }
+        }
         if let Some((step, _, d)) = dry.steps.iter().find(|(_, _, d)| *d > self.tolerance) {
             let kept = highest.map_or("its input continuity".to_string(), |c| format!("{c:?}"));
             let amount = needed.filter(|&n| n > self.tolerance).unwrap_or(*d);
@@ -965,11 +1016,19 @@ impl Job<'_> {
             prepared
         };
         let master_sides = self.master_sides();
+        let mut set_params = self.set_params();
+        set_params.set.tangent_corners = dry.tangent_corners;
+        let prepared_for_once = prepared.clone();
+        let budget = if self.is_master() {
+            MASTER_SHARE * self.tolerance
+        } else {
+            DEVIATION_SAFETY * self.tolerance
+        };
         let mut s = prepared;
         let mut fair_left = levels.len();
         for level in levels {
             if highest.is_some() {
-                let (next, step) = set_step(&s, &links, level, &self.set_params())
+                let (next, step) = set_step(&s, &links, level, &set_params)
                     .map_err(|e| format!("setting {level:?} on {name}: {e}"))?;
                 run.record(Stage::set(level), &s, &next);
                 if let Some(r) = run.stages.last_mut() {
@@ -980,33 +1039,18 @@ impl Job<'_> {
             }
             // fairing keeping `level`
             let stage = Stage::fair(level);
-            let mut mask = stage_mask(&s, &links, level);
-            for &side in &master_sides {
-                mask.fix_frame(side, MASTER_FRAME);
-            }
-            for &(i, j) in &self.interior_join_points(&s) {
-                mask.set_free(i, j, false);
-            }
-            let budget = if self.is_master() {
-                MASTER_SHARE * self.tolerance
-            } else {
-                DEVIATION_SAFETY * self.tolerance
-            };
             let eps = ((budget - run.deviation()) / fair_left as f64).max(0.0);
             fair_left -= 1;
-            if mask.free_count() == 0 || eps <= 0.0 {
-                run.record(stage, &s, &s);
-                continue;
-            }
-            match self.fairing.fair(&s, &mask, eps) {
-                Ok((next, fr)) => {
+            match self.fair_stage(&s, &links, level, &master_sides, eps) {
+                Ok(Some((next, iterations))) => {
                     run.record(stage, &s, &next);
                     if let Some(r) = run.stages.last_mut() {
-                        r.iterations = fr.iterations;
+                        r.iterations = iterations;
                         r.epsilon = eps;
                     }
                     s = next;
                 }
+                Ok(None) => run.record(stage, &s, &s),
                 Err(e) => {
                     problems.push(Problem {
                         kind: ProblemKind::Limited,
@@ -1057,46 +1101,136 @@ impl Job<'_> {
         } else {
             return Ok((s, run.stages));
         }
-        if let Some(worse) = self.worse_link(&labelled, &connected) {
-            // continuity alone is worse somewhere too: of it and the start, the one whose worst
-            // link grows the least against the input (the start may no longer fit masters that
-            // were faired before it)
-            let (a, b) = (
-                self.worst_growth(&labelled, &connected),
-                self.worst_growth(&labelled, self.start),
-            );
-            if b <= a {
-                fallback(format!("the surface is left as it was: {worse}"), Some(b));
-                return Ok((self.start.clone(), vec![run.stages[0].clone()]));
+        // the alternating stages failed: the continuity setting, faired once keeping its level
+        // (its rows fixed, so it keeps every join the setting made), when that is no worse
+        let mut once_result = None;
+        if let Some(h) = highest {
+            let dc = max_deviation(original, &connected, self.params.deviation_grid);
+            let mut once = Run {
+                original,
+                grid: self.params.deviation_grid,
+                stages: vec![run.stages[0].clone()],
+            };
+            once.record(Stage::set(h), &prepared_for_once, &connected);
+            if let Ok(Some((faired, iterations))) =
+                self.fair_stage(&connected, &links, h, &master_sides, budget - dc)
+            {
+                once.record(Stage::fair(h), &connected, &faired);
+                if let Some(r) = once.stages.last_mut() {
+                    r.iterations = iterations;
+                    r.epsilon = budget - dc;
+                }
+                if once.deviation() <= self.tolerance
+                    && self.lost_link(&labelled, &connected, &faired).is_none()
+                {
+                    if self.worse_link(&labelled, &faired).is_none() {
+                        fallback(
+                            format!(
+                                "the continuity setting was faired once keeping {h:?} instead of stage by stage"
+                            ),
+                            None,
+                        );
+                        return Ok((faired, once.stages));
+                    }
+                    once_result = Some((faired, once.stages));
+                }
             }
-            fallback(
-                format!(
-                    "continuity setting kept although {worse}: leaving the surface as it was grows its worst link {b:.3} × against the input, this {a:.3} ×"
-                ),
-                Some(a),
-            );
         }
         let mut c = run.stages[0].clone();
         c.deviation = max_deviation(original, &connected, self.params.deviation_grid);
         c.energy = thin_plate_energy(&connected);
-        Ok((connected, vec![c]))
+        let Some(worse) = self.worse_link(&labelled, &connected) else {
+            return Ok((connected, vec![c]));
+        };
+        // continuity alone is worse somewhere too: of the candidates, the one whose links grow
+        // the least against the input — a gap before an angle before a curvature
+        // ([`growth_order`]); on a tie the fairer one. The start may no longer fit masters
+        // that were faired before it.
+        let mut candidates: Vec<(&str, BSplineSurface, Vec<StageReport>)> = Vec::new();
+        if let Some((f, stages)) = once_result {
+            candidates.push(("the continuity setting faired once", f, stages));
+        }
+        if run.deviation() <= self.tolerance {
+            candidates.push(("the faired result", s, run.stages.clone()));
+        }
+        candidates.push(("the continuity setting", connected, vec![c]));
+        candidates.push((
+            "the surface as it was",
+            self.start.clone(),
+            vec![run.stages[0].clone()],
+        ));
+        let growth: Vec<[f64; 3]> = candidates
+            .iter()
+            .map(|(_, f, _)| self.worst_growth(&labelled, f))
+            .collect();
+        let mut pick = 0;
+        for k in 1..candidates.len() {
+            if growth_order(growth[k], growth[pick]).is_lt() {
+                pick = k;
+            }
+        }
+        let figures: Vec<String> = candidates
+            .iter()
+            .zip(&growth)
+            .map(|((what, _, _), g)| format!("{what}: {}", growth_text(*g)))
+            .collect();
+        fallback(
+            format!(
+                "continuity alone: {worse}; kept {}, whose links grow the least against the input — {}",
+                candidates[pick].0,
+                figures.join("; ")
+            ),
+            Some(growth[pick].into_iter().fold(0.0, f64::max)),
+        );
+        let (_, kept, stages) = candidates.swap_remove(pick);
+        Ok((kept, stages))
     }
 
-    /// The largest [`growths`] factor of `result` over this surface's links against the input
-    /// (≤ 1: no link worse).
-    fn worst_growth(&self, labelled: &[(usize, SideLink<'_>)], result: &BSplineSurface) -> f64 {
+    /// One fairing stage keeping `level` on `s` within `eps`: the stage mask, this surface's
+    /// master frames and interior join points fixed. `None` when nothing is free or `eps` is 0.
+    fn fair_stage(
+        &self,
+        s: &BSplineSurface,
+        links: &[SideLink<'_>],
+        level: Continuity,
+        master_sides: &[Side],
+        eps: f64,
+    ) -> std::result::Result<Option<(BSplineSurface, usize)>, String> {
+        let mut mask = stage_mask(s, links, level);
+        for &side in master_sides {
+            mask.fix_frame(side, MASTER_FRAME);
+        }
+        for &(i, j) in &self.interior_join_points(s) {
+            mask.set_free(i, j, false);
+        }
+        if mask.free_count() == 0 || eps <= 0.0 {
+            return Ok(None);
+        }
+        self.fairing
+            .fair(s, &mask, eps)
+            .map(|(next, fr)| Some((next, fr.iterations)))
+            .map_err(|e| e.to_string())
+    }
+
+    /// The largest [`growths`] factors of `result` over this surface's links against the input,
+    /// per kind (gap, angle, curvature; ≤ 1: no link worse).
+    fn worst_growth(
+        &self,
+        labelled: &[(usize, SideLink<'_>)],
+        result: &BSplineSurface,
+    ) -> [f64; 3] {
         let t = &self.connect.tolerances;
-        let mut worst: f64 = 0.0;
+        let mut worst = [0.0f64; 3];
         for (k, l) in labelled {
             let Some(before) = self.before.get(*k).and_then(Option::as_ref) else {
                 continue;
             };
             let Ok(after) = measure_link(l.master, result, l.side, &self.connect.measure) else {
-                return f64::INFINITY;
+                return [f64::INFINITY; 3];
             };
-            worst = growths(before, &after, l.target, t)
-                .into_iter()
-                .fold(worst, f64::max);
+            for (w, g) in worst.iter_mut().zip(growths(before, &after, l.target, t)) {
+                *w = w.max(g);
+            }
         }
         worst
     }
@@ -1170,8 +1304,15 @@ fn growths(
     if target >= Continuity::G1 {
         out[1] = after.g1_deg.unwrap_or(0.0) / before.g1_deg.unwrap_or(0.0).max(t.g1_deg);
     }
-    if target >= Continuity::G2 && after.g2_abs.unwrap_or(0.0) > before.g2_abs.unwrap_or(0.0) {
-        out[2] = after.g2_rel.unwrap_or(0.0) / before.g2_rel.unwrap_or(0.0).max(t.g2_rel);
+    let (abs_before, abs_after) = (before.g2_abs.unwrap_or(0.0), after.g2_abs.unwrap_or(0.0));
+    let rel_after = after.g2_rel.unwrap_or(0.0);
+    if target >= Continuity::G2 && abs_after > abs_before * (1.0 + t.g2_rel) && rel_after > t.g2_rel
+    {
+        // the relative figure is bounded by 2 (|κ_s − κ_m| ≤ 2 max |κ|), so a join that stays
+        // missed shows its growth in the absolute difference: 0.19 → 41 /mm is a crease, though
+        // the relative figure only goes 1.0 → 1.02
+        out[2] = (rel_after / before.g2_rel.unwrap_or(0.0).max(t.g2_rel))
+            .max(abs_after / abs_before.max(f64::MIN_POSITIVE));
     }
     out
 }
@@ -1199,13 +1340,35 @@ pub fn worse_than(
         ))
     } else if g2 > 1.0 {
         Some(format!(
-            "with a relative curvature difference of {:.3e} (input {:.3e})",
+            "with a relative curvature difference of {:.3e} (input {:.3e}), absolute {:.3e} (input {:.3e})",
             after.g2_rel.unwrap_or(0.0),
-            before.g2_rel.unwrap_or(0.0)
+            before.g2_rel.unwrap_or(0.0),
+            after.g2_abs.unwrap_or(0.0),
+            before.g2_abs.unwrap_or(0.0)
         ))
     } else {
         None
     }
+}
+
+/// Orders two [`Job::worst_growth`] results: the one that leaves a gap grow less is better,
+/// then the angle, then the curvature — a join that opens is a defect, one that loses
+/// tangency is visible in every reflection, a curvature step only in a zebra or curvature
+/// plot. A factor up to 1 (no link worse) counts as 1.
+fn growth_order(a: [f64; 3], b: [f64; 3]) -> std::cmp::Ordering {
+    a.iter()
+        .zip(&b)
+        .map(|(x, y)| x.max(1.0).total_cmp(&y.max(1.0)))
+        .find(|o| o.is_ne())
+        .unwrap_or(std::cmp::Ordering::Equal)
+}
+
+/// `[gap, angle, curvature]` growth factors, as a report phrase.
+fn growth_text(g: [f64; 3]) -> String {
+    format!(
+        "gap {:.3} ×, angle {:.3} ×, curvature {:.3} ×",
+        g[0], g[1], g[2]
+    )
 }
 
 /// Knots of `after` that `before` lacks, both directions (with multiplicity).
@@ -1250,8 +1413,13 @@ struct DryRun {
     steps: Vec<(Continuity, BSplineSurface, f64)>,
     /// whether the last step met every link's tolerances
     met: bool,
+    /// per step, whether it met every link up to its level
+    met_steps: Vec<bool>,
     /// the prepared surface the steps started from
     prepared: BSplineSurface,
+    /// whether a step met only with turned corner tangents (`SetParams::tangent_corners`);
+    /// the stages then turn them too, or their C0 rows undo the corners the dry run made
+    tangent_corners: bool,
 }
 
 impl DryRun {
@@ -1325,6 +1493,16 @@ pub fn stage_mask(surface: &BSplineSurface, links: &[SideLink], level: Continuit
             _ => nurbs_core::Frame::Curvature,
         };
         mask.fix_frame(side, frame);
+        // a pole: its point and the row next to it (the tangent plane there) stay, as in the
+        // continuity steps — a fairing that moves them splits the pole or turns its normal, and
+        // the set steps, which keep them, cannot bring the sides that end there back
+        if g_continuity::measure::is_collapsed(surface, side) {
+            mask.fix_frame(side, frame.max(nurbs_core::Frame::Tangential));
+        }
+    }
+    // a degenerate corner's 2 × 2 block carries its normal; the set steps keep it, so does fairing
+    for (i, j) in g_continuity::degenerate_corner_blocks(surface) {
+        mask.set_free(i, j, false);
     }
     mask
 }

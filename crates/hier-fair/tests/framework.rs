@@ -327,3 +327,26 @@ fn energy_on_a_bezier_spline_surface_smooths_its_joints() {
     assert!(report.surfaces[0].max_deviation <= model.tolerances.deviation);
     assert_eq!(report.surfaces[0].method, "energy");
 }
+
+/// A fairing stage keeps a pole and the row next to it (the tangent plane there) as the
+/// continuity steps do, whatever the links: a fairing that moves them splits the pole or turns
+/// its normal, and the sides that end there cannot be set back (a spherical vertex blend went
+/// from G1 to 2.6° that way).
+#[test]
+fn fairing_masks_keep_a_pole_and_its_tangent_plane() {
+    use nurbs_core::Direction;
+    let octant = nurbs_core::shapes::sphere_octant(1.0)
+        .unwrap()
+        .refine(Direction::U, &[0.25, 0.5, 0.75])
+        .unwrap()
+        .refine(Direction::V, &[0.25, 0.5, 0.75])
+        .unwrap();
+    for level in [Continuity::G0, Continuity::G1, Continuity::G2] {
+        let mask = hier_fair::framework::stage_mask(&octant, &[], level);
+        for j in 0..octant.num_v() {
+            assert!(!mask.is_free(0, j) && !mask.is_free(1, j), "{level:?} {j}");
+        }
+        // the interior is free, the other unlinked sides keep their boundary only
+        assert!(mask.is_free(2, 2) && mask.is_free(2, 1), "{level:?}");
+    }
+}

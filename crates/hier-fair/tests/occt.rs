@@ -40,8 +40,9 @@ fn tolerances(model: &Model) -> Tolerances {
 }
 
 /// What holds on every kernel model with the default tolerance: each surface within its
-/// tolerance, names, roles and weights kept, every net within the bound, and no link of a
-/// connecting surface (a fillet on its primaries) worse than in the input.
+/// tolerance, names, roles and weights kept, every net within the bound, no link with a larger
+/// gap or normal angle than in the input, and no link of a connecting surface (a fillet on its
+/// primaries) worse than in the input in any figure.
 #[test]
 fn kernel_models_keep_their_surfaces_and_fillets_never_get_worse() {
     for name in MODELS {
@@ -76,14 +77,20 @@ fn kernel_models_keep_their_surfaces_and_fillets_never_get_worse() {
         }
         let t = tolerances(&m);
         for l in &report.links {
-            let slave = m.links[l.link].slave;
-            if m.surfaces[slave].role != Role::Connecting {
-                continue;
-            }
             let (Some(b), Some(a)) = (&l.before, &l.after) else {
                 panic!("{name}: {} not measured", l.label);
             };
-            assert_eq!(worse_than(b, a, l.target, &t), None, "{name}: {}", l.label);
+            // every join keeps its gap and its tangency (corners included: a vertex blend
+            // follows its faired fillets at G1 even where it misses G2); a fillet its curvature
+            assert_eq!(
+                worse_than(b, a, l.target.min(Continuity::G1), &t),
+                None,
+                "{name}: {}",
+                l.label
+            );
+            if m.surfaces[m.links[l.link].slave].role == Role::Connecting {
+                assert_eq!(worse_than(b, a, l.target, &t), None, "{name}: {}", l.label);
+            }
         }
     }
 }

@@ -138,5 +138,28 @@ fn scattered(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, grid, scattered);
+/// Thin-plate energy of a rational degree-5 net (the size a vertex blend reaches after knot
+/// transfer and G2 refinement): the grid quadrature against the node-by-node reference.
+fn thin_plate(c: &mut Criterion) {
+    // the first seed whose net is at least 50 × 50 (deterministic)
+    let s = (0..)
+        .map(|seed| nurbs_core::testing::random_surface(seed, 5..=5, 64, true))
+        .find(|s| s.num_u() >= 50 && s.num_v() >= 50)
+        .expect("some seed gives a large net");
+    let mut g = c.benchmark_group(format!(
+        "thin_plate_{}x{}_rational_deg5",
+        s.num_u(),
+        s.num_v()
+    ));
+    g.sample_size(20);
+    g.bench_function("grid", |b| {
+        b.iter(|| black_box(nurbs_core::energy::thin_plate_energy(&s)))
+    });
+    g.bench_function("pointwise", |b| {
+        b.iter(|| black_box(nurbs_core::energy::thin_plate_energy_pointwise(&s)))
+    });
+    g.finish();
+}
+
+criterion_group!(benches, grid, scattered, thin_plate);
 criterion_main!(benches);

@@ -19,7 +19,56 @@ use crate::surface::BSplineSurface;
 pub const RATIONAL_EXTRA_POINTS: usize = 3;
 
 /// Thin-plate energy ∬ |S_uu|² + 2|S_uv|² + |S_vv|² du dv.
+///
+/// The Gauss nodes of all spans form one tensor grid, evaluated row by row through the grid
+/// kernels of [`crate::grid`] (the u basis contracted once per row, the v basis once per
+/// column): the same quadrature as span by span, several times faster on large nets, in memory
+/// linear in the nodes of one direction.
 pub fn thin_plate_energy(surface: &BSplineSurface) -> f64 {
+    let extra = if surface.is_rational() {
+        RATIONAL_EXTRA_POINTS
+    } else {
+        0
+    };
+    let nodes = |rule: &GaussLegendre, knots: &crate::knots::KnotVector| {
+        let k = knots.knots();
+        let mut ts = Vec::new();
+        let mut ws = Vec::new();
+        for span in knots.spans() {
+            for (t, w) in rule.on(k[span], k[span + 1]) {
+                ts.push(t);
+                ws.push(w);
+            }
+        }
+        (ts, ws)
+    };
+    let (us, wu) = nodes(
+        &GaussLegendre::new(surface.degree_u() + 1 + extra),
+        surface.knots_u(),
+    );
+    let (vs, wv) = nodes(
+        &GaussLegendre::new(surface.degree_v() + 1 + extra),
+        surface.knots_v(),
+    );
+    let plan = crate::grid::GridPlan::new(surface, &us, &vs, crate::grid::GridOrder::Second);
+    let mut rows = plan.row_scratch();
+    let mut total = 0.0;
+    for (a, &w_a) in wu.iter().enumerate() {
+        plan.contract_row(a, &mut rows);
+        let mut row_total = 0.0;
+        plan.for_row(&rows, |b, d| {
+            row_total +=
+                wv[b] * (d.duu.norm_squared() + 2.0 * d.duv.norm_squared() + d.dvv.norm_squared());
+        });
+        total += w_a * row_total;
+    }
+    total
+}
+
+/// [`thin_plate_energy`] node by node through one evaluator, span by span: the reference the
+/// grid version is tested and benchmarked against (`cargo bench -p nurbs-core --bench eval --
+/// thin_plate`).
+pub fn thin_plate_energy_pointwise(surface: &BSplineSurface) -> f64 {
     let extra = if surface.is_rational() {
         RATIONAL_EXTRA_POINTS
     } else {

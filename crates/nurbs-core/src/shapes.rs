@@ -91,6 +91,18 @@ pub fn sphere_patch(r: f64) -> Result<BSplineSurface> {
     revolve(profile, unit_quarter())
 }
 
+/// The octant of the sphere of radius `r` about the origin from its north pole (u = 0, the side
+/// collapsed to a point, as a kernel's spherical vertex blend has it) to the equator (u = 1),
+/// longitudes 0…90° (v): a rational biquadratic 3 × 3 net.
+pub fn sphere_octant(r: f64) -> Result<BSplineSurface> {
+    let profile = (
+        KnotVector::bezier(2)?,
+        vec![(0.0, r), (r, r), (r, 0.0)],
+        vec![1.0, FRAC_1_SQRT_2, 1.0],
+    );
+    revolve(profile, unit_quarter())
+}
+
 /// A cylinder of radius `r` about the z axis, height `h`, a quarter turn (u along z, v around).
 pub fn cylinder(r: f64, h: f64) -> Result<BSplineSurface> {
     let profile = (

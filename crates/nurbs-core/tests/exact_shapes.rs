@@ -1,6 +1,8 @@
 //! Closed-form truth: circles, spheres, cylinders, tori and the paraboloid.
 
-use nurbs_core::shapes::{circle, cylinder, paraboloid_bicubic, sphere_patch, torus};
+use nurbs_core::shapes::{
+    circle, cylinder, paraboloid_bicubic, sphere_octant, sphere_patch, torus,
+};
 use nurbs_core::testing::assert_close;
 use nurbs_core::{Direction, Point3, Vector3};
 
@@ -15,6 +17,30 @@ fn rational_circle_has_radius_and_curvature() {
             let p = c.point(t);
             assert_close(p.coords.norm(), r, TOL * r, "radius");
             assert_close(c.curvature(t).unwrap(), 1.0 / r, TOL / r, "curvature");
+        }
+    }
+}
+
+/// The octant from the pole: every point on the sphere, the u = 0 side one point (the pole), no
+/// normal there, and |k| = 1/r wherever the normal is defined.
+#[test]
+fn sphere_octant_has_its_pole_and_the_sphere_curvature() {
+    let r = 1.5;
+    let s = sphere_octant(r).unwrap();
+    for b in 0..=10 {
+        let v = b as f64 / 10.0;
+        assert_close(s.point(0.0, v).z, r, TOL * r, "pole");
+        assert_close(s.point(0.0, v).coords.xy().norm(), 0.0, TOL * r, "pole");
+        assert!(
+            s.derivatives(0.0, v).normal().is_none(),
+            "no normal at the pole"
+        );
+        for a in 1..=10 {
+            let d = s.derivatives(a as f64 / 10.0, v);
+            assert_close(d.point.coords.norm(), r, TOL * r, "on sphere");
+            let pc = d.principal_curvatures().unwrap();
+            assert_close(pc.k1.abs(), 1.0 / r, 1e-10, "k1");
+            assert_close(pc.k2.abs(), 1.0 / r, 1e-10, "k2");
         }
     }
 }

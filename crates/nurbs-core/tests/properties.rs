@@ -19,6 +19,19 @@ fn max_gap(a: &BSplineSurface, b: &BSplineSurface, n: usize) -> f64 {
 proptest! {
     #![proptest_config(ProptestConfig { cases: 48, .. ProptestConfig::default() })]
 
+    /// The grid quadrature of the thin-plate energy is the node-by-node one, summed in another
+    /// order (degrees up to 7: the generic kernel beyond the fixed ones).
+    #[test]
+    fn thin_plate_energy_on_the_grid_is_the_pointwise_quadrature(
+        seed in 0u64..10_000,
+        rational in any::<bool>(),
+    ) {
+        let s = random_surface(seed, 1..=7, 14, rational);
+        let grid = nurbs_core::energy::thin_plate_energy(&s);
+        let pointwise = nurbs_core::energy::thin_plate_energy_pointwise(&s);
+        prop_assert!((grid - pointwise).abs() <= 1e-12 * pointwise.abs().max(1e-12), "{grid} {pointwise}");
+    }
+
     #[test]
     fn partition_of_unity(seed in 0u64..10_000, t in 0.0f64..=1.0) {
         let s = random_surface(seed, 1..=5, 12, false);
