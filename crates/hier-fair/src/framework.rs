@@ -599,7 +599,8 @@ impl Job<'_> {
         let entry = &self.model.surfaces[self.surface];
         let original = &entry.surface;
         let mut problems = Vec::new();
-        let (surface, stages, processed) = match self.stages(original, &mut problems) {
+        let mut missed = Vec::new();
+        let (surface, stages, processed) = match self.stages(original, &mut problems, &mut missed) {
             Ok((s, stages)) => (s, stages, true),
             Err(message) => {
                 problems.push(Problem {
@@ -612,6 +613,17 @@ impl Job<'_> {
                 (original.clone(), Vec::new(), false)
             }
         };
+        // the dry run's misses are reported for the links the result still misses
+        let t = &self.connect.tolerances;
+        for (k, p) in missed {
+            let l = &self.model.links[k];
+            let master = &self.current.surfaces[l.master].surface;
+            let still = measure_link(master, &surface, l.side, &self.connect.measure)
+                .is_ok_and(|m| !m.meets((self.cap)(l.continuity), t.g0, t.g1_deg, t.g2_rel));
+            if still {
+                problems.push(p);
+            }
+        }
         let report = SurfaceFair {
             surface: self.surface,
             name: entry.name.clone(),
@@ -906,6 +918,7 @@ impl Job<'_> {
         &self,
         original: &BSplineSurface,
         problems: &mut Vec<Problem>,
+        missed: &mut Vec<(usize, Problem)>,
     ) -> std::result::Result<(BSplineSurface, Vec<StageReport>), String> {
         let name = &self.model.surfaces[self.surface].name;
         let labelled = self.links();
@@ -979,6 +992,30 @@ impl Job<'_> {
                         ),
                         amount: Some(amount),
                     });
+                }
+            }
+        }
+        // a link the steps miss although every step stayed within the tolerance is no deviation
+        // conflict: it is named with the deviation the kept trial took
+        if !dry.met && dry.steps.iter().all(|(_, _, d)| *d <= self.tolerance) {
+            if let Some((step, last, d)) = dry.steps.last() {
+                let t = &self.set_params().tolerances;
+                for (k, l) in &labelled {
+                    let target = l.target.min(*step);
+                    let miss = measure_link(l.master, last, l.side, &self.connect.measure)
+                        .is_ok_and(|m| !m.meets(target, t.g0, t.g1_deg, t.g2_rel));
+                    if miss {
+                        missed.push((*k, Problem {
+                            kind: ProblemKind::Limited,
+                            surface: name.clone(),
+                            link: Some(self.model.link_label(*k)),
+                            message: format!(
+                                "the continuity steps miss {target:?} here in every curvature lead-in tried, deviating {d:.4} (tolerance {:.4}): not a deviation conflict",
+                                self.tolerance
+                            ),
+                            amount: Some(*d),
+                        }));
+                    }
                 }
             }
         }

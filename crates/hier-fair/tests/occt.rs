@@ -5,7 +5,7 @@
 
 use g_continuity::Tolerances;
 use hier_fair::framework::{MAX_NET, worse_than};
-use hier_fair::{FairParams, Model, Role, RoleMethods, fair_model};
+use hier_fair::{FairParams, Model, ProblemKind, Role, RoleMethods, fair_model};
 use nurbs_core::Continuity;
 
 const MODELS: [&str; 6] = [
@@ -90,6 +90,19 @@ fn kernel_models_keep_their_surfaces_and_fillets_never_get_worse() {
             );
             if m.surfaces[m.links[l.link].slave].role == Role::Connecting {
                 assert_eq!(worse_than(b, a, l.target, &t), None, "{name}: {}", l.label);
+            }
+            // an unmet link says why: a deviation conflict with the figure it needs, or the
+            // steps' miss within the tolerance
+            if !l.met {
+                assert!(
+                    report.problems.iter().any(|p| {
+                        p.link.as_deref() == Some(l.label.as_str())
+                            && matches!(p.kind, ProblemKind::Conflict | ProblemKind::Limited)
+                            && p.amount.is_some()
+                    }),
+                    "{name}: {} unmet without a reason",
+                    l.label
+                );
             }
         }
     }
