@@ -50,7 +50,18 @@ struct ParamsFile {
     params: Vec<[f64; 2]>,
 }
 
-/// Parses `NU,NV`.
+/// Largest grid `eval --grid --summary` evaluates: 10⁸ samples, streamed in blocks of grid
+/// rows, so memory stays a few megabytes whatever the grid (cli-contract.md).
+pub const MAX_GRID_SAMPLES: usize = 100_000_000;
+
+/// Largest number of samples `eval` lists in full: about 270 bytes each in memory and 500 in
+/// JSON, so 4·10⁶ samples are about 1 GB of memory and 2 GB of output (cli-contract.md).
+pub const MAX_LISTED_SAMPLES: usize = 4_000_000;
+
+/// Grid rows per block of the streamed summary.
+const SUMMARY_BLOCK_ROWS: usize = 64;
+
+/// Parses `NU,NV` (each ≥ 1, NU·NV ≤ [`MAX_GRID_SAMPLES`]).
 pub fn parse_grid(text: &str) -> Result<Params> {
     let parts: Vec<&str> = text.split(',').collect();
     let parse = |s: &str| s.trim().parse::<usize>().ok().filter(|&n| n >= 1);
@@ -59,7 +70,12 @@ pub fn parse_grid(text: &str) -> Result<Params> {
         parts.first().and_then(|s| parse(s)),
         parts.get(1).and_then(|s| parse(s)),
     ) {
-        ([_, _], Some(nu), Some(nv)) => Ok(Params::Grid(nu, nv)),
+        ([_, _], Some(nu), Some(nv)) => match nu.checked_mul(nv) {
+            Some(n) if n <= MAX_GRID_SAMPLES => Ok(Params::Grid(nu, nv)),
+            _ => bail!(
+                "--grid {nu},{nv} asks for more than {MAX_GRID_SAMPLES} samples, the bound of eval"
+            ),
+        },
         _ => bail!("--grid expects NU,NV with two positive integers, got {text:?}"),
     }
 }
@@ -110,14 +126,38 @@ pub fn evaluate(surface: &BSplineSurface, params: &Params) -> Result<(Vec<Sample
     }
 }
 
-/// `{"count", "seconds", "checksum"}` with checksum = sum of all point coordinates.
+/// The summary of `--grid NU,NV --summary` without keeping the samples: the grid is
+/// evaluated in blocks of [`SUMMARY_BLOCK_ROWS`] rows by the batched kernels (points, normals
+/// and principal curvatures, [`BSplineSurface::eval_grid_curvatures_into`]); returns the
+/// count, the evaluation time and the checksum of [`summary_json`].
+pub fn summarize_grid(surface: &BSplineSurface, nu: usize, nv: usize) -> (usize, f64, f64) {
+    let us = surface.knots_u().uniform_params(nu);
+    let vs = surface.knots_v().uniform_params(nv);
+    let start = Instant::now();
+    let mut block = Vec::new();
+    let mut checksum = 0.0;
+    for rows in us.chunks(SUMMARY_BLOCK_ROWS) {
+        surface.eval_grid_curvatures_into(rows, &vs, &mut block);
+        checksum += block
+            .iter()
+            .map(|s| s.point.x + s.point.y + s.point.z)
+            .sum::<f64>();
+    }
+    (nu * nv, start.elapsed().as_secs_f64(), checksum)
+}
+
+/// `{"count", "seconds", "checksum"}` of already evaluated samples.
 pub fn summary_json(samples: &[Sample], seconds: f64) -> String {
     let checksum: f64 = samples
         .iter()
         .map(|s| s.d.point.x + s.d.point.y + s.d.point.z)
         .sum();
-    serde_json::json!({"count": samples.len(), "seconds": seconds, "checksum": checksum})
-        .to_string()
+    summary_text(samples.len(), seconds, checksum)
+}
+
+/// `{"count", "seconds", "checksum"}` with checksum = sum of all point coordinates.
+pub fn summary_text(count: usize, seconds: f64, checksum: f64) -> String {
+    serde_json::json!({"count": count, "seconds": seconds, "checksum": checksum}).to_string()
 }
 
 fn push_num(out: &mut String, x: f64) {

@@ -187,10 +187,9 @@ fn run(cli: Cli) -> Result<()> {
             target,
             report,
         } => {
-            files::refuse_overwrite(&output, &[&model])?;
-            if let Some(r) = &report {
-                files::refuse_overwrite(r, &[&model])?;
-            }
+            let mut outputs = vec![("-o", output.as_path())];
+            outputs.extend(report.as_deref().map(|r| ("--report", r)));
+            files::check_outputs(&outputs, &[&model])?;
             let text = files::read_text(&model)?;
             let outcome = hier_fair_cli::connect::run(&text, &model.display().to_string(), target)?;
             files::write_atomic(&output, outcome.model_json.as_bytes())?;
@@ -209,6 +208,9 @@ fn run(cli: Cli) -> Result<()> {
             fixed_rings,
             fixed,
         } => {
+            let mut inputs = vec![input.as_path()];
+            inputs.extend(fixed.as_deref());
+            files::check_outputs(&[("-o", &output)], &inputs)?;
             println!(
                 "{}",
                 hier_fair_cli::mesh::run(&input, &output, fixed_rings, fixed.as_deref())?
@@ -222,6 +224,12 @@ fn run(cli: Cli) -> Result<()> {
             svg,
             fit,
         } => {
+            let mut outputs = vec![("-o", output.as_path())];
+            outputs.extend(svg.as_deref().map(|p| ("--svg", p)));
+            outputs.extend(fit.as_deref().map(|p| ("--fit", p)));
+            let mut inputs = vec![input.as_path()];
+            inputs.extend(segments.as_deref());
+            files::check_outputs(&outputs, &inputs)?;
             let out = hier_fair_cli::label::LabelOutputs {
                 labels: &output,
                 svg: svg.as_deref(),
@@ -234,14 +242,17 @@ fn run(cli: Cli) -> Result<()> {
             Ok(())
         }
         Command::Import { input, output } => {
+            files::check_outputs(&[("-o", &output)], &[&input])?;
             println!("{}", hier_fair_cli::exchange::import(&input, &output)?);
             Ok(())
         }
         Command::Export { input, output } => {
+            files::check_outputs(&[("-o", &output)], &[&input])?;
             println!("{}", hier_fair_cli::exchange::export(&input, &output)?);
             Ok(())
         }
         Command::Demo { out, quiet } => {
+            files::check_output_folder("--out", &out, &[])?;
             print!("{}", hier_fair_cli::pipeline::demo(&out, quiet)?);
             Ok(())
         }
@@ -258,6 +269,12 @@ fn run(cli: Cli) -> Result<()> {
             images,
             quiet,
         } => {
+            let mut outputs = vec![("-o", output.as_path())];
+            outputs.extend(report.as_deref().map(|r| ("--report", r)));
+            files::check_outputs(&outputs, &[&input])?;
+            if let Some(dir) = &images {
+                files::check_output_folder("--images", dir, &[&input])?;
+            }
             let mut role_tolerance = [None; 3];
             for (role, mm) in tolerance_role {
                 role_tolerance[role.rank()] = Some(mm);
@@ -331,11 +348,29 @@ fn run(cli: Cli) -> Result<()> {
                 }
                 _ => bail!("give exactly one of --grid NU,NV and --params PARAMS.json"),
             };
-            let (samples, seconds) = eval::evaluate(&s, &p)?;
-            let text = if summary {
-                eval::summary_json(&samples, seconds) + "\n"
-            } else {
-                eval::results_json(&samples)
+            let text = match (&p, summary) {
+                (eval::Params::Grid(nu, nv), true) => {
+                    let (count, seconds, checksum) = eval::summarize_grid(&s, *nu, *nv);
+                    eval::summary_text(count, seconds, checksum) + "\n"
+                }
+                _ => {
+                    let count = match &p {
+                        eval::Params::Grid(nu, nv) => nu * nv,
+                        eval::Params::List(list) => list.len(),
+                    };
+                    if !summary && count > eval::MAX_LISTED_SAMPLES {
+                        bail!(
+                            "listing {count} samples is above the bound of {} (about 2 GB of JSON): use --summary or fewer samples",
+                            eval::MAX_LISTED_SAMPLES
+                        );
+                    }
+                    let (samples, seconds) = eval::evaluate(&s, &p)?;
+                    if summary {
+                        eval::summary_json(&samples, seconds) + "\n"
+                    } else {
+                        eval::results_json(&samples)
+                    }
+                }
             };
             use std::io::Write;
             let mut stdout = std::io::stdout().lock();

@@ -269,3 +269,122 @@ fn demo_fairs_the_bundled_x_node_and_writes_everything_atomically() {
         .collect();
     assert!(leftovers.is_empty());
 }
+
+fn model_fixture(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fixtures/models")
+        .join(name)
+}
+
+fn one_line_error(o: &Output) -> String {
+    let err = stderr(o);
+    assert_eq!(o.status.code(), Some(2), "{err}");
+    assert!(
+        err.starts_with("error:") && err.lines().count() == 1,
+        "{err}"
+    );
+    err
+}
+
+/// A grid beyond the bound (or whose count overflows) is one line naming the bound, not a
+/// panic or an allocation abort; a listing beyond its bound points to `--summary`.
+#[test]
+fn eval_grids_beyond_their_bounds_are_one_line_errors() {
+    let hood = fixture("hood_panel.json");
+    let hood = hood.to_str().unwrap();
+    for grid in ["18446744073709551615,2", "100000,100001"] {
+        let o = run(&["eval", hood, "--grid", grid, "--summary"]);
+        assert!(one_line_error(&o).contains("100000000"), "{grid}");
+    }
+    let o = run(&["eval", hood, "--grid", "3000,3000"]);
+    assert!(one_line_error(&o).contains("--summary"));
+    // the summary streams: a grid of 10⁸ is allowed (here 10⁶, the same code path)
+    let o = run(&["eval", hood, "--grid", "1000,1000", "--summary"]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["count"], 1_000_000);
+}
+
+/// The streamed summary sums the same points as the full listing.
+#[test]
+fn eval_summary_checksum_is_the_sum_of_the_listed_points() {
+    let sphere = fixture("sphere_patch_r50.json");
+    let sphere = sphere.to_str().unwrap();
+    let full = run(&["eval", sphere, "--grid", "70,90"]);
+    let summary = run(&["eval", sphere, "--grid", "70,90", "--summary"]);
+    let full: serde_json::Value = serde_json::from_slice(&full.stdout).unwrap();
+    let summary: serde_json::Value = serde_json::from_slice(&summary.stdout).unwrap();
+    let sum: f64 = full["results"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .flat_map(|r| r["point"].as_array().unwrap().clone())
+        .map(|x| x.as_f64().unwrap())
+        .sum();
+    let checksum = summary["checksum"].as_f64().unwrap();
+    assert_eq!(summary["count"], 6300);
+    assert!(
+        (sum - checksum).abs() <= 1e-9 * sum.abs(),
+        "{sum} {checksum}"
+    );
+}
+
+/// Two outputs naming one file (in any spelling) are refused before any work, and nothing is
+/// written; so is an output whose folder does not exist, found before `-o` is written.
+#[test]
+fn outputs_are_validated_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = model_fixture("fillet_freeform.json");
+    let model = model.to_str().unwrap();
+    let x = dir.path().join("x.json");
+    let x_again = dir.path().join(".").join("x.json");
+    let o = run(&[
+        "connect",
+        model,
+        "-o",
+        x.to_str().unwrap(),
+        "--report",
+        x_again.to_str().unwrap(),
+    ]);
+    assert!(one_line_error(&o).contains("same file"));
+    assert!(!x.exists());
+    let y = dir.path().join("y.json");
+    let missing = dir.path().join("no-such-folder").join("r.json");
+    let o = run(&[
+        "fair",
+        model,
+        "-o",
+        y.to_str().unwrap(),
+        "--report",
+        missing.to_str().unwrap(),
+    ]);
+    assert!(one_line_error(&o).contains("does not exist"));
+    assert!(!y.exists(), "-o was written although --report could not be");
+    let o = run(&[
+        "fair",
+        model,
+        "-o",
+        y.to_str().unwrap(),
+        "--images",
+        missing.to_str().unwrap(),
+    ]);
+    one_line_error(&o);
+    assert!(!y.exists());
+}
+
+/// An error while writing names the user's path, never the temporary file beside it.
+#[test]
+fn write_errors_name_the_users_path() {
+    let model = model_fixture("fillet_freeform.json");
+    let o = run(&[
+        "fair",
+        model.to_str().unwrap(),
+        "-o",
+        "/proc/hier-fair-test.json",
+    ]);
+    let err = one_line_error(&o);
+    assert!(
+        err.contains("/proc/hier-fair-test.json") && !err.contains(".tmp"),
+        "{err}"
+    );
+}

@@ -131,3 +131,28 @@ fn the_neon_panel_is_labeled_and_fitted() {
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(text.contains("% of the size"), "{text}");
 }
+
+/// `-o` and `--svg` naming one file is refused before any work: one output never silently
+/// replaces another.
+#[test]
+fn label_outputs_naming_one_file_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let obj = dir.path().join("rect.obj");
+    std::fs::write(&obj, rectangle_obj()).unwrap();
+    let out = dir.path().join("l.json");
+    let o = run(&[
+        "label",
+        obj.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--svg",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(2));
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("same file") && err.lines().count() == 1,
+        "{err}"
+    );
+    assert!(!out.exists());
+}
