@@ -99,6 +99,9 @@ pub struct SurfaceLine {
     pub iterations: usize,
     /// seconds of this surface
     pub seconds: f64,
+    /// why the surface was kept as it was (the method raised its energy); absent otherwise
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub kept: Option<String>,
 }
 
 /// The `--report` JSON of `fair` (cli-contract.md); `links` is empty for bare surfaces.
@@ -137,17 +140,29 @@ pub fn fair_surfaces(
         let (faired, r): (BSplineSurface, FairingReport) = method
             .fair(s, &mask, options.tolerance)
             .map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+        // a fairing that ends fairer than it started, or the surface as it was
+        let raised = r.energy_after > r.energy_before;
         lines.push(SurfaceLine {
             name,
             role: "primary".into(),
+            kept: raised.then(|| {
+                format!(
+                    "{} raised the thin-plate energy from {:.4e} to {:.4e}: kept as it was",
+                    r.method, r.energy_before, r.energy_after
+                )
+            }),
             method: r.method,
             energy_before: r.energy_before,
-            energy_after: r.energy_after,
-            max_deviation: r.max_deviation,
+            energy_after: if raised {
+                r.energy_before
+            } else {
+                r.energy_after
+            },
+            max_deviation: if raised { 0.0 } else { r.max_deviation },
             iterations: r.iterations,
             seconds: r.seconds,
         });
-        out.push(faired);
+        out.push(if raised { s.clone() } else { faired });
     }
     Ok((
         out,
@@ -200,10 +215,10 @@ pub fn run(
     }
     let mut text = String::new();
     for line in &run.surfaces {
-        let note = if line.iterations == 0 {
-            " (nothing could move)"
-        } else {
-            ""
+        let note = match (&line.kept, line.iterations) {
+            (Some(why), _) => format!(" ({why})"),
+            (None, 0) => " (nothing could move)".to_string(),
+            (None, _) => String::new(),
         };
         text += &format!(
             "{}: {} energy {:.6e} -> {:.6e}, max deviation {:.3e}, {} iterations, {:.3} s{note}\n",

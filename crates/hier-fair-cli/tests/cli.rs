@@ -388,3 +388,50 @@ fn write_errors_name_the_users_path() {
         "{err}"
     );
 }
+
+/// Readers bound weights, coordinates and nets (nurbs_core::io): one line naming the bound,
+/// each cause said once.
+#[test]
+fn readers_bound_weight_ratios_coordinates_and_nets() {
+    let dir = tempfile::tempdir().unwrap();
+    let model: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(model_fixture("fillet_freeform.json")).unwrap(),
+    )
+    .unwrap();
+    let cases: [(&str, Box<dyn Fn(&mut serde_json::Value)>, &str); 3] = [
+        (
+            "weight.json",
+            Box::new(|m| {
+                let s = &mut m["surfaces"][2]["surface"];
+                let (nu, nv) = (
+                    s["control_points"].as_array().unwrap().len(),
+                    s["control_points"][0].as_array().unwrap().len(),
+                );
+                let mut w = vec![vec![1.0; nv]; nu];
+                w[1][1] = 1e7;
+                s["weights"] = serde_json::json!(w);
+            }),
+            "ratio of the largest weight",
+        ),
+        (
+            "far.json",
+            Box::new(|m| m["surfaces"][1]["surface"]["control_points"][0][0][2] = 1e308.into()),
+            "beyond the bound of 1e9",
+        ),
+        (
+            "degree.json",
+            Box::new(|m| m["surfaces"][1]["surface"]["degree_u"] = 0.into()),
+            "degree must be at least 1",
+        ),
+    ];
+    for (name, edit, expected) in cases {
+        let mut m = model.clone();
+        edit(&mut m);
+        let path = write(&dir, name, &m.to_string());
+        let out = dir.path().join(format!("out-{name}"));
+        let o = run(&["fair", &path, "-o", out.to_str().unwrap()]);
+        let err = one_line_error(&o);
+        assert_eq!(err.matches(expected).count(), 1, "{name}: {err}");
+        assert!(!out.exists());
+    }
+}

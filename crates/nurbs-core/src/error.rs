@@ -104,6 +104,16 @@ pub enum Error {
         /// the weight found
         value: f64,
     },
+    /// A value of an input beyond a documented bound of the readers (see [`crate::io`]).
+    #[error("{what} is {value:e}, beyond the bound of {bound:e}")]
+    BeyondBound {
+        /// what was measured, with its place
+        what: String,
+        /// the value found
+        value: f64,
+        /// the bound
+        bound: f64,
+    },
     /// A parameter that is not finite or lies outside the domain.
     #[error("parameter {value} is outside the domain [{start}, {end}]")]
     ParameterOutOfDomain {

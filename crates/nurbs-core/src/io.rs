@@ -51,6 +51,62 @@ fn knots(
     Ok(kv)
 }
 
+/// Largest control net a reader accepts (nu × nv): the fairing methods' memory and time grow
+/// with the net, and 10⁶ points — a 1000 × 1000 net, 24 MB of coordinates — is far beyond any
+/// measured or designed CAD surface.
+pub const MAX_CONTROL_POINTS: usize = 1_000_000;
+
+/// Largest ratio of a surface's largest to its smallest weight. Exact conics need ratios
+/// around 1–10 (a 90° arc: 1/cos 45°; kernels' vertex blends up to about 3); at 10⁶ the
+/// rational basis of a point is dominated by one weight so much that the least-squares systems
+/// of the continuity and fairing steps lose six digits.
+pub const MAX_WEIGHT_RATIO: f64 = 1e6;
+
+/// Largest absolute coordinate (model units): 10⁹ mm is a thousand kilometres. Beyond it
+/// squared distances, energies (second derivatives squared) and their sums leave the range
+/// where the tolerances of 10⁻³ still have digits.
+pub const MAX_COORDINATE: f64 = 1e9;
+
+/// The bounds of [`MAX_CONTROL_POINTS`], [`MAX_COORDINATE`] and [`MAX_WEIGHT_RATIO`] on a
+/// surface built by a reader.
+pub fn check_bounds(s: &BSplineSurface) -> Result<()> {
+    let n = s.num_u() * s.num_v();
+    if n > MAX_CONTROL_POINTS {
+        return Err(Error::BeyondBound {
+            what: format!("the control net {}×{}", s.num_u(), s.num_v()),
+            value: n as f64,
+            bound: MAX_CONTROL_POINTS as f64,
+        });
+    }
+    for (k, p) in s.control_points().iter().enumerate() {
+        let big = p.coords.amax();
+        if big > MAX_COORDINATE {
+            return Err(Error::BeyondBound {
+                what: format!(
+                    "a coordinate of control point [{}][{}]",
+                    k / s.num_v(),
+                    k % s.num_v()
+                ),
+                value: big,
+                bound: MAX_COORDINATE,
+            });
+        }
+    }
+    if let Some(w) = s.weights() {
+        let (lo, hi) = w.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), &x| {
+            (lo.min(x), hi.max(x))
+        });
+        if hi / lo > MAX_WEIGHT_RATIO {
+            return Err(Error::BeyondBound {
+                what: format!("the ratio of the largest weight ({hi:e}) to the smallest ({lo:e})"),
+                value: hi / lo,
+                bound: MAX_WEIGHT_RATIO,
+            });
+        }
+    }
+    Ok(())
+}
+
 impl SurfaceRecord {
     /// Validates the record and builds the surface; errors name the field at fault.
     pub fn to_surface(&self) -> Result<BSplineSurface> {
@@ -93,7 +149,9 @@ impl SurfaceRecord {
                 Some(w.iter().flatten().copied().collect())
             }
         };
-        BSplineSurface::new(ku, kv, points, weights)
+        let surface = BSplineSurface::new(ku, kv, points, weights)?;
+        check_bounds(&surface)?;
+        Ok(surface)
     }
 
     /// The record of a surface (full knot vectors, weights only when rational).
