@@ -115,7 +115,12 @@ pub struct FairRunReport {
     pub links: Vec<serde_json::Value>,
 }
 
-/// Fairs every surface of a bare surface file; returns the faired surfaces and the report.
+/// Free rows a patch of a multi-patch file gets besides the frames it keeps (knots inserted
+/// where it has fewer), as the framework's `min_free_rows`.
+pub const PATCH_FREE_ROWS: usize = 2;
+
+/// Fairs every surface of a bare surface file; returns the faired surfaces and the report. A
+/// file of several patches keeps every shared edge's continuity ([`hier_fair::patches`]).
 pub fn fair_surfaces(
     surfaces: &[BSplineSurface],
     options: &FairOptions,
@@ -130,13 +135,28 @@ pub fn fair_surfaces(
     let method = method(options)?;
     let mut out = Vec::with_capacity(surfaces.len());
     let mut lines = Vec::with_capacity(surfaces.len());
+    // several patches: each keeps the continuity of the edges it shares with the others
+    let shared = (surfaces.len() > 1).then(|| hier_fair::patches::shared_sides(surfaces));
     for (k, s) in surfaces.iter().enumerate() {
         let name = if surfaces.len() == 1 {
             "surface".to_string()
         } else {
             format!("surface{k}")
         };
-        let mask = boundary_mask(s, options.keep).map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+        let (s, mask) = match &shared {
+            None => (
+                s.clone(),
+                boundary_mask(s, options.keep).map_err(|e| anyhow::anyhow!("{name}: {e}"))?,
+            ),
+            Some(shared) => {
+                let frames = hier_fair::patches::kept_frames(s, &shared[k], options.keep.frame());
+                let (prepared, mask, _) =
+                    hier_fair::patches::prepared_patch(s, frames, PATCH_FREE_ROWS)
+                        .map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+                (prepared, mask)
+            }
+        };
+        let s = &s;
         let (faired, r): (BSplineSurface, FairingReport) = method
             .fair(s, &mask, options.tolerance)
             .map_err(|e| anyhow::anyhow!("{name}: {e}"))?;

@@ -1538,7 +1538,7 @@ impl Stage {
 /// Whether `slave`'s side `slave_side` lies on `master`'s boundary side `master_side`: five
 /// samples along the slave side (ends and three inner points) are within `tol` of the master's
 /// exact boundary isocurve. A slave side that lies inside a (trimmed) master is on no side.
-fn lies_on_side(
+pub(crate) fn lies_on_side(
     slave: &BSplineSurface,
     slave_side: Side,
     master: &BSplineSurface,

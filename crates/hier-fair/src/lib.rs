@@ -16,6 +16,7 @@ pub mod error;
 pub mod framework;
 pub mod methods;
 pub mod model;
+pub mod patches;
 pub mod render;
 pub mod report;
 pub mod synthetic;
