@@ -275,6 +275,14 @@ fn run(cli: Cli) -> Result<()> {
             if let Some(dir) = &images {
                 files::check_output_folder("--images", dir, &[&input])?;
             }
+            if let (Some(n), Some(m)) = (iterations, method) {
+                if !m.method().takes_iterations() {
+                    bail!(
+                        "--iterations {n}: the method {} is a direct solve with no iteration limit (--iterations applies to energy, energy-global, energy-bezier and krr)",
+                        m.method().name()
+                    );
+                }
+            }
             let mut role_tolerance = [None; 3];
             for (role, mm) in tolerance_role {
                 role_tolerance[role.rank()] = Some(mm);

@@ -435,3 +435,69 @@ fn readers_bound_weight_ratios_coordinates_and_nets() {
         assert!(!out.exists());
     }
 }
+
+/// `--iterations` is the limit of the iterative methods (0, 5 and 100000 give three different
+/// results) and a one-line error for the direct solves, never silently ignored.
+#[test]
+fn iterations_set_the_limit_or_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = model_fixture("fillet_freeform.json");
+    let model = model.to_str().unwrap();
+    let mut outputs = Vec::new();
+    for n in ["0", "5", "100000"] {
+        let out = dir.path().join(format!("it{n}.json"));
+        let o = run(&[
+            "fair",
+            model,
+            "-o",
+            out.to_str().unwrap(),
+            "--iterations",
+            n,
+            "--quiet",
+        ]);
+        assert!(o.status.success(), "{}", stderr(&o));
+        outputs.push(std::fs::read_to_string(&out).unwrap());
+    }
+    assert!(outputs[0] != outputs[1] && outputs[1] != outputs[2]);
+    for method in ["curvature", "greiner"] {
+        let out = dir.path().join(format!("{method}.json"));
+        let o = run(&[
+            "fair",
+            model,
+            "-o",
+            out.to_str().unwrap(),
+            "--method",
+            method,
+            "--iterations",
+            "5",
+        ]);
+        assert!(one_line_error(&o).contains("direct solve"), "{method}");
+        assert!(!out.exists());
+    }
+}
+
+/// `connect --target` above every link's own continuity says that it caps.
+#[test]
+fn connect_target_says_it_caps() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut m: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(model_fixture("fillet_freeform.json")).unwrap(),
+    )
+    .unwrap();
+    for l in m["links"].as_array_mut().unwrap() {
+        l["continuity"] = "G1".into();
+    }
+    let path = write(&dir, "g1.json", &m.to_string());
+    let out = dir.path().join("out.json");
+    let o = run(&[
+        "connect",
+        &path,
+        "-o",
+        out.to_str().unwrap(),
+        "--target",
+        "G2",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("is a cap") && text.contains("G1"), "{text}");
+}

@@ -69,7 +69,15 @@ impl Method {
         Self::ALL.into_iter().find(|m| m.name() == name)
     }
 
-    /// The method object; `iterations` overrides the method's iteration limit.
+    /// Whether the method has an iteration limit that `--iterations` sets (the curvature
+    /// methods are direct solves).
+    pub fn takes_iterations(self) -> bool {
+        !matches!(self, Method::Curvature | Method::Greiner)
+    }
+
+    /// The method object; `iterations` overrides the method's iteration limit (for the local
+    /// energy methods exactly: the per-free-point floor [`MOVES_PER_FREE_POINT`] applies only
+    /// to their default limit).
     pub fn build(self, iterations: Option<usize>) -> Box<dyn SurfaceFairing> {
         match self {
             Method::Energy => {
@@ -78,7 +86,9 @@ impl Method {
                     ..fair_energy::EnergyParams::default()
                 };
                 if let Some(n) = iterations {
+                    // the user's limit is the limit: no per-free-point floor above it
                     params.max_iterations = n;
+                    params.min_iterations_per_free_point = 0;
                 }
                 Box::new(EnergyFairing {
                     plain: fair_energy::LocalEnergyFairing { params },
@@ -124,6 +134,7 @@ fn bezier_fairing(iterations: Option<usize>) -> fair_energy::BezierSplineFairing
     };
     if let Some(n) = iterations {
         params.energy.max_iterations = n;
+        params.energy.min_iterations_per_free_point = 0;
     }
     fair_energy::BezierSplineFairing { params }
 }
