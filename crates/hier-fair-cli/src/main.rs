@@ -34,6 +34,9 @@ enum Command {
         /// JSON list of further vertex indices (0-based) to keep fixed
         #[arg(long)]
         fixed: Option<PathBuf>,
+        /// Largest distance a vertex may move (model units): the fairest mesh within it
+        #[arg(long, allow_negative_numbers = true)]
+        tolerance: Option<f64>,
     },
     /// Labels the boundary segments of a trimmed mesh region (and fits a surface with --fit).
     Label {
@@ -207,13 +210,20 @@ fn run(cli: Cli) -> Result<()> {
             output,
             fixed_rings,
             fixed,
+            tolerance,
         } => {
             let mut inputs = vec![input.as_path()];
             inputs.extend(fixed.as_deref());
             files::check_outputs(&[("-o", &output)], &inputs)?;
             println!(
                 "{}",
-                hier_fair_cli::mesh::run(&input, &output, fixed_rings, fixed.as_deref())?
+                hier_fair_cli::mesh::run(
+                    &input,
+                    &output,
+                    fixed_rings,
+                    fixed.as_deref(),
+                    tolerance
+                )?
             );
             Ok(())
         }

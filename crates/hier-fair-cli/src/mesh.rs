@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use anyhow::{Context, Result, anyhow, bail};
-use nside_discrete::{DiscreteFairingParams, fair_mesh};
+use nside_discrete::{DiscreteFairingParams, fair_mesh, fair_mesh_within};
 use nurbs_core::TriMesh;
 
 use crate::files::{read_text, refuse_overwrite, write_atomic};
@@ -31,6 +31,7 @@ pub fn run(
     output: &Path,
     fixed_rings: usize,
     fixed: Option<&Path>,
+    tolerance: Option<f64>,
 ) -> Result<String> {
     refuse_overwrite(output, &[input])?;
     let mesh = read_obj(input)?;
@@ -44,13 +45,26 @@ pub fn run(
         fixed_rings,
         ..DiscreteFairingParams::default()
     };
-    let (faired, report) =
-        fair_mesh(&mesh, &extra, &params).map_err(|e| anyhow!("{}: {e}", input.display()))?;
+    let (faired, report, weight) = match tolerance {
+        None => {
+            let (m, r) = fair_mesh(&mesh, &extra, &params)
+                .map_err(|e| anyhow!("{}: {e}", input.display()))?;
+            (m, r, None)
+        }
+        Some(t) => {
+            let (m, r, w) = fair_mesh_within(&mesh, &extra, &params, t)
+                .map_err(|e| anyhow!("{}: {e}", input.display()))?;
+            (m, r, Some((t, w)))
+        }
+    };
+    let within = weight.map_or(String::new(), |(t, w)| {
+        format!(" (tolerance {t:e}: data weight {w:.3e})")
+    });
     let mut bytes = Vec::new();
     faired.write_obj(&mut bytes)?;
     write_atomic(output, &bytes)?;
     Ok(format!(
-        "faired {} of {} vertices (boundary + {} rings fixed): umbrella energy {:.6e} → {:.6e}, largest move {:.6e}, {:.1} ms; wrote {}",
+        "faired {} of {} vertices (boundary + {} rings fixed): umbrella energy {:.6e} → {:.6e}, largest move {:.6e}{within}, {:.1} ms; wrote {}",
         report.free_vertices,
         report.vertices,
         fixed_rings,

@@ -119,3 +119,80 @@ fn bad_meshes_and_overwrites_are_refused() {
         .unwrap();
     assert_eq!(o.status.code(), Some(2));
 }
+
+/// `--tolerance MM`: no vertex moves more than MM, and the mesh still gets fairer (the data
+/// term keeps it near the input, the smallest weight that fits is used); pure fairing moves
+/// more than that here, so the bound is what decides.
+#[test]
+fn fair_mesh_within_a_tolerance() {
+    let dir = tempfile::tempdir().unwrap();
+    let (input, mesh) = noisy_obj(&dir);
+    let free = dir.path().join("free.obj");
+    let o = bin()
+        .args([
+            "fair-mesh",
+            input.to_str().unwrap(),
+            "-o",
+            free.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+    let largest = |path: &std::path::Path| {
+        positions(&std::fs::read_to_string(path).unwrap())
+            .iter()
+            .zip(&mesh.positions)
+            .map(|(a, p)| {
+                ((a[0] - p.x).powi(2) + (a[1] - p.y).powi(2) + (a[2] - p.z).powi(2)).sqrt()
+            })
+            .fold(0.0, f64::max)
+    };
+    let unbounded = largest(&free);
+    let tol = unbounded / 4.0;
+    let out = dir.path().join("within.obj");
+    let o = bin()
+        .args([
+            "fair-mesh",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--tolerance",
+            &tol.to_string(),
+        ])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&o.stdout).to_string();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    // the written coordinates are rounded to the OBJ's printed digits
+    assert!(
+        largest(&out) <= tol * (1.0 + 1e-6),
+        "{} > {tol}",
+        largest(&out)
+    );
+    assert!(text.contains("data weight"), "{text}");
+    let energies: Vec<f64> = text
+        .split("umbrella energy ")
+        .nth(1)
+        .unwrap()
+        .split(',')
+        .next()
+        .unwrap()
+        .split(" → ")
+        .map(|x| x.trim().parse().unwrap())
+        .collect();
+    assert!(energies[1] < energies[0], "{text}");
+    // a tolerance that is not a length is one line
+    let o = bin()
+        .args([
+            "fair-mesh",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--tolerance",
+            "-1",
+        ])
+        .output()
+        .unwrap();
+    assert_eq!(o.status.code(), Some(2));
+    assert_eq!(String::from_utf8_lossy(&o.stderr).lines().count(), 1);
+}

@@ -189,6 +189,82 @@ pub fn fair_mesh(
     fair_mesh_with_layout(mesh, &mesh.positions, extra_fixed, params)
 }
 
+/// Data weights [`fair_mesh_within`] tries: from [`WITHIN_FIRST_WEIGHT`] up by factors of 10,
+/// at most [`WITHIN_MAX_STEPS`] times, then [`WITHIN_BISECTIONS`] halvings of the last bracket
+/// in log scale (each a factor of about √10 … 1.2 in the weight).
+pub const WITHIN_FIRST_WEIGHT: f64 = 1e-6;
+/// See [`WITHIN_FIRST_WEIGHT`]: 20 decades reach a weight of 10¹⁴, at which every free vertex
+/// moves by 10⁻¹⁴ of what pure fairing moves it.
+pub const WITHIN_MAX_STEPS: usize = 20;
+/// See [`WITHIN_FIRST_WEIGHT`]: 6 halvings of a decade in log scale narrow it to a factor 1.04.
+pub const WITHIN_BISECTIONS: usize = 6;
+
+/// [`fair_mesh`] with no vertex moving more than `tolerance`: pure fairing where its moves fit,
+/// else the smallest data weight ([`DiscreteFairingParams::data_weight`], searched as
+/// [`WITHIN_FIRST_WEIGHT`] says) whose moves do — the fairest mesh within the tolerance.
+/// Returns the mesh, its report and the weight used.
+pub fn fair_mesh_within(
+    mesh: &TriMesh,
+    extra_fixed: &[usize],
+    params: &DiscreteFairingParams,
+    tolerance: f64,
+) -> Result<(TriMesh, DiscreteFairingReport, f64)> {
+    if !(tolerance.is_finite() && tolerance > 0.0) {
+        return Err(NsideError::BadParam {
+            name: "tolerance",
+            value: tolerance,
+            detail: "a finite distance > 0",
+        });
+    }
+    let run = |w: f64| {
+        fair_mesh(
+            mesh,
+            extra_fixed,
+            &DiscreteFairingParams {
+                data_weight: w,
+                ..*params
+            },
+        )
+    };
+    let (m, r) = run(params.data_weight)?;
+    if r.max_move <= tolerance {
+        return Ok((m, r, params.data_weight));
+    }
+    // bracket: `low` moves too much, `high` fits
+    let mut low = params.data_weight;
+    let mut w = params.data_weight.max(WITHIN_FIRST_WEIGHT);
+    let mut fit = None;
+    for _ in 0..WITHIN_MAX_STEPS {
+        let (m, r) = run(w)?;
+        if r.max_move <= tolerance {
+            fit = Some((m, r, w));
+            break;
+        }
+        low = w;
+        w *= 10.0;
+    }
+    let Some(mut best) = fit else {
+        // no weight up to 10¹⁴ fits (a tolerance below round-off): the mesh as it was
+        let (_, mut r) = run(0.0)?;
+        r.energy_after = r.energy_before;
+        r.max_move = 0.0;
+        return Ok((mesh.clone(), r, f64::INFINITY));
+    };
+    for _ in 0..WITHIN_BISECTIONS {
+        if low <= 0.0 {
+            break;
+        }
+        let mid = (low * best.2).sqrt();
+        let (m, r) = run(mid)?;
+        if r.max_move <= tolerance {
+            best = (m, r, mid);
+        } else {
+            low = mid;
+        }
+    }
+    Ok(best)
+}
+
 /// Like [`fair_mesh`], with the [`UmbrellaWeights::MeanValue`] weights (when chosen) taken from
 /// `layout`, positions of the same vertices (e.g. the mesh projected onto a plane).
 pub fn fair_mesh_with_layout(

@@ -19,7 +19,8 @@ pub mod topology;
 pub use corner::{NsidedParams, NsidedReport, cross_tangents, fair_corner, fill_corner};
 pub use error::NsideError;
 pub use fairing::{
-    DiscreteFairingParams, DiscreteFairingReport, UmbrellaWeights, fair_mesh, fair_mesh_with_layout,
+    DiscreteFairingParams, DiscreteFairingReport, UmbrellaWeights, fair_mesh,
+    fair_mesh_with_layout, fair_mesh_within,
 };
 pub use refit::{RefitReport, boundary_angle_deg, internal_angle_deg, refit_quads};
 pub use sampling::{
