@@ -501,3 +501,22 @@ fn connect_target_says_it_caps() {
     let text = String::from_utf8_lossy(&o.stdout);
     assert!(text.contains("is a cap") && text.contains("G1"), "{text}");
 }
+
+/// A model-level JSON error names the field's place in the model and its line.
+#[test]
+fn model_json_errors_name_the_place() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut m: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(model_fixture("fillet_freeform.json")).unwrap(),
+    )
+    .unwrap();
+    m["surfaces"][1]["surface"]["control_points"][0][0] = serde_json::json!([1.0, 2.0]);
+    let path = write(&dir, "bad.json", &serde_json::to_string_pretty(&m).unwrap());
+    let out = dir.path().join("out.json");
+    let o = run(&["fair", &path, "-o", out.to_str().unwrap()]);
+    let err = one_line_error(&o);
+    assert!(
+        err.contains("surfaces[1].surface.control_points[0][0]") && err.contains("line"),
+        "{err}"
+    );
+}

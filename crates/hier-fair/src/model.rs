@@ -262,9 +262,14 @@ impl Model {
                 text,
             )?));
         }
-        let record: ModelRecord = serde_json::from_value(value).map_err(|e| Error::Format {
-            detail: format!("model: {e}"),
-        })?;
+        // parsed from the text again, through serde_path_to_error: a field's error names its
+        // place in the model (`surfaces[1].surface.control_points[0][0]`) and its line
+        drop(value);
+        let mut de = serde_json::Deserializer::from_str(text);
+        let record: ModelRecord =
+            serde_path_to_error::deserialize(&mut de).map_err(|e| Error::Format {
+                detail: format!("model: {}: {}", e.path(), e.inner()),
+            })?;
         Self::from_record(record)
     }
 
