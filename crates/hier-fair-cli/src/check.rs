@@ -3,7 +3,7 @@
 
 use anyhow::{Result, anyhow};
 use g_continuity::{LinkMeasure, MeasureParams};
-use hier_fair::{LinkCheck, Model, Preset, check_model};
+use hier_fair::{LinkCheck, Model, Preset, measure_model};
 use serde_json::{Value, json};
 
 /// What `check` prints and whether a preset was exceeded (exit code 1).
@@ -37,7 +37,8 @@ pub fn run(
         samples,
         ..MeasureParams::default()
     };
-    let checks = check_model(&model, &params).map_err(|e| anyhow!("{source}: {e}"))?;
+    // links that do not touch their masters are measured and reported too (their gap shows)
+    let checks = measure_model(&model, &params).map_err(|e| anyhow!("{source}: {e}"))?;
     let flags: Vec<bool> = checks
         .iter()
         .map(|c| preset.is_some_and(|p| p.exceeded_by(c)))
@@ -105,6 +106,9 @@ fn checks_json(model: &Model, checks: &[LinkCheck], flags: Option<&[bool]>) -> V
             if let Some(f) = flags {
                 o.insert("exceeded".into(), json!(f[k]));
             }
+            if !c.touches(model) {
+                o.insert("touches".into(), json!(false));
+            }
             v
         })
         .collect();
@@ -137,6 +141,12 @@ fn table(
     for (k, c) in checks.iter().enumerate() {
         let m = &c.measure;
         let mut note = Vec::new();
+        if !c.touches(model) {
+            note.push(format!(
+                "DOES NOT TOUCH its master (gap above {} × g0)",
+                hier_fair::TOUCH_FACTOR
+            ));
+        }
         if m.collapsed {
             note.push("collapsed side".to_string());
         } else if m.undefined_normals > 0 {

@@ -520,3 +520,33 @@ fn model_json_errors_name_the_place() {
         "{err}"
     );
 }
+
+/// `check` measures a link that does not touch its master and reports its gap (the table says
+/// so, the JSON has `"touches": false`); `--fail-above` then exits 1, as for any link beyond it.
+#[test]
+fn check_reports_a_link_that_does_not_touch() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut m: serde_json::Value = serde_json::from_str(
+        &std::fs::read_to_string(model_fixture("fillet_freeform.json")).unwrap(),
+    )
+    .unwrap();
+    for row in m["surfaces"][2]["surface"]["control_points"]
+        .as_array_mut()
+        .unwrap()
+    {
+        for p in row.as_array_mut().unwrap() {
+            p[2] = (p[2].as_f64().unwrap() + 5.0).into();
+        }
+    }
+    let path = write(&dir, "apart.json", &m.to_string());
+    let o = run(&["check", &path]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("DOES NOT TOUCH"));
+    let o = run(&["check", &path, "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let link = &v["links"][0];
+    assert_eq!(link["touches"], false);
+    assert!(link["g0"].as_f64().unwrap() > 4.9);
+    let o = run(&["check", &path, "--fail-above", "class-a"]);
+    assert_eq!(o.status.code(), Some(1));
+}

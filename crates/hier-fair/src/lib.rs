@@ -21,7 +21,7 @@ pub mod render;
 pub mod report;
 pub mod synthetic;
 
-pub use check::{LinkCheck, Preset, TOUCH_FACTOR, check_model};
+pub use check::{LinkCheck, Preset, TOUCH_FACTOR, check_model, measure_model};
 pub use connect::{ConnectOptions, LinkConnect, ModelConnectReport, SurfaceConnect, connect};
 pub use error::{Error, Result};
 pub use framework::{
