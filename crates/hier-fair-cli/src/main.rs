@@ -99,16 +99,17 @@ enum Command {
         #[arg(long)]
         report: Option<PathBuf>,
     },
-    /// Runs the main job on the bundled default model and prints a readable summary.
-    /// Runs the whole pipeline on the bundled X-node model and writes the results, the report
-    /// and pictures into DIR (default ./hier-fair-demo).
+    /// Runs the main job on the bundled X-node model: fairs it, writes the faired model, the
+    /// report and the pictures into a folder and prints a readable summary.
     Demo {
+        /// Folder of the results (made if missing; its parent must exist)
         #[arg(long, default_value = "hier-fair-demo")]
         out: PathBuf,
         /// no progress bar
         #[arg(long)]
         quiet: bool,
     },
+    /// Evaluates a surface: point, derivatives, normal and curvatures, as JSON on stdout.
     Eval {
         /// Surface file (one surface, a list, {"surfaces": [...]} or {"patches": [...]}).
         surface: PathBuf,
@@ -125,10 +126,12 @@ enum Command {
         #[arg(long = "index")]
         index: Option<usize>,
     },
-    /// Fairs a bare surface file (every surface primary, all four boundary frames kept).
-    /// Hierarchical fairing of a model (or of a bare surface file: primaries, boundaries kept).
+    /// Hierarchical fairing of a model (masters first, continuity set then kept, [SV] §3.2), or
+    /// fairing of a bare surface file (boundaries and shared edges kept).
     Fair {
+        /// Model or bare surface file (JSON, model-format.md)
         input: PathBuf,
+        /// Output file (written atomically; never the input or another output)
         #[arg(short = 'o', long = "output")]
         output: PathBuf,
         /// the method for every surface (default: energy)
@@ -141,14 +144,17 @@ enum Command {
         /// repeatable); a surface's own "deviation" in the model still wins
         #[arg(long = "tolerance-role", value_parser = parse_role_tolerance)]
         tolerance_role: Vec<(hier_fair::Role, f64)>,
+        /// iteration limit of the iterative methods (energy, energy-global polish,
+        /// energy-bezier, krr); default: each method's own
         #[arg(long)]
         iterations: Option<usize>,
         /// bare surfaces: the frame kept on all four sides
         #[arg(long, value_parser = parse_keep, default_value = "G0")]
         keep: nurbs_core::Continuity,
-        /// models: the highest continuity set on any link
+        /// models: the highest continuity set on any link (a cap on each link's own)
         #[arg(long, value_parser = parse_keep)]
         target: Option<nurbs_core::Continuity>,
+        /// report JSON (per surface, per link, problems; cli-contract.md)
         #[arg(long)]
         report: Option<PathBuf>,
         /// models: write pictures (zebra, mean curvature, link curvature plots) into DIR
@@ -462,6 +468,31 @@ fn main() -> ExitCode {
         Err(e) => {
             eprintln!("error: {}", one_line(&e));
             ExitCode::from(2)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::CommandFactory;
+
+    /// Every subcommand and every argument has a help text (`hier-fair help`, `--help`).
+    #[test]
+    fn every_subcommand_and_option_has_help() {
+        let cli = super::Cli::command();
+        for sub in cli.get_subcommands() {
+            assert!(sub.get_about().is_some(), "{} has no help", sub.get_name());
+            for arg in sub.get_arguments() {
+                let id = arg.get_id().as_str();
+                if id == "help" || id == "version" {
+                    continue;
+                }
+                assert!(
+                    arg.get_help().is_some(),
+                    "{} {id} has no help",
+                    sub.get_name()
+                );
+            }
         }
     }
 }
