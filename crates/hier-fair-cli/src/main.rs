@@ -322,11 +322,12 @@ fn run(cli: Cli) -> Result<()> {
                     &options,
                 )?;
                 print!("{}", outcome.0);
-                if outcome.1 {
+                if let Some(first) = outcome.1.first() {
                     use std::io::Write;
                     let _ = std::io::stdout().flush();
                     eprintln!(
-                        "error: some surfaces could not be faired (see the problems above); the partial result and report were written"
+                        "error: {} surface(s) could not be faired, the first {first}; the partial result and report were written",
+                        outcome.1.len()
                     );
                     std::process::exit(1);
                 }

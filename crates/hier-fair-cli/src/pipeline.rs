@@ -246,9 +246,10 @@ pub fn demo(dir: &Path, quiet: bool) -> Result<String> {
     files::write_atomic(&dir.join("faired.igs"), model_iges(&faired)?.as_bytes())?;
     let json = serde_json::to_string_pretty(&hier_fair::report_json(&report))? + "\n";
     files::write_atomic(&dir.join("report.json"), json.as_bytes())?;
-    let md = hier_fair::report_markdown(
+    let md = hier_fair::report_markdown_in(
         &report,
         "hier-fair demo: the X-node (fixtures/models/x_node.json)",
+        model.units.as_deref(),
     ) + &images_legend();
     files::write_atomic(&dir.join("report.md"), md.as_bytes())?;
     let images = write_images(&dir.join("images"), &model, &faired, &report)?;
@@ -286,7 +287,7 @@ pub fn run_fair(
     report_path: Option<&Path>,
     images: Option<&Path>,
     options: &ModelOptions,
-) -> Result<(String, bool)> {
+) -> Result<(String, Vec<String>)> {
     files::refuse_overwrite(output, &[input])?;
     if let Some(r) = report_path {
         files::refuse_overwrite(r, &[input, output])?;
@@ -301,8 +302,14 @@ pub fn run_fair(
     if let Some(dir) = images {
         write_images(dir, &model, &faired, &report)?;
     }
+    let failures = report
+        .problems
+        .iter()
+        .filter(|p| p.kind == hier_fair::ProblemKind::Failed)
+        .map(|p| format!("{}: {}", p.surface, p.message))
+        .collect();
     Ok((
         summary(&report, &format!("hier-fair fair {}", input.display())),
-        report.has_failures(),
+        failures,
     ))
 }

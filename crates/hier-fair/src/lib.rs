@@ -30,4 +30,4 @@ pub use framework::{
 };
 pub use methods::{BuiltMethods, Fairers, Method, RoleMethods};
 pub use model::{CornerGroup, Link, Model, ModelSurface, ModelTolerances, Role, parse_continuity};
-pub use report::{report_json, report_markdown};
+pub use report::{report_json, report_markdown, report_markdown_in};

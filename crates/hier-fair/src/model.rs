@@ -155,10 +155,31 @@ struct SurfaceEntry {
 
 /// `tolerances.deviation`: one length for every surface, or one per role.
 #[derive(Debug, Clone, Copy, Serialize, Deserialize)]
-#[serde(untagged)]
+#[serde(untagged, try_from = "serde_json::Value")]
 enum DeviationRecord {
     All(f64),
     Roles(RoleDeviations),
+}
+
+impl TryFrom<serde_json::Value> for DeviationRecord {
+    type Error = String;
+
+    /// A number, or an object of the three roles, with an error that says which was expected
+    /// (serde's untagged enums only say that no variant matched).
+    fn try_from(v: serde_json::Value) -> std::result::Result<Self, String> {
+        match v {
+            serde_json::Value::Number(n) => n
+                .as_f64()
+                .map(DeviationRecord::All)
+                .ok_or_else(|| format!("{n} is not a length")),
+            serde_json::Value::Object(_) => serde_json::from_value(v)
+                .map(DeviationRecord::Roles)
+                .map_err(|e| e.to_string()),
+            other => Err(format!(
+                "expected a length or {{\"primary\": mm, \"connecting\": mm, \"corner\": mm}}, got {other}"
+            )),
+        }
+    }
 }
 
 #[derive(Debug, Clone, Copy, Default, Serialize, Deserialize)]

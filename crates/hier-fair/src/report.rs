@@ -102,18 +102,27 @@ fn link_json(l: &LinkFair) -> Value {
     })
 }
 
+/// A figure in scientific notation with `digits` after the point (a gap of 1e-11 and one of
+/// 1e-3 both show), "–" when absent.
 fn opt(v: Option<f64>, digits: usize) -> String {
-    v.map_or("–".to_string(), |x| format!("{x:.digits$}"))
+    v.map_or("–".to_string(), |x| format!("{x:.digits$e}"))
 }
 
-/// The report as Markdown.
+/// The report as Markdown, lengths in "model units".
 pub fn report_markdown(report: &FairModelReport, title: &str) -> String {
+    report_markdown_in(report, title, None)
+}
+
+/// The report as Markdown with lengths in `units` (the model's `units`, e.g. "mm"; `None`:
+/// "model units"); curvatures are per unit, angles in degrees, figures in scientific notation.
+pub fn report_markdown_in(report: &FairModelReport, title: &str, units: Option<&str>) -> String {
+    let unit = units.unwrap_or("model units");
     let mut md = String::new();
     let _ = writeln!(md, "# {title}\n");
     let met = report.links.iter().filter(|l| l.met).count();
     let _ = writeln!(
         md,
-        "{} surfaces, {} links ({} meet their targets), deviation tolerance {}, {:.3} s in total.\n",
+        "{} surfaces, {} links ({} meet their targets), deviation tolerance {} {unit}, {:.3} s in total.\n",
         report.surfaces.len(),
         report.links.len(),
         met,
@@ -124,7 +133,7 @@ pub fn report_markdown(report: &FairModelReport, title: &str) -> String {
         let _ = writeln!(md, "## Links\n");
         let _ = writeln!(
             md,
-            "| link | target | G0 before | G0 after | G1° before | G1° after | G2 rel before | G2 rel after | met |"
+            "| link | target | gap before ({unit}) | gap after ({unit}) | angle before (°) | angle after (°) | curvature rel. before | curvature rel. after | met |"
         );
         let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|");
         for l in &report.links {
@@ -135,12 +144,12 @@ pub fn report_markdown(report: &FairModelReport, title: &str) -> String {
                 "| {} | {:?} | {} | {} | {} | {} | {} | {} | {} |",
                 l.label,
                 l.target,
-                opt(b.map(|m| m.g0), 6),
-                opt(a.map(|m| m.g0), 6),
-                opt(b.and_then(|m| m.g1_deg), 4),
-                opt(a.and_then(|m| m.g1_deg), 4),
-                opt(b.and_then(|m| m.g2_rel), 4),
-                opt(a.and_then(|m| m.g2_rel), 4),
+                opt(b.map(|m| m.g0), 3),
+                opt(a.map(|m| m.g0), 3),
+                opt(b.and_then(|m| m.g1_deg), 3),
+                opt(a.and_then(|m| m.g1_deg), 3),
+                opt(b.and_then(|m| m.g2_rel), 3),
+                opt(a.and_then(|m| m.g2_rel), 3),
                 if l.met { "yes" } else { "**no**" }
             );
         }
@@ -149,7 +158,7 @@ pub fn report_markdown(report: &FairModelReport, title: &str) -> String {
     let _ = writeln!(md, "## Surfaces\n");
     let _ = writeln!(
         md,
-        "| surface | role | method | energy before | energy after | change | deviation | iterations | knots inserted | seconds |"
+        "| surface | role | method | energy before | energy after | change | deviation ({unit}) | iterations | knots inserted | seconds |"
     );
     let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|");
     let (mut eb, mut ea) = (0.0, 0.0);
@@ -163,7 +172,7 @@ pub fn report_markdown(report: &FairModelReport, title: &str) -> String {
         };
         let _ = writeln!(
             md,
-            "| {} | {} | {} | {:.6} | {:.6} | {} | {:.5} | {} | {} | {:.4} |",
+            "| {} | {} | {} | {:.4e} | {:.4e} | {} | {:.3e} | {} | {} | {:.4} |",
             s.name,
             s.role.name(),
             s.method,
@@ -183,7 +192,7 @@ pub fn report_markdown(report: &FairModelReport, title: &str) -> String {
         .fold(0.0, f64::max);
     let _ = writeln!(
         md,
-        "| **total** | | | {eb:.6} | {ea:.6} | {} | {worst:.5} | {} | {} | {:.4} |\n",
+        "| **total** | | | {eb:.4e} | {ea:.4e} | {} | {worst:.3e} | {} | {} | {:.4} |\n",
         if eb > 0.0 {
             format!("{:+.1} %", 100.0 * (ea / eb - 1.0))
         } else {

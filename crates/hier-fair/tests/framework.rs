@@ -421,3 +421,27 @@ fn a_stage_that_raises_the_energy_is_not_used() {
         }
     }
 }
+
+/// report.md gives every figure in scientific notation (a gap of 1e-11 shows, not 0.000000)
+/// and the model's length unit in the headers.
+#[test]
+fn markdown_report_has_units_and_scientific_figures() {
+    let (model, _, report) = run("fillet_freeform");
+    let md = hier_fair::report_markdown_in(&report, "t", Some("mm"));
+    assert!(
+        md.contains("gap after (mm)") && md.contains("deviation (mm)"),
+        "{md}"
+    );
+    assert!(!md.contains("0.000000"), "{md}");
+    let gaps: Vec<f64> = report
+        .links
+        .iter()
+        .filter_map(|l| l.after.as_ref().map(|m| m.g0))
+        .collect();
+    // each link's gap after, in the table as a figure that reads back to 3 digits
+    for g in gaps {
+        let text = format!("{g:.3e}");
+        assert!(md.contains(&text), "{text} not in {md}");
+    }
+    assert_eq!(model.links.len(), report.links.len());
+}

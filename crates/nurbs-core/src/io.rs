@@ -38,6 +38,12 @@ fn knots(
     given: &Option<Vec<f64>>,
     count: usize,
 ) -> Result<KnotVector> {
+    if degree == 0 {
+        return Err(Error::Format {
+            detail: "degree must be at least 1, got 0".into(),
+        }
+        .context(field));
+    }
     let kv = match given {
         Some(k) => KnotVector::new(degree, k.clone()),
         None if count == degree + 1 => KnotVector::bezier(degree),
@@ -62,10 +68,7 @@ pub const MAX_CONTROL_POINTS: usize = 1_000_000;
 /// of the continuity and fairing steps lose six digits.
 pub const MAX_WEIGHT_RATIO: f64 = 1e6;
 
-/// Largest absolute coordinate (model units): 10⁹ mm is a thousand kilometres. Beyond it
-/// squared distances, energies (second derivatives squared) and their sums leave the range
-/// where the tolerances of 10⁻³ still have digits.
-pub const MAX_COORDINATE: f64 = 1e9;
+pub use crate::MAX_COORDINATE;
 
 /// The bounds of [`MAX_CONTROL_POINTS`], [`MAX_COORDINATE`] and [`MAX_WEIGHT_RATIO`] on a
 /// surface built by a reader.
@@ -151,7 +154,10 @@ impl SurfaceRecord {
         };
         let surface = BSplineSurface::new(ku, kv, points, weights)?;
         check_bounds(&surface)?;
-        Ok(surface)
+        // an unclamped knot vector is clamped: the same surface over its domain, with the
+        // boundary curves as its outer control rows, which the masks and frames of every
+        // method assume (model-format.md)
+        surface.clamped()
     }
 
     /// The record of a surface (full knot vectors, weights only when rational).
@@ -227,4 +233,43 @@ pub fn surfaces_from_json(text: &str) -> Result<Vec<BSplineSurface>> {
 pub fn surface_to_json(surface: &BSplineSurface) -> String {
     serde_json::to_string(&SurfaceRecord::from_surface(surface))
         .expect("a surface record always serializes")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// An unclamped knot vector is read as the same surface, clamped: equal points over the
+    /// domain, the boundary curve as the outer control row.
+    #[test]
+    fn unclamped_knots_are_clamped_on_reading() {
+        let text = r#"{"degree_u": 2, "degree_v": 1,
+            "knots_u": [0, 0.1, 0.2, 0.8, 0.9, 1.0], "knots_v": [0, 0, 1, 1],
+            "control_points": [[[0,0,0],[0,1,0]], [[1,0,1],[1,1,1]], [[2,0,0],[2,1,0.5]]]}"#;
+        let read = surfaces_from_json(text).unwrap().remove(0);
+        let record: SurfaceRecord = serde_json::from_str(text).unwrap();
+        let raw = BSplineSurface::new(
+            KnotVector::new(2, record.knots_u.clone().unwrap()).unwrap(),
+            KnotVector::new(1, record.knots_v.clone().unwrap()).unwrap(),
+            record
+                .control_points
+                .iter()
+                .flatten()
+                .map(|c| Point3::new(c[0], c[1], c[2]))
+                .collect(),
+            None,
+        )
+        .unwrap();
+        assert!(read.knots_u().is_clamped() && !raw.knots_u().is_clamped());
+        assert_eq!(read.domain_u(), raw.domain_u());
+        for k in 0..=10 {
+            let u = 0.2 + 0.6 * k as f64 / 10.0;
+            for v in [0.0, 0.5, 1.0] {
+                assert!((read.point(u, v) - raw.point(u, v)).norm() < 1e-13);
+            }
+        }
+        // the outer control row is the boundary curve u = 0.2
+        let corner = read.control_points()[0];
+        assert!((corner - raw.point(0.2, 0.0)).norm() < 1e-13);
+    }
 }

@@ -44,6 +44,11 @@ pub type Point3 = nalgebra::Point3<f64>;
 /// A vector in 3D (f64).
 pub type Vector3 = nalgebra::Vector3<f64>;
 
+/// Largest absolute coordinate the readers accept (model units; JSON surfaces and OBJ
+/// meshes): 10⁹ mm is a thousand kilometres. Beyond it squared distances, energies (second
+/// derivatives squared) and their sums leave the range where tolerances of 10⁻³ keep digits.
+pub const MAX_COORDINATE: f64 = 1e9;
+
 pub use banded::BandedQr;
 pub use basis::BasisEvaluator;
 pub use curve::{BSplineCurve, CurveDerivatives};

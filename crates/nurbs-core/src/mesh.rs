@@ -223,6 +223,15 @@ impl TriMesh {
                             .ok_or_else(|| {
                                 err(line, format!("{field:?} is not a finite number"))
                             })?;
+                        if slot.abs() > crate::MAX_COORDINATE {
+                            return Err(err(
+                                line,
+                                format!(
+                                    "coordinate {field} is beyond the bound of {:e}",
+                                    crate::MAX_COORDINATE
+                                ),
+                            ));
+                        }
                     }
                     mesh.positions.push(Point3::new(c[0], c[1], c[2]));
                 }
