@@ -175,15 +175,31 @@ pub fn write_images(
     let view = View::for_points(&render::sample_points(&before), IMAGE_SIZE.0, IMAGE_SIZE.1);
     let range = render::curvature_range(&before);
     let mut written = Vec::new();
+    let unit = original.units.as_deref().unwrap_or("model unit");
     for (name, surfaces) in [("before", &before), ("after", &after)] {
-        for (kind, shading) in [
-            ("zebra", Shading::Zebra { stripes: 14.0 }),
-            ("mean_curvature", Shading::MeanCurvature { range }),
-        ] {
-            let path = dir.join(format!("{kind}_{name}.png"));
-            png(&path, &render::render(surfaces, &view, shading))?;
-            written.push(path);
-        }
+        let path = dir.join(format!("zebra_{name}.png"));
+        png(
+            &path,
+            &render::render(
+                surfaces,
+                &view,
+                Shading::Zebra {
+                    stripes: ZEBRA_STRIPES,
+                },
+            ),
+        )?;
+        written.push(path);
+        let path = dir.join(format!("mean_curvature_{name}.png"));
+        let map = render::render(surfaces, &view, Shading::MeanCurvature { range });
+        let map = hier_fair::plots::with_colour_bar(
+            &map,
+            range,
+            &format!("H (1/{unit})"),
+            render::curvature_colour,
+        )
+        .map_err(|e| anyhow::anyhow!(e))?;
+        png(&path, &map)?;
+        written.push(path);
     }
     for l in &report.links {
         let curve = |m: &Option<g_continuity::LinkMeasure>, slave: bool| -> Vec<(f64, f64)> {
@@ -199,11 +215,37 @@ pub fn write_images(
                     .collect()
             })
         };
+        let series = |label: &str, points, colour, dashed| hier_fair::plots::Series {
+            label: label.to_string(),
+            points,
+            colour,
+            dashed,
+        };
         let curves = [
-            curve(&l.before, true),
-            curve(&l.before, false),
-            curve(&l.after, true),
-            curve(&l.after, false),
+            series(
+                "slave before",
+                curve(&l.before, true),
+                image::Rgb([240, 150, 150]),
+                false,
+            ),
+            series(
+                "master before",
+                curve(&l.before, false),
+                image::Rgb([150, 170, 240]),
+                true,
+            ),
+            series(
+                "slave after",
+                curve(&l.after, true),
+                image::Rgb([200, 20, 20]),
+                false,
+            ),
+            series(
+                "master after",
+                curve(&l.after, false),
+                image::Rgb([20, 50, 200]),
+                true,
+            ),
         ];
         let file = format!(
             "curvature_{}.png",
@@ -212,7 +254,16 @@ pub fn write_images(
                 .replace(|c: char| !c.is_ascii_alphanumeric() && c != '_', "_")
         );
         let path = dir.join(file);
-        png(&path, &render::plot_curves(&curves, 640, 240))?;
+        let plot = hier_fair::plots::line_plot(
+            &format!("{}: normal curvature across the join", l.label),
+            "t along the slave side (0 to 1)",
+            &format!("curvature (1/{unit})"),
+            &curves,
+            720,
+            320,
+        )
+        .map_err(|e| anyhow::anyhow!(e))?;
+        png(&path, &plot)?;
         written.push(path);
     }
     Ok(written)
@@ -265,15 +316,22 @@ pub fn demo(dir: &Path, quiet: bool) -> Result<String> {
     Ok(text)
 }
 
+/// Stripes across the view of the zebra pictures: fine enough that a curvature jump bends them
+/// visibly (about 20 pixels per stripe pair at 900 pixels).
+pub const ZEBRA_STRIPES: f64 = 40.0;
+
 /// What the pictures show, for report.md.
 pub fn images_legend() -> String {
     "## Pictures (images/)\n\n\
-     - `zebra_before.png`, `zebra_after.png`: reflection-line stripes from one fixed view; stripes \
-     continuous across a boundary show G1, stripes without kinks G2.\n\
-     - `mean_curvature_before.png`, `mean_curvature_after.png`: mean curvature, blue (negative) – \
-     white (0) – red (positive), one colour range (95th percentile of |H| before) for both.\n\
-     - `curvature_<slave>_<side>_on_<master>.png`: normal curvature across the boundary along each \
-     link; light red/blue slave/master before, dark red/blue after (grey: zero line).\n"
+     - `zebra_before.png`, `zebra_after.png`: reflection-line stripes from one fixed view; a stripe \
+     that jumps at a boundary shows a G1 break, one that kinks a curvature jump (G1 without G2), \
+     one that runs on smoothly G2.\n\
+     - `mean_curvature_before.png`, `mean_curvature_after.png`: mean curvature H, blue (negative) – \
+     white (0) – red (positive), one colour range (95th percentile of |H| before) for both, \
+     the scale and its values (1/length unit) on the colour bar at the right.\n\
+     - `curvature_<slave>_<side>_on_<master>.png`: normal curvature across the join along each \
+     link (axis: t along the slave side, curvature in 1/length unit); light before, dark after, \
+     red solid the slave, blue dashed the master: where they coincide the join is G2.\n"
         .to_string()
 }
 

@@ -17,6 +17,7 @@ pub mod framework;
 pub mod methods;
 pub mod model;
 pub mod patches;
+pub mod plots;
 pub mod render;
 pub mod report;
 pub mod synthetic;

@@ -1,6 +1,7 @@
 //! Pictures of a model, for people who would rather look than read ([SV] §6 judges results by
 //! isophotes): reflection-line (zebra) stripes and a mean-curvature colour map, rendered from a
-//! fixed view so that before and after images line up, and curvature plots along a link.
+//! fixed view so that before and after images line up (the curvature plots along a link and the
+//! colour bar are drawn by [`crate::plots`]).
 //!
 //! # Rendering
 //! Every surface is sampled on an n×n grid (points, unit normals, mean curvature H from
@@ -12,6 +13,7 @@
 //!   a fixed axis across the view. Stripes are continuous across a G1 join and have no kinks
 //!   across a G2 join; a kink in the stripes shows a curvature jump ([SV] Fig. 6).
 //! - *Mean curvature*: blue (H = −h) through white (0) to red (+h), h fixed per picture pair.
+//! - Patch boundaries are drawn over both in orange where they are in front.
 //!
 //! The view is fixed by [`View::for_points`]: looking down the direction
 //! (0.35, −0.55, −0.76) (normalized), up vector +z projected, the model's bounding box fitted
@@ -178,14 +180,20 @@ fn shade(view: &View, shading: Shading, n: Option<Vector3>, h: Option<f64>) -> R
             let Some(h) = h else {
                 return Rgb([120, 120, 120]);
             };
-            let t = (h / range).clamp(-1.0, 1.0);
-            let fade = |x: f64| (255.0 * (1.0 - x.abs())) as u8;
-            if t >= 0.0 {
-                Rgb([255, fade(t), fade(t)])
-            } else {
-                Rgb([fade(t), fade(t), 255])
-            }
+            curvature_colour(h / range)
         }
+    }
+}
+
+/// The colour of the mean-curvature map at t = H / range: blue (t ≤ −1) through white (0) to
+/// red (t ≥ 1) — the scale [`crate::plots::with_colour_bar`] draws beside the map.
+pub fn curvature_colour(t: f64) -> Rgb<u8> {
+    let t = t.clamp(-1.0, 1.0);
+    let fade = |x: f64| (255.0 * (1.0 - x.abs())) as u8;
+    if t >= 0.0 {
+        Rgb([255, fade(t), fade(t)])
+    } else {
+        Rgb([fade(t), fade(t), 255])
     }
 }
 
@@ -212,8 +220,71 @@ pub fn render(surfaces: &[&BSplineSurface], view: &View, shading: Shading) -> Rg
             }
         }
     }
+    for s in surfaces {
+        draw_boundary(&mut img, &depth, view, s);
+    }
     img
 }
+
+/// Colour of the patch boundaries drawn over every picture.
+pub const BOUNDARY_COLOUR: Rgb<u8> = Rgb([255, 140, 0]);
+
+/// Draws the four boundary curves of `s` (sampled [`BOUNDARY_SAMPLES`] times each) where they
+/// are in front: a boundary point counts as visible when it lies within
+/// [`BOUNDARY_DEPTH_PIXELS`] pixels of depth of the nearest surface at its pixel.
+fn draw_boundary(img: &mut RgbImage, depth: &[f64], view: &View, s: &BSplineSurface) {
+    let (u0, u1) = s.domain_u();
+    let (v0, v1) = s.domain_v();
+    let n = BOUNDARY_SAMPLES;
+    let at = |k: usize, a: f64, b: f64| a + (b - a) * k as f64 / n as f64;
+    let sides: [Box<dyn Fn(usize) -> (f64, f64)>; 4] = [
+        Box::new(|k| (u0, at(k, v0, v1))),
+        Box::new(|k| (u1, at(k, v0, v1))),
+        Box::new(|k| (at(k, u0, u1), v0)),
+        Box::new(|k| (at(k, u0, u1), v1)),
+    ];
+    let tolerance = BOUNDARY_DEPTH_PIXELS * view.scale;
+    for side in &sides {
+        let pts: Vec<(f64, f64, f64)> = (0..=n)
+            .map(|k| {
+                let (u, v) = side(k);
+                view.project(&s.point(u, v))
+            })
+            .collect();
+        for pair in pts.windows(2) {
+            let (a, b) = (pair[0], pair[1]);
+            let steps = ((b.0 - a.0).abs().max((b.1 - a.1).abs()).ceil() as usize).max(1);
+            for k in 0..=steps {
+                let t = k as f64 / steps as f64;
+                let (x, y, z) = (
+                    a.0 + t * (b.0 - a.0),
+                    a.1 + t * (b.1 - a.1),
+                    a.2 + t * (b.2 - a.2),
+                );
+                let (px, py) = (x.floor(), y.floor());
+                if px < 0.0
+                    || py < 0.0
+                    || px >= f64::from(view.width)
+                    || py >= f64::from(view.height)
+                {
+                    continue;
+                }
+                let idx = py as usize * view.width as usize + px as usize;
+                if z <= depth[idx] + tolerance {
+                    img.put_pixel(px as u32, py as u32, BOUNDARY_COLOUR);
+                }
+            }
+        }
+    }
+}
+
+/// Samples per boundary curve of [`draw_boundary`].
+pub const BOUNDARY_SAMPLES: usize = 200;
+
+/// Depth tolerance of a visible boundary point, in pixels of the view's scale: the rendered
+/// triangles lie within a fraction of a pixel of the surface at [`RENDER_GRID`] samples, so a
+/// few pixels separate a boundary in front from one hidden behind another sheet.
+pub const BOUNDARY_DEPTH_PIXELS: f64 = 3.0;
 
 fn raster(
     img: &mut RgbImage,
@@ -259,65 +330,6 @@ fn raster(
                 _ => None,
             };
             img.put_pixel(x as u32, y as u32, shade(view, shading, normal, hh));
-        }
-    }
-}
-
-/// Colours of the curvature plots: slave before, master before, slave after, master after.
-pub const PLOT_COLOURS: [Rgb<u8>; 4] = [
-    Rgb([230, 140, 140]),
-    Rgb([140, 160, 230]),
-    Rgb([200, 20, 20]),
-    Rgb([20, 50, 200]),
-];
-
-/// A line plot of curves `(t, value)` over t ∈ [0, 1] on one common value axis (zero line grey),
-/// drawn in the order given with [`PLOT_COLOURS`].
-pub fn plot_curves(curves: &[Vec<(f64, f64)>], width: u32, height: u32) -> RgbImage {
-    let mut img = RgbImage::from_pixel(width, height, Rgb([255, 255, 255]));
-    let values = curves.iter().flatten().map(|&(_, v)| v);
-    let (mut lo, mut hi) = values.fold((0.0f64, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
-    if hi - lo < 1e-12 {
-        lo -= 1.0;
-        hi += 1.0;
-    }
-    let pad = 0.08 * (hi - lo);
-    let (lo, hi) = (lo - pad, hi + pad);
-    let m = 10.0;
-    let to_px = |t: f64, v: f64| {
-        (
-            m + t * (width as f64 - 2.0 * m),
-            m + (hi - v) / (hi - lo) * (height as f64 - 2.0 * m),
-        )
-    };
-    let grey = Rgb([170, 170, 170]);
-    let (x0, y0) = to_px(0.0, 0.0);
-    let (x1, _) = to_px(1.0, 0.0);
-    line(&mut img, (x0, y0), (x1, y0), grey);
-    let (_, ya) = to_px(0.0, lo);
-    let (_, yb) = to_px(0.0, hi);
-    line(&mut img, (x0, ya), (x0, yb), grey);
-    for (c, curve) in curves.iter().enumerate() {
-        let colour = PLOT_COLOURS[c % PLOT_COLOURS.len()];
-        for pair in curve.windows(2) {
-            let a = to_px(pair[0].0, pair[0].1);
-            let b = to_px(pair[1].0, pair[1].1);
-            line(&mut img, a, b, colour);
-        }
-    }
-    img
-}
-
-fn line(img: &mut RgbImage, a: (f64, f64), b: (f64, f64), colour: Rgb<u8>) {
-    let steps = ((b.0 - a.0).abs().max((b.1 - a.1).abs()).ceil() as usize).max(1);
-    for k in 0..=steps {
-        let t = k as f64 / steps as f64;
-        let (x, y) = (a.0 + t * (b.0 - a.0), a.1 + t * (b.1 - a.1));
-        for (dx, dy) in [(0.0, 0.0), (0.0, 1.0)] {
-            let (px, py) = ((x + dx).round(), (y + dy).round());
-            if px >= 0.0 && py >= 0.0 && (px as u32) < img.width() && (py as u32) < img.height() {
-                img.put_pixel(px as u32, py as u32, colour);
-            }
         }
     }
 }
