@@ -215,38 +215,23 @@ pub fn write_images(
                     .collect()
             })
         };
-        let series = |label: &str, points, colour, dashed| hier_fair::plots::Series {
-            label: label.to_string(),
-            points,
-            colour,
-            dashed,
-        };
-        let curves = [
-            series(
-                "slave before",
-                curve(&l.before, true),
-                image::Rgb([240, 150, 150]),
-                false,
-            ),
-            series(
-                "master before",
-                curve(&l.before, false),
-                image::Rgb([150, 170, 240]),
-                true,
-            ),
-            series(
-                "slave after",
-                curve(&l.after, true),
-                image::Rgb([200, 20, 20]),
-                false,
-            ),
-            series(
-                "master after",
-                curve(&l.after, false),
-                image::Rgb([20, 50, 200]),
-                true,
-            ),
-        ];
+        // light before, dark after; the slave solid red, the master dashed blue
+        let curves: Vec<hier_fair::plots::Series> = [
+            ("slave before", &l.before, true, [240, 150, 150], false),
+            ("master before", &l.before, false, [150, 170, 240], true),
+            ("slave after", &l.after, true, [200, 20, 20], false),
+            ("master after", &l.after, false, [20, 50, 200], true),
+        ]
+        .into_iter()
+        .map(
+            |(label, m, slave, colour, dashed)| hier_fair::plots::Series {
+                label: label.to_string(),
+                points: curve(m, slave),
+                colour: image::Rgb(colour),
+                dashed,
+            },
+        )
+        .collect();
         let file = format!(
             "curvature_{}.png",
             l.label
