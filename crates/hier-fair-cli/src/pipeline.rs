@@ -176,19 +176,17 @@ pub fn write_images(
     let range = render::curvature_range(&before);
     let mut written = Vec::new();
     let unit = original.units.as_deref().unwrap_or("model unit");
+    let side_view =
+        View::second_for_points(&render::sample_points(&before), IMAGE_SIZE.0, IMAGE_SIZE.1);
+    let zebra = Shading::Zebra {
+        stripes: ZEBRA_STRIPES,
+    };
     for (name, surfaces) in [("before", &before), ("after", &after)] {
-        let path = dir.join(format!("zebra_{name}.png"));
-        png(
-            &path,
-            &render::render(
-                surfaces,
-                &view,
-                Shading::Zebra {
-                    stripes: ZEBRA_STRIPES,
-                },
-            ),
-        )?;
-        written.push(path);
+        for (suffix, v) in [("", &view), ("_second_view", &side_view)] {
+            let path = dir.join(format!("zebra_{name}{suffix}.png"));
+            png(&path, &render::render(surfaces, v, zebra))?;
+            written.push(path);
+        }
         let path = dir.join(format!("mean_curvature_{name}.png"));
         let map = render::render(surfaces, &view, Shading::MeanCurvature { range });
         let map = hier_fair::plots::with_colour_bar(
@@ -308,7 +306,8 @@ pub const ZEBRA_STRIPES: f64 = 40.0;
 /// What the pictures show, for report.md.
 pub fn images_legend() -> String {
     "## Pictures (images/)\n\n\
-     - `zebra_before.png`, `zebra_after.png`: reflection-line stripes from one fixed view; a stripe \
+     - `zebra_before.png`, `zebra_after.png` (and `_second_view`, a quarter turn about the vertical, \
+     where stripes along a join in the first view run across it): reflection-line stripes; a stripe \
      that jumps at a boundary shows a G1 break, one that kinks a curvature jump (G1 without G2), \
      one that runs on smoothly G2.\n\
      - `mean_curvature_before.png`, `mean_curvature_after.png`: mean curvature H, blue (negative) – \

@@ -22,6 +22,10 @@
 use image::{Rgb, RgbImage};
 use nurbs_core::{BSplineSurface, Point3, Vector3};
 
+/// The viewing direction of the first view (from the eye into the scene): from above, half
+/// turned, so that the faces of a part seen from its top corner all show.
+pub const VIEW_DIRECTION: Vector3 = Vector3::new(0.35, -0.55, -0.76);
+
 /// Samples per direction and surface.
 pub const RENDER_GRID: usize = 64;
 
@@ -47,7 +51,20 @@ pub struct View {
 impl View {
     /// The fixed view of the module docs, fitting `points` into `width`×`height` pixels.
     pub fn for_points(points: &[Point3], width: u32, height: u32) -> View {
-        let direction = Vector3::new(0.35, -0.55, -0.76).normalize();
+        Self::from_direction(points, VIEW_DIRECTION, width, height)
+    }
+
+    /// The second view of the zebra pictures: [`VIEW_DIRECTION`] turned a quarter turn about z,
+    /// so that stripes that run along a join in the first view run across it in this one.
+    pub fn second_for_points(points: &[Point3], width: u32, height: u32) -> View {
+        let d = VIEW_DIRECTION;
+        Self::from_direction(points, Vector3::new(-d.y, d.x, d.z), width, height)
+    }
+
+    /// A view looking along `direction` (need not be unit; not parallel to z), fitting
+    /// `points` into `width`×`height` pixels.
+    pub fn from_direction(points: &[Point3], direction: Vector3, width: u32, height: u32) -> View {
+        let direction = direction.normalize();
         let z = Vector3::z();
         let right = direction.cross(&z).normalize();
         let up = right.cross(&direction).normalize();
