@@ -1,11 +1,16 @@
 //! The bad-input catalogue: every file of `tests/bad_input/` with the command it is given to
 //! and the exact first line of stderr (and exit code) it must give — `expected.tsv`, one line
 //! per file: FILE, ARGS (OUT stands for an output path in a fresh folder), CODE, FIRST LINE.
-//! No bad input may panic, hang, or write an output (exit 1 is the one partial-result case:
-//! the faired model and report are written, the failing surface named).
+//! No bad input may panic, hang, exceed the memory limit, or write an output (exit 1 is the one
+//! partial-result case: the faired model and report are written, the failing surface named).
 
 use std::path::Path;
 use std::process::Command;
+
+/// Address space each run of the catalogue may use (`ulimit -v`, KiB): 2 GiB — the binary, its
+/// threads' stacks and the largest input here need well under 100 MB; an input that made a
+/// reader allocate without bound (a grid count, a net size) would abort instead of answering.
+const MEMORY_LIMIT_KB: u64 = 2 * 1024 * 1024;
 
 #[test]
 fn every_bad_input_gives_its_one_line() {
@@ -29,7 +34,11 @@ fn every_bad_input_gives_its_one_line() {
                 }
             })
             .collect();
-        let o = Command::new(env!("CARGO_BIN_EXE_hier-fair"))
+        // under a memory limit: no bad input may reserve more than MEMORY_LIMIT_KB
+        let o = Command::new("sh")
+            .arg("-c")
+            .arg(format!("ulimit -v {MEMORY_LIMIT_KB} && exec \"$0\" \"$@\""))
+            .arg(env!("CARGO_BIN_EXE_hier-fair"))
             .args(&args)
             .current_dir(&dir)
             .output()
