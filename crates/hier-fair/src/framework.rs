@@ -1038,20 +1038,28 @@ impl Job<'_> {
                 let t = &self.set_params().tolerances;
                 for (k, l) in &labelled {
                     let target = l.target.min(*step);
-                    let miss = measure_link(l.master, last, l.side, &self.connect.measure)
-                        .is_ok_and(|m| !m.meets(target, t.g0, t.g1_deg, t.g2_rel));
-                    if miss {
-                        missed.push((*k, Problem {
-                            kind: ProblemKind::Limited,
-                            surface: name.clone(),
-                            link: Some(self.model.link_label(*k)),
-                            message: format!(
-                                "the continuity steps miss {target:?} here in every curvature lead-in tried, deviating {d:.4} (tolerance {:.4}): not a deviation conflict",
-                                self.tolerance
-                            ),
-                            amount: Some(*d),
-                        }));
+                    let Ok(m) = measure_link(l.master, last, l.side, &self.connect.measure) else {
+                        continue;
+                    };
+                    if m.meets(target, t.g0, t.g1_deg, t.g2_rel) {
+                        continue;
                     }
+                    let vertex = if target == Continuity::G2 {
+                        self.vertex_conflict(&labelled, *l, last, &m)
+                    } else {
+                        None
+                    };
+                    missed.push((*k, Problem {
+                        kind: ProblemKind::Limited,
+                        surface: name.clone(),
+                        link: Some(self.model.link_label(*k)),
+                        message: format!(
+                            "the continuity steps miss {target:?} here in every curvature lead-in tried, deviating {d:.4} (tolerance {:.4}): not a deviation conflict{}",
+                            self.tolerance,
+                            vertex.unwrap_or_default()
+                        ),
+                        amount: Some(*d),
+                    }));
                 }
             }
         }
@@ -1257,6 +1265,70 @@ impl Job<'_> {
         );
         let (_, kept, stages) = candidates.swap_remove(pick);
         Ok((kept, stages))
+    }
+
+    /// Where a missed G2 link is worst at an end of its side and the neighbouring side is G2
+    /// too, whether the two masters disagree there: their normal curvatures in the slave's
+    /// cross direction at the corner point differ by more than the G2 tolerance, so that no
+    /// surface can be G2 to both at that point (two fillets of different radii meeting at a
+    /// vertex blend's corner). Returns the phrase for the report.
+    fn vertex_conflict(
+        &self,
+        labelled: &[(usize, SideLink<'_>)],
+        link: SideLink<'_>,
+        slave: &BSplineSurface,
+        m: &LinkMeasure,
+    ) -> Option<String> {
+        // the sample of the largest absolute difference (the relative figure peaks where both
+        // curvatures are near the flatness cut-off)
+        let (t, worst) = m
+            .detail
+            .iter()
+            .filter_map(|x| Some((x.t, (x.kappa_slave? - x.kappa_master?).abs())))
+            .max_by(|x, y| x.1.total_cmp(&y.1))?;
+        let (a, b) = link.side.along_domain(slave);
+        let near = 1e-9 * (b - a).abs();
+        let (start, end) = match link.side.along_direction() {
+            Direction::U => (Side::U0, Side::U1),
+            Direction::V => (Side::V0, Side::V1),
+        };
+        let neighbour = if (t - a).abs() <= near {
+            start
+        } else if (t - b).abs() <= near {
+            end
+        } else {
+            return None;
+        };
+        let (k, other) = labelled
+            .iter()
+            .find(|(_, l)| l.side == neighbour && l.target >= Continuity::G2)?;
+        let (u, v) = link.side.params(slave, t);
+        let d = slave.derivatives(u, v);
+        let dir = match link.side.cross_direction() {
+            Direction::U => d.du,
+            Direction::V => d.dv,
+        };
+        let params = nurbs_core::ProjectionParams::default();
+        let curvature = |master: &BSplineSurface| {
+            let f = nurbs_core::project_to_surface(master, &d.point, &params);
+            let dm = master.derivatives(f.u, f.v);
+            let n = dm.normal()?;
+            let k = dm.normal_curvature(&dir)?;
+            Some((k, n))
+        };
+        let ((k1, n1), (k2, n2)) = (curvature(link.master)?, curvature(other.master)?);
+        let k2 = if n1.dot(&n2) < 0.0 { -k2 } else { k2 };
+        let diff = (k1 - k2).abs();
+        // the masters' disagreement is the reason when it accounts for at least half of the
+        // slave's miss there and is above the flatness cut-off of the measure
+        let flat = 1.0 / (g_continuity::measure::FLAT_RADIUS_FACTOR * slave.size());
+        (diff >= 0.5 * worst && diff > flat).then(|| {
+            format!(
+                "; at its corner with {} ({}), the two masters differ in normal curvature across this side by {diff:.3e} (1/length unit, {k1:.3e} against {k2:.3e}): no surface is G2 to both at that point",
+                neighbour.name(),
+                self.model.link_label(*k)
+            )
+        })
     }
 
     /// One fairing stage keeping `level` on `s` within `eps`: the stage mask, this surface's

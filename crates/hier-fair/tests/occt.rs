@@ -219,3 +219,32 @@ fn a_degenerate_corner_keeps_its_normal() {
     let a = l.after.as_ref().unwrap();
     assert!(a.g1_deg.unwrap() <= m.tolerances.g1_deg, "{a:?}");
 }
+
+/// A vertex blend between fillets of different radii cannot be G2 to both at the corner where
+/// they meet: corner3's blend C07 is linked G2 to the r = 12 fillet F10 on u0 and to the r = 9
+/// fillet F08 on v1, and across v1 at that corner F10 curves by 1/12 (its circle) while F08 is
+/// straight (its axis). The report says so for that link, with the closed-form figure.
+#[test]
+fn a_vertex_conflict_between_masters_is_named_with_its_figure() {
+    let Some(m) = model("occt_corner3_radii") else {
+        return;
+    };
+    let (_, report) =
+        fair_model(&m, &RoleMethods::default(), None, &FairParams::default()).unwrap();
+    let note = report
+        .problems
+        .iter()
+        .find(|p| {
+            p.link.as_deref() == Some("C07_bspline.v1 -> F08_cylinder")
+                && p.message.contains("no surface is G2 to both")
+        })
+        .unwrap_or_else(|| panic!("{:#?}", report.problems));
+    let figure: f64 = note
+        .message
+        .split("across this side by ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap();
+    assert!((figure - 1.0 / 12.0).abs() < 1e-4, "{}", note.message);
+}
