@@ -538,16 +538,16 @@ fn prepare(
     let max_control_points = params.max_control_points;
     let projection = params.measure.projection;
     let mut s = slave.clamped()?;
-    if let Some(w) = s.weights() {
-        if w.iter().all(|&x| x == w[0]) {
-            s = BSplineSurface::new(
-                s.knots_u().clone(),
-                s.knots_v().clone(),
-                s.control_points().to_vec(),
-                None,
-            )?;
-            report.made_polynomial = true;
-        }
+    if let Some(w) = s.weights()
+        && w.iter().all(|&x| x == w[0])
+    {
+        s = BSplineSurface::new(
+            s.knots_u().clone(),
+            s.knots_v().clone(),
+            s.control_points().to_vec(),
+            None,
+        )?;
+        report.made_polynomial = true;
     }
     for dir in [Direction::U, Direction::V] {
         let need_degree = links

@@ -29,12 +29,12 @@ pub fn run(model_text: &str, source: &str, target: Option<Continuity>) -> Result
     let (out, report) = connect(&model, &options).map_err(|e| anyhow!("{source}: {e}"))?;
     let mut text = summary(&report);
     // `--target` caps each link's own continuity; say so where it asks for more than any link
-    if let (Some(t), Some(top)) = (target, model.links.iter().map(|l| l.continuity).max()) {
-        if t > top {
-            text += &format!(
-                "note: --target {t:?} is a cap: no link of the model asks for more than {top:?}, so that is what was set (a link's continuity is its \"continuity\" in the model)\n"
-            );
-        }
+    if let (Some(t), Some(top)) = (target, model.links.iter().map(|l| l.continuity).max())
+        && t > top
+    {
+        text += &format!(
+            "note: --target {t:?} is a cap: no link of the model asks for more than {top:?}, so that is what was set (a link's continuity is its \"continuity\" in the model)\n"
+        );
     }
     Ok(ConnectOutcome {
         model_json: out.to_json(),

@@ -291,13 +291,13 @@ fn run(cli: Cli) -> Result<()> {
             if let Some(dir) = &images {
                 files::check_output_folder("--images", dir, &[&input])?;
             }
-            if let (Some(n), Some(m)) = (iterations, method) {
-                if !m.method().takes_iterations() {
-                    bail!(
-                        "--iterations {n}: the method {} is a direct solve with no iteration limit (--iterations applies to energy, energy-global, energy-bezier and krr)",
-                        m.method().name()
-                    );
-                }
+            if let (Some(n), Some(m)) = (iterations, method)
+                && !m.method().takes_iterations()
+            {
+                bail!(
+                    "--iterations {n}: the method {} is a direct solve with no iteration limit (--iterations applies to energy, energy-global, energy-bezier and krr)",
+                    m.method().name()
+                );
             }
             let mut role_tolerance = [None; 3];
             for (role, mm) in tolerance_role {
@@ -399,10 +399,10 @@ fn run(cli: Cli) -> Result<()> {
             };
             use std::io::Write;
             let mut stdout = std::io::stdout().lock();
-            if let Err(e) = stdout.write_all(text.as_bytes()) {
-                if e.kind() != std::io::ErrorKind::BrokenPipe {
-                    return Err(e.into());
-                }
+            if let Err(e) = stdout.write_all(text.as_bytes())
+                && e.kind() != std::io::ErrorKind::BrokenPipe
+            {
+                return Err(e.into());
             }
             Ok(())
         }

@@ -49,10 +49,10 @@ pub fn is_model(text: &str) -> bool {
 
 /// Runs the framework on `model` with a progress bar when stdout is a terminal.
 pub fn fair(model: &Model, options: &ModelOptions) -> Result<(Model, FairModelReport)> {
-    if let Some(t) = options.tolerance {
-        if !(t.is_finite() && t > 0.0) {
-            bail!("--tolerance must be a finite length > 0, got {t}");
-        }
+    if let Some(t) = options.tolerance
+        && !(t.is_finite() && t > 0.0)
+    {
+        bail!("--tolerance must be a finite length > 0, got {t}");
     }
     let methods = options
         .method

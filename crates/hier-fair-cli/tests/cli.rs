@@ -398,7 +398,8 @@ fn readers_bound_weight_ratios_coordinates_and_nets() {
         &std::fs::read_to_string(model_fixture("fillet_freeform.json")).unwrap(),
     )
     .unwrap();
-    let cases: [(&str, Box<dyn Fn(&mut serde_json::Value)>, &str); 3] = [
+    type Edit = Box<dyn Fn(&mut serde_json::Value)>;
+    let cases: [(&str, Edit, &str); 3] = [
         (
             "weight.json",
             Box::new(|m| {

@@ -995,11 +995,14 @@ impl Job<'_> {
             .last();
         // a step that misses its level and leaves a link worse than the input is not taken where
         // the step below met its own: G2 attempted and missed must not cost the G1 that was there
-        if let Some(k) = highest.and_then(|h| dry.steps.iter().position(|(c, _, _)| *c == h)) {
-            if k > 0 && !dry.met_steps[k] && dry.met_steps[k - 1] {
-                if let Some(worse) = self.worse_link(&labelled, &dry.steps[k].1) {
-                    let (step, below) = (dry.steps[k].0, dry.steps[k - 1].0);
-                    problems.push(Problem {
+        if let Some(k) = highest.and_then(|h| dry.steps.iter().position(|(c, _, _)| *c == h))
+            && k > 0
+            && !dry.met_steps[k]
+            && dry.met_steps[k - 1]
+            && let Some(worse) = self.worse_link(&labelled, &dry.steps[k].1)
+        {
+            let (step, below) = (dry.steps[k].0, dry.steps[k - 1].0);
+            problems.push(Problem {
                         kind: ProblemKind::Limited,
                         surface: name.clone(),
                         link: None,
@@ -1009,9 +1012,7 @@ impl Job<'_> {
                         ),
                         amount: Some(dry.steps[k].2),
                     });
-                    highest = Some(below);
-                }
-            }
+            highest = Some(below);
         }
         if let Some((step, _, d)) = dry.steps.iter().find(|(_, _, d)| *d > self.tolerance) {
             let kept = highest.map_or("its input continuity".to_string(), |c| format!("{c:?}"));
@@ -1033,23 +1034,25 @@ impl Job<'_> {
         }
         // a link the steps miss although every step stayed within the tolerance is no deviation
         // conflict: it is named with the deviation the kept trial took
-        if !dry.met && dry.steps.iter().all(|(_, _, d)| *d <= self.tolerance) {
-            if let Some((step, last, d)) = dry.steps.last() {
-                let t = &self.set_params().tolerances;
-                for (k, l) in &labelled {
-                    let target = l.target.min(*step);
-                    let Ok(m) = measure_link(l.master, last, l.side, &self.connect.measure) else {
-                        continue;
-                    };
-                    if m.meets(target, t.g0, t.g1_deg, t.g2_rel) {
-                        continue;
-                    }
-                    let vertex = if target == Continuity::G2 {
-                        self.vertex_conflict(&labelled, *l, last, &m)
-                    } else {
-                        None
-                    };
-                    missed.push((*k, Problem {
+        if !dry.met
+            && dry.steps.iter().all(|(_, _, d)| *d <= self.tolerance)
+            && let Some((step, last, d)) = dry.steps.last()
+        {
+            let t = &self.set_params().tolerances;
+            for (k, l) in &labelled {
+                let target = l.target.min(*step);
+                let Ok(m) = measure_link(l.master, last, l.side, &self.connect.measure) else {
+                    continue;
+                };
+                if m.meets(target, t.g0, t.g1_deg, t.g2_rel) {
+                    continue;
+                }
+                let vertex = if target == Continuity::G2 {
+                    self.vertex_conflict(&labelled, *l, last, &m)
+                } else {
+                    None
+                };
+                missed.push((*k, Problem {
                         kind: ProblemKind::Limited,
                         surface: name.clone(),
                         link: Some(self.model.link_label(*k)),
@@ -1060,7 +1063,6 @@ impl Job<'_> {
                         ),
                         amount: Some(*d),
                     }));
-                }
             }
         }
         let connected = highest

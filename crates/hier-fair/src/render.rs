@@ -254,17 +254,18 @@ fn draw_boundary(img: &mut RgbImage, depth: &[f64], view: &View, s: &BSplineSurf
     let (v0, v1) = s.domain_v();
     let n = BOUNDARY_SAMPLES;
     let at = |k: usize, a: f64, b: f64| a + (b - a) * k as f64 / n as f64;
-    let sides: [Box<dyn Fn(usize) -> (f64, f64)>; 4] = [
-        Box::new(|k| (u0, at(k, v0, v1))),
-        Box::new(|k| (u1, at(k, v0, v1))),
-        Box::new(|k| (at(k, u0, u1), v0)),
-        Box::new(|k| (at(k, u0, u1), v1)),
-    ];
+    // the k-th sample of side u0, u1, v0, v1
+    let param = |side: usize, k: usize| match side {
+        0 => (u0, at(k, v0, v1)),
+        1 => (u1, at(k, v0, v1)),
+        2 => (at(k, u0, u1), v0),
+        _ => (at(k, u0, u1), v1),
+    };
     let tolerance = BOUNDARY_DEPTH_PIXELS * view.scale;
-    for side in &sides {
+    for side in 0..4 {
         let pts: Vec<(f64, f64, f64)> = (0..=n)
             .map(|k| {
-                let (u, v) = side(k);
+                let (u, v) = param(side, k);
                 view.project(&s.point(u, v))
             })
             .collect();

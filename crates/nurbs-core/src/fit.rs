@@ -127,16 +127,16 @@ fn solve(problem: &Problem<'_>) -> Result<Vec<Point3>> {
             }
         }
     }
-    if problem.smoothing == 0.0 {
-        if let Some(ck) = covered.iter().position(|&c| !c) {
-            let k = col.iter().position(|&c| c == ck).unwrap_or(0);
-            return Err(Error::SingularSystem {
-                reason: format!(
-                    "control point {} has no data point in its support (a knot span without data)",
-                    (problem.name)(k)
-                ),
-            });
-        }
+    if problem.smoothing == 0.0
+        && let Some(ck) = covered.iter().position(|&c| !c)
+    {
+        let k = col.iter().position(|&c| c == ck).unwrap_or(0);
+        return Err(Error::SingularSystem {
+            reason: format!(
+                "control point {} has no data point in its support (a knot span without data)",
+                (problem.name)(k)
+            ),
+        });
     }
     let lambda = problem.smoothing;
     if lambda > 0.0 {

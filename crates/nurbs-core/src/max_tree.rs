@@ -183,7 +183,7 @@ mod tests {
                 .wrapping_add(1442695040888963407);
             let k = (x >> 33) as usize % n;
             let v = ((x >> 11) % 1000) as f64;
-            if x % 3 == 0 {
+            if x.is_multiple_of(3) {
                 // two runs of leaves (clamped to the end) through refresh_ranges
                 let start = k.min(n - 6);
                 for q in (start..start + 2).chain(start + 4..start + 6) {

@@ -185,7 +185,7 @@ pub(crate) fn split_sections(bytes: &[u8]) -> Result<Sections<'_>, IgesError> {
             detail: "the Global section is missing".into(),
         });
     }
-    if sec.d.len() % 2 != 0 {
+    if !sec.d.len().is_multiple_of(2) {
         return Err(layout(
             sec.d.last().map_or(0, |r| r.line),
             "the Directory section has an odd number of records (each entry is two)",
