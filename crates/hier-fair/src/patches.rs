@@ -53,13 +53,19 @@ pub fn shared_sides(surfaces: &[BSplineSurface]) -> Vec<[Option<SharedSide>; 4]>
     let tol = SHARED_EDGE_RELATIVE * size;
     let measure = MeasureParams::default();
     let mut out = vec![[None; 4]; surfaces.len()];
+    // control-net boxes (a surface lies in its net's hull): only patches whose boxes, grown by
+    // the tolerance, overlap are compared, so a file of many patches costs its neighbours only
+    let boxes: Vec<([f64; 3], [f64; 3])> = surfaces.iter().map(|s| net_box(s, tol)).collect();
+    let overlap = |a: usize, b: usize| {
+        (0..3).all(|d| boxes[a].0[d] <= boxes[b].1[d] && boxes[b].0[d] <= boxes[a].1[d])
+    };
     for (a, sa) in surfaces.iter().enumerate() {
         for (k, &side) in Side::ALL.iter().enumerate() {
             if is_collapsed(sa, side) {
                 continue;
             }
             'search: for (b, sb) in surfaces.iter().enumerate() {
-                if b == a {
+                if b == a || !overlap(a, b) {
                     continue;
                 }
                 for other_side in Side::ALL {
@@ -81,6 +87,19 @@ pub fn shared_sides(surfaces: &[BSplineSurface]) -> Vec<[Option<SharedSide>; 4]>
         }
     }
     out
+}
+
+/// The box of `s`'s control points, grown by `grow` on every side.
+fn net_box(s: &BSplineSurface, grow: f64) -> ([f64; 3], [f64; 3]) {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in s.control_points() {
+        for d in 0..3 {
+            lo[d] = lo[d].min(p[d] - grow);
+            hi[d] = hi[d].max(p[d] + grow);
+        }
+    }
+    (lo, hi)
 }
 
 /// The diagonal of the bounding box of all control points.
