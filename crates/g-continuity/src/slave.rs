@@ -124,14 +124,6 @@ fn side_index(side: Side) -> usize {
     }
 }
 
-/// The neighbouring sides at the start and end of `side`'s along direction.
-fn neighbours(side: Side) -> (Side, Side) {
-    match side.along_direction() {
-        Direction::U => (Side::U0, Side::U1),
-        Direction::V => (Side::V0, Side::V1),
-    }
-}
-
 fn classify(
     side: Side,
     k: usize,
@@ -139,7 +131,7 @@ fn classify(
     levels: &[Option<usize>; 4],
     move_unlinked: bool,
 ) -> Vec<Status> {
-    let (start, end) = neighbours(side);
+    let (start, end) = side.neighbours();
     (0..m)
         .map(|j| {
             let mut status = Status::Free;
@@ -209,7 +201,7 @@ fn step_all(
         let mut status = classify(l.side, k, m, &levels, params.move_unlinked_boundaries);
         // the end point on a neighbouring side collapsed to a point (a pole) is that point: it
         // never moves, so the pole stays one point and the rows next to it stay consistent
-        let (start, end) = neighbours(l.side);
+        let (start, end) = l.side.neighbours();
         if is_collapsed(&base, start) {
             status[0] = Status::Fixed;
         }
@@ -338,7 +330,7 @@ fn tangent_corners(
         if m < 3 {
             continue;
         }
-        let (start, end) = neighbours(l.side);
+        let (start, end) = l.side.neighbours();
         for (c, j, adj) in [(0, 1, start), (m - 1, m - 2, end)] {
             let Some(nb) = links
                 .iter()
@@ -408,7 +400,7 @@ fn slide(
     params: &SetParams,
 ) {
     let m = status.len();
-    let (start, end) = neighbours(side);
+    let (start, end) = side.neighbours();
     let (t0, t1) = side.along_domain(slave);
     let (nu, nv) = (slave.num_u(), slave.num_v());
     let row = side.row(k, nu, nv);

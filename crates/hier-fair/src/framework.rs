@@ -617,11 +617,12 @@ impl Job<'_> {
         // inserted knots add nothing, and the energy integrated on the finer spans differs from
         // the input's by the quadrature error of a rational surface (up to 4e-7 relative), which
         // would read as a rise
+        let energy_before = thin_plate_energy(original);
         let (surface, stages) = if processed
             && max_deviation(original, &surface, self.params.deviation_grid)
                 <= UNCHANGED_RELATIVE * original.size()
         {
-            let energy = thin_plate_energy(original);
+            let energy = energy_before;
             let stages = stages
                 .into_iter()
                 .map(|mut st| {
@@ -646,8 +647,7 @@ impl Job<'_> {
                 problems.push(p);
             }
         }
-        let (energy_before, energy_after) =
-            (thin_plate_energy(original), thin_plate_energy(&surface));
+        let energy_after = thin_plate_energy(&surface);
         if energy_after > energy_before {
             // fairing stages never raise it (`fair_stage`): the rise is what the joins cost
             problems.push(Problem {
@@ -1290,10 +1290,7 @@ impl Job<'_> {
             .max_by(|x, y| x.1.total_cmp(&y.1))?;
         let (a, b) = link.side.along_domain(slave);
         let near = 1e-9 * (b - a).abs();
-        let (start, end) = match link.side.along_direction() {
-            Direction::U => (Side::U0, Side::U1),
-            Direction::V => (Side::V0, Side::V1),
-        };
+        let (start, end) = link.side.neighbours();
         let neighbour = if (t - a).abs() <= near {
             start
         } else if (t - b).abs() <= near {

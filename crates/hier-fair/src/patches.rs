@@ -49,7 +49,11 @@ impl SharedSide {
 
 /// The shared side of every side of every patch (`None`: a free boundary).
 pub fn shared_sides(surfaces: &[BSplineSurface]) -> Vec<[Option<SharedSide>; 4]> {
-    let size = bounding_size(surfaces);
+    let points: Vec<nurbs_core::Point3> = surfaces
+        .iter()
+        .flat_map(|s| s.control_points().iter().copied())
+        .collect();
+    let size = nurbs_core::homogeneous::bounding_diagonal(&points);
     let tol = SHARED_EDGE_RELATIVE * size;
     let measure = MeasureParams::default();
     let mut out = vec![[None; 4]; surfaces.len()];
@@ -100,19 +104,6 @@ fn net_box(s: &BSplineSurface, grow: f64) -> ([f64; 3], [f64; 3]) {
         }
     }
     (lo, hi)
-}
-
-/// The diagonal of the bounding box of all control points.
-fn bounding_size(surfaces: &[BSplineSurface]) -> f64 {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for p in surfaces.iter().flat_map(|s| s.control_points()) {
-        for d in 0..3 {
-            lo[d] = lo[d].min(p[d]);
-            hi[d] = hi[d].max(p[d]);
-        }
-    }
-    (0..3).map(|d| (hi[d] - lo[d]).powi(2)).sum::<f64>().sqrt()
 }
 
 /// The frame each side keeps: at least `keep`; a tangent shared edge or a pole its tangential

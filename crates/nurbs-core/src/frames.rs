@@ -61,6 +61,15 @@ impl Side {
         }
     }
 
+    /// The sides at the start and at the end of this side's along direction (for `V0`: `U0`
+    /// and `U1`): the neighbours it shares its two corners with.
+    pub fn neighbours(self) -> (Side, Side) {
+        match self.along_direction() {
+            Direction::U => (Side::U0, Side::U1),
+            Direction::V => (Side::V0, Side::V1),
+        }
+    }
+
     /// True for the sides at the start of their cross direction (`U0`, `V0`).
     pub fn is_start(self) -> bool {
         matches!(self, Side::U0 | Side::V0)
