@@ -74,7 +74,18 @@ pub fn report_json(model: &Model, r: &ModelConnectReport) -> Value {
             })
         })
         .collect();
-    json!({ "seconds_total": r.seconds_total, "surfaces": surfaces, "links": links })
+    // the same shape as `fair`'s problems (cli-contract.md)
+    let problems: Vec<Value> = r
+        .surfaces
+        .iter()
+        .filter_map(|s| {
+            let why = s.fallback.as_ref()?;
+            Some(json!({
+                "kind": "limited", "surface": s.name, "link": null, "message": why, "amount": null,
+            }))
+        })
+        .collect();
+    json!({ "seconds_total": r.seconds_total, "surfaces": surfaces, "links": links, "problems": problems })
 }
 
 fn summary(r: &ModelConnectReport) -> String {
@@ -100,6 +111,11 @@ fn summary(r: &ModelConnectReport) -> String {
             f(l.before.g1_deg),
             f(l.after.g1_deg)
         );
+    }
+    for s in &r.surfaces {
+        if let Some(why) = &s.fallback {
+            out += &format!("limited: {}: {why}\n", s.name);
+        }
     }
     let moved = r
         .surfaces

@@ -5,23 +5,50 @@
 //! links is connected to its masters — which are already final, as they come earlier — by
 //! [`g_continuity::connect_slave`] (C0 → G1 → G2, twists, knot insertion). Masters never move.
 //! Each link's target is its own continuity, capped by [`ConnectOptions::target`].
+//!
+//! Never worse than the input ([SV] §1.1: the hierarchy exists so that a slave adapts to its
+//! masters, not the other way round, and a join already made must not be lost): a slave whose
+//! result leaves any of its links with a larger gap, normal angle or curvature difference than
+//! the input had is set again with the corners' end tangents turned into the neighbouring
+//! masters' tangent planes, then with its G2 links capped at G1, and kept as it was when none
+//! of these is no worse; of the candidates the one whose links grow the least wins (a gap before
+//! an angle before a curvature), and the report says which and why.
 
 use std::time::Instant;
 
 use g_continuity::{ConnectParams, LinkMeasure, SideLink, Tolerances, connect_slave};
 use nurbs_core::Continuity;
 
-use crate::check::check_model;
+use crate::check::{check_model, measure_model};
 use crate::error::{Error, Result};
 use crate::model::{Model, Role};
 
 /// Settings of [`connect`].
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ConnectOptions {
     /// The highest continuity set (`None`: each link's own target).
     pub target: Option<Continuity>,
     /// Continuity setting; its tolerances are replaced by the model's.
     pub params: ConnectParams,
+}
+
+impl Default for ConnectOptions {
+    /// Each link's own target; the continuity setting with the widest curvature lead-in at its
+    /// G2 sides ([`g_continuity::MAX_LEAD_IN`]) and nets bounded as in the framework
+    /// ([`crate::framework::MAX_NET`]). Without a lead-in a G2 side whose three boundary rows
+    /// are all there is (a kernel's degree-2 rolling-ball fillet) is rebuilt across its whole
+    /// width: 0.52 for a fillet of radius 5, against 0.012 with the lead-in — the fairest
+    /// transition is the widest ([SV] §4.2), and `connect` has no deviation budget to narrow it.
+    fn default() -> Self {
+        Self {
+            target: None,
+            params: ConnectParams {
+                lead_in: Some(g_continuity::MAX_LEAD_IN),
+                max_control_points: crate::framework::MAX_NET,
+                ..ConnectParams::default()
+            },
+        }
+    }
 }
 
 /// What happened to one slave surface.
@@ -49,6 +76,9 @@ pub struct SurfaceConnect {
     pub twists_averaged: usize,
     /// seconds spent
     pub seconds: f64,
+    /// Why the plain continuity setting was not kept (it made a link worse than the input),
+    /// and what was kept instead; `None` when it was kept.
+    pub fallback: Option<String>,
 }
 
 /// Before/after of one link.
@@ -113,11 +143,19 @@ pub fn connect(model: &Model, options: &ConnectOptions) -> Result<(Model, ModelC
                 }
             })
             .collect();
-        let (result, report) =
-            connect_slave(original, &links, &params).map_err(|source| Error::Continuity {
-                place: format!("surface {}", model.surfaces[k].name),
-                source,
-            })?;
+        let (result, report, fallback) = protected(
+            original,
+            &links,
+            &params,
+            &link_ids
+                .iter()
+                .map(|&i| &before[i].measure)
+                .collect::<Vec<_>>(),
+        )
+        .map_err(|source| Error::Continuity {
+            place: format!("surface {}", model.surfaces[k].name),
+            source,
+        })?;
         drop(links);
         surfaces.push(SurfaceConnect {
             surface: k,
@@ -131,10 +169,13 @@ pub fn connect(model: &Model, options: &ConnectOptions) -> Result<(Model, ModelC
             refinements: report.refinements,
             twists_averaged: report.twists_averaged,
             seconds: t0.elapsed().as_secs_f64(),
+            fallback,
         });
         out.surfaces[k].surface = result;
     }
-    let after = check_model(&out, &params.measure)?;
+    // measured whether or not a link still touches: a link the candidates could not keep
+    // touching is reported with its gap, not refused after the work
+    let after = measure_model(&out, &params.measure)?;
     let links = before
         .into_iter()
         .zip(after)
@@ -154,4 +195,147 @@ pub fn connect(model: &Model, options: &ConnectOptions) -> Result<(Model, ModelC
             links,
         },
     ))
+}
+
+/// [`connect_slave`] with the never-worse rule of the module docs: the result and its report,
+/// and the fallback phrase when the plain setting was not kept. `before` holds each link's
+/// measure on the input model.
+fn protected(
+    original: &nurbs_core::BSplineSurface,
+    links: &[SideLink],
+    params: &ConnectParams,
+    before: &[&LinkMeasure],
+) -> std::result::Result<
+    (
+        nurbs_core::BSplineSurface,
+        g_continuity::ConnectReport,
+        Option<String>,
+    ),
+    g_continuity::Error,
+> {
+    let growth = |s: &nurbs_core::BSplineSurface| -> [f64; 3] {
+        let mut worst = [0.0f64; 3];
+        for (l, b) in links.iter().zip(before) {
+            let Ok(a) = g_continuity::measure::measure_link(l.master, s, l.side, &params.measure)
+            else {
+                // a link that cannot be measured on the candidate counts as opened
+                worst[0] = f64::INFINITY;
+                continue;
+            };
+            let g = crate::framework::growths(b, &a, l.target, &params.tolerances);
+            for (w, x) in worst.iter_mut().zip(g) {
+                *w = w.max(x);
+            }
+        }
+        worst
+    };
+    let no_worse = |g: &[f64; 3]| g.iter().all(|&x| x <= 1.0);
+    // the rule is about gaps and angles; a curvature difference that grows (a vertex blend
+    // between masters that disagree) is reported, and does not make every variant run
+    let joins_kept = |g: &[f64; 3]| g[0] <= 1.0 && g[1] <= 1.0;
+    let first = connect_slave(original, links, params)?;
+    let g = growth(&first.0);
+    if no_worse(&g) {
+        return Ok((first.0, first.1, None));
+    }
+    let mut candidates = vec![("the continuity setting", first.0, first.1, g)];
+    let turned = ConnectParams {
+        set: g_continuity::SetParams {
+            tangent_corners: true,
+            ..params.set
+        },
+        ..*params
+    };
+    let g1_links: Vec<SideLink> = links
+        .iter()
+        .map(|l| SideLink {
+            target: l.target.min(Continuity::G1),
+            ..*l
+        })
+        .collect();
+    let mut variants: Vec<(&str, &[SideLink], &ConnectParams)> = vec![(
+        "the setting with the corner tangents turned",
+        links,
+        &turned,
+    )];
+    if links.iter().any(|l| l.target >= Continuity::G2) {
+        variants.push(("the setting capped at G1", &g1_links, params));
+    }
+    // the steps one by one, as the framework's dry run takes them: each step's refinement
+    // starts from the rows the step below met, where the single call refines for all at once
+    for (what, p) in [
+        ("the setting step by step", params),
+        (
+            "the setting step by step with the corner tangents turned",
+            &turned,
+        ),
+    ] {
+        if candidates.iter().any(|c| joins_kept(&c.3)) {
+            break;
+        }
+        if let Ok(s) = stepwise(original, links, p) {
+            let g = growth(&s.0);
+            candidates.push((what, s.0, s.1, g));
+        }
+    }
+    for (what, ls, p) in variants {
+        if candidates.iter().any(|c| joins_kept(&c.3)) {
+            break;
+        }
+        // a variant that fails is no candidate; the plain setting's result stands for it
+        let Ok((s, r)) = connect_slave(original, ls, p) else {
+            continue;
+        };
+        let g = growth(&s);
+        candidates.push((what, s, r, g));
+    }
+    let unchanged = g_continuity::ConnectReport::default();
+    let g = growth(original);
+    candidates.push(("the surface as it was", original.clone(), unchanged, g));
+    let pick = (0..candidates.len())
+        .find(|&k| no_worse(&candidates[k].3))
+        .unwrap_or_else(|| {
+            (1..candidates.len()).fold(0, |best, k| {
+                if crate::framework::growth_order(candidates[k].3, candidates[best].3).is_lt() {
+                    k
+                } else {
+                    best
+                }
+            })
+        });
+    let figures: Vec<String> = candidates
+        .iter()
+        .map(|(what, _, _, g)| format!("{what}: {}", crate::framework::growth_text(*g)))
+        .collect();
+    let why = format!(
+        "the continuity setting would leave a link worse than the input; kept {}, whose links grow the least against the input — {}",
+        candidates[pick].0,
+        figures.join("; ")
+    );
+    let (_, s, r, _) = candidates.swap_remove(pick);
+    Ok((s, r, Some(why)))
+}
+
+/// C0, then G1, then G2 (as far as the links ask), each by [`g_continuity::set_step`] on the
+/// result of the one below, after [`g_continuity::prepare_slave`].
+fn stepwise(
+    original: &nurbs_core::BSplineSurface,
+    links: &[SideLink],
+    params: &ConnectParams,
+) -> std::result::Result<
+    (nurbs_core::BSplineSurface, g_continuity::ConnectReport),
+    g_continuity::Error,
+> {
+    let (mut s, mut report) = g_continuity::prepare_slave(original, links, params)?;
+    let top = links.iter().map(|l| l.target).max();
+    for step in [Continuity::G0, Continuity::G1, Continuity::G2] {
+        if Some(step) > top {
+            break;
+        }
+        let (next, r) = g_continuity::set_step(&s, links, step, params)?;
+        report.knots_inserted += r.knots_inserted;
+        report.max_control_movement = report.max_control_movement.max(r.max_move);
+        s = next;
+    }
+    Ok((s, report))
 }

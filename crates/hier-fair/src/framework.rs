@@ -1446,7 +1446,7 @@ impl Job<'_> {
 /// relative figure that grows while the absolute difference shrinks means that both curvatures
 /// went down — a lead-in flattening a vertex blend next to a fillet that is straight across the
 /// join (box12_r5: 1.000 → 1.002 while |Δκ| went 0.2 → 2e-4): the join got better, not worse.
-fn growths(
+pub(crate) fn growths(
     before: &LinkMeasure,
     after: &LinkMeasure,
     target: Continuity,
@@ -1507,7 +1507,7 @@ pub fn worse_than(
 /// then the angle, then the curvature — a join that opens is a defect, one that loses
 /// tangency is visible in every reflection, a curvature step only in a zebra or curvature
 /// plot. A factor up to 1 (no link worse) counts as 1.
-fn growth_order(a: [f64; 3], b: [f64; 3]) -> std::cmp::Ordering {
+pub(crate) fn growth_order(a: [f64; 3], b: [f64; 3]) -> std::cmp::Ordering {
     a.iter()
         .zip(&b)
         .map(|(x, y)| x.max(1.0).total_cmp(&y.max(1.0)))
@@ -1516,7 +1516,7 @@ fn growth_order(a: [f64; 3], b: [f64; 3]) -> std::cmp::Ordering {
 }
 
 /// `[gap, angle, curvature]` growth factors, as a report phrase.
-fn growth_text(g: [f64; 3]) -> String {
+pub(crate) fn growth_text(g: [f64; 3]) -> String {
     format!(
         "gap {:.3} ×, angle {:.3} ×, curvature {:.3} ×",
         g[0], g[1], g[2]

@@ -248,3 +248,28 @@ fn a_vertex_conflict_between_masters_is_named_with_its_figure() {
         .unwrap();
     assert!((figure - 1.0 / 12.0).abs() < 1e-4, "{}", note.message);
 }
+
+/// `connect` (continuity setting alone) on every kernel model: no link leaves with a larger gap
+/// or normal angle than in the input, and a slave whose plain setting would have made a link
+/// worse says what was kept instead.
+#[test]
+fn connect_never_leaves_a_link_worse_than_the_input() {
+    for name in MODELS {
+        let Some(m) = model(name) else { return };
+        let (_, report) = hier_fair::connect(&m, &hier_fair::ConnectOptions::default()).unwrap();
+        let t = tolerances(&m);
+        for l in &report.links {
+            assert_eq!(
+                worse_than(&l.before, &l.after, l.target.min(Continuity::G1), &t),
+                None,
+                "{name}: {}",
+                l.label
+            );
+        }
+        for s in &report.surfaces {
+            if let Some(why) = &s.fallback {
+                assert!(why.contains("kept"), "{name}: {}: {why}", s.name);
+            }
+        }
+    }
+}
