@@ -204,9 +204,19 @@ pub fn regress_line(name: &str, report: &hier_fair::FairModelReport) -> String {
 /// Header of [`regress_line`].
 pub const REGRESS_HEADER: &str = "model                        surf  met/links        gap     angle°   curv.rel  deviation   energy  seconds  probl";
 
-/// The fixture models followed by the third-party models of `external` (car_shell1.model.json,
-/// submarine_body.model.json, teapot.json and the six kernel models of `occt/`; each skipped
-/// with a note when absent).
+/// The six models made by Open CASCADE for this project, in `fixtures/occt/` (see its README).
+pub const OCCT_MODELS: [&str; 6] = [
+    "occt_corner3_radii",
+    "occt_box12_r5",
+    "occt_box12_variable",
+    "occt_plate_boss",
+    "occt_pipe_tee",
+    "occt_loft_block",
+];
+
+/// The fixture models, the third-party models of `external` (car_shell1.model.json,
+/// submarine_body.model.json, teapot.json; each skipped with a note when absent) and the six
+/// kernel models of `fixtures/occt/`.
 pub fn regress_paths(external: &Path) -> Result<(Vec<PathBuf>, Vec<String>)> {
     let mut paths = model_files()?;
     let mut notes = Vec::new();
@@ -214,12 +224,6 @@ pub fn regress_paths(external: &Path) -> Result<(Vec<PathBuf>, Vec<String>)> {
         "car_shell1.model.json",
         "submarine_body.model.json",
         "teapot.json",
-        "occt/occt_corner3_radii.json",
-        "occt/occt_box12_r5.json",
-        "occt/occt_box12_variable.json",
-        "occt/occt_plate_boss.json",
-        "occt/occt_pipe_tee.json",
-        "occt/occt_loft_block.json",
     ] {
         let p = external.join(name);
         if p.exists() {
@@ -227,6 +231,10 @@ pub fn regress_paths(external: &Path) -> Result<(Vec<PathBuf>, Vec<String>)> {
         } else {
             notes.push(format!("{} not found: skipped", p.display()));
         }
+    }
+    // the kernel models are the project's own and live in the repository: never skipped
+    for name in OCCT_MODELS {
+        paths.push(root().join("fixtures/occt").join(format!("{name}.json")));
     }
     Ok((paths, notes))
 }

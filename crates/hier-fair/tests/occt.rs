@@ -1,7 +1,6 @@
-//! Models made by a CAD kernel (Open CASCADE, `../shared/data/occt`, read in place): planes as
+//! Models made by a CAD kernel (Open CASCADE, `fixtures/occt/` of the repository): planes as
 //! bilinear 2×2 nets, rolling-ball fillets as rational quadratic arcs, spherical vertex blends with
-//! a pole, freeform rational fillets, trimmed masters. Each test skips (passes with a note) when
-//! the data folder is absent.
+//! a pole, freeform rational fillets, trimmed masters.
 
 use g_continuity::Tolerances;
 use hier_fair::framework::{MAX_NET, worse_than};
@@ -18,16 +17,13 @@ const MODELS: [&str; 6] = [
 ];
 
 fn model(name: &str) -> Option<Model> {
+    // the models are part of the repository: a missing one is a failure, never a skip
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/data/occt")
+        .join("../../fixtures/occt")
         .join(format!("{name}.json"));
-    match std::fs::read_to_string(&path) {
-        Ok(text) => Some(Model::from_json(&text).unwrap()),
-        Err(_) => {
-            eprintln!("skipping: {} is not available", path.display());
-            None
-        }
-    }
+    let text = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    Some(Model::from_json(&text).unwrap())
 }
 
 fn tolerances(model: &Model) -> Tolerances {
