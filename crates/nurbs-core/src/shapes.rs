@@ -146,3 +146,100 @@ pub fn paraboloid_bicubic(interior: &[f64]) -> Result<BSplineSurface> {
         .refine(Direction::U, interior)?
         .refine(Direction::V, interior)
 }
+
+/// Knots, control coefficients (cos, sin) and weights of a unit arc ([`unit_arc`]).
+pub type UnitArc = (KnotVector, Vec<(f64, f64)>, Vec<f64>);
+
+/// Relative overshoot of a full turn that [`unit_arc`] accepts (see there).
+pub const FULL_TURN_SLACK: f64 = 1e-4;
+
+/// The unit arc from angle `start` to `end` (radians, counterclockwise; `end` > `start`, at most
+/// a full turn and [`FULL_TURN_SLACK`]) as rational quadratic Bézier segments of at most 90° joined with double knots
+/// ([NB] A7.1): control coefficients (a, b) with cos θ = Σ R_k a_k, sin θ = Σ R_k b_k exactly, and
+/// the knots running from `start` to `end` (the parameter is not the angle inside a segment,
+/// but the ends are).
+pub fn unit_arc(start: f64, end: f64) -> Result<UnitArc> {
+    let sweep = end - start;
+    // a kernel writes a closed surface's terminate angle with a small overshoot (OCCT:
+    // 6.28320989 for 2π, 4e-6 relative); the surface then overlaps itself by that much
+    if !(sweep > 0.0 && sweep <= std::f64::consts::TAU * (1.0 + FULL_TURN_SLACK)) {
+        return Err(crate::error::Error::Degenerate {
+            detail: format!("arc sweep {sweep} rad from {start} to {end}, expected in (0, 2π]"),
+        });
+    }
+    let segments = (sweep / std::f64::consts::FRAC_PI_2 - 1e-9).ceil().max(1.0) as usize;
+    let step = sweep / segments as f64;
+    let w = (step / 2.0).cos();
+    let mut pts = vec![(start.cos(), start.sin())];
+    let mut weights = vec![1.0];
+    let mut knots = vec![start; 3];
+    for k in 0..segments {
+        let (a, b) = (start + k as f64 * step, start + (k + 1) as f64 * step);
+        let mid = 0.5 * (a + b);
+        // the tangents at the segment's ends meet at distance 1 / cos(step / 2) on the bisector
+        pts.push((mid.cos() / w, mid.sin() / w));
+        weights.push(w);
+        let b = if k + 1 == segments { end } else { b };
+        pts.push((b.cos(), b.sin()));
+        weights.push(1.0);
+        if k + 1 < segments {
+            knots.extend([b, b]);
+        }
+    }
+    knots.extend([end; 3]);
+    Ok((KnotVector::new(2, knots)?, pts, weights))
+}
+
+/// The arc of radius `r` about `center` in the plane spanned by the orthonormal `x` and `y`,
+/// from angle `start` to `end` (radians, counterclockwise from `x` towards `y`), rational
+/// quadratic ([NB] A7.1).
+pub fn arc(
+    center: Point3,
+    x: crate::Vector3,
+    y: crate::Vector3,
+    r: f64,
+    start: f64,
+    end: f64,
+) -> Result<BSplineCurve> {
+    let (kv, pts, w) = unit_arc(start, end)?;
+    let points = pts
+        .iter()
+        .map(|&(a, b)| center + x * (r * a) + y * (r * b))
+        .collect();
+    BSplineCurve::new(kv, points, Some(w))
+}
+
+/// The surface swept by `curve` turning about the axis through `origin` with unit direction
+/// `axis` from angle `start` to `end` (radians, right-handed about `axis`): u is the curve's
+/// parameter, v the turn ([NB] A8.1). Exact: a point P turned by θ is
+/// O + cos θ (P − O) + sin θ (axis × (P − O)) with O its foot on the axis, and the rational arc
+/// reproduces (cos θ, sin θ), so P_ij = O_i + a_j X_i + b_j (axis × X_i), w_ij = w_i w_j. A
+/// control point on the axis gives a row collapsed to that point (a sphere's pole).
+pub fn revolve_curve(
+    curve: &BSplineCurve,
+    origin: Point3,
+    axis: crate::Vector3,
+    start: f64,
+    end: f64,
+) -> Result<BSplineSurface> {
+    let axis = axis
+        .try_normalize(0.0)
+        .ok_or_else(|| crate::error::Error::Degenerate {
+            detail: "the axis of revolution has zero length".to_string(),
+        })?;
+    let (kv, rot, wv) = unit_arc(start, end)?;
+    let cw = curve.weights();
+    let mut points = Vec::new();
+    let mut weights = Vec::new();
+    for (i, p) in curve.control_points().iter().enumerate() {
+        let foot = origin + axis * axis.dot(&(p - origin));
+        let x = p - foot;
+        let y = axis.cross(&x);
+        let wi = cw.map_or(1.0, |w| w[i]);
+        for (&(a, b), &wj) in rot.iter().zip(&wv) {
+            points.push(foot + x * a + y * b);
+            weights.push(wi * wj);
+        }
+    }
+    BSplineSurface::new(curve.knots().clone(), kv, points, Some(weights))
+}

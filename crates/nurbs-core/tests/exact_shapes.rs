@@ -217,3 +217,112 @@ fn poles_have_no_normal() {
         assert!(inside.principal_curvatures().is_some());
     }
 }
+
+/// Arcs of any sweep up to a full turn are exact: every point at the radius, the ends at the
+/// given angles, the angle increasing along the arc.
+#[test]
+fn arcs_of_every_sweep_are_exact() {
+    for (start, end) in [
+        (0.3, 0.9),
+        (-1.0, 2.0),
+        (4.712_388_98, 6.283_2),
+        (0.0, std::f64::consts::TAU),
+    ] {
+        let c = nurbs_core::shapes::arc(
+            Point3::new(1.0, 2.0, 3.0),
+            Vector3::x(),
+            Vector3::y(),
+            2.5,
+            start,
+            end,
+        )
+        .unwrap();
+        let (t0, t1) = c.knots().domain();
+        assert_eq!((t0, t1), (start, end));
+        let mut last = f64::NEG_INFINITY;
+        for k in 0..=200 {
+            let t = t0 + (t1 - t0) * k as f64 / 200.0;
+            let p = c.point(t) - Point3::new(1.0, 2.0, 3.0);
+            assert!((p.norm() - 2.5).abs() < 1e-12, "{start}..{end} at {t}");
+            assert!(p.z.abs() < 1e-15);
+            // unwrapped angle from the start direction
+            let a = start + (p.y.atan2(p.x) - start).rem_euclid(std::f64::consts::TAU);
+            let a = if k == 200 && a < last {
+                a + std::f64::consts::TAU
+            } else {
+                a
+            };
+            assert!(a >= last - 1e-12, "{start}..{end}: angle falls at {t}");
+            last = a;
+        }
+        let e = c.point(t1) - Point3::new(1.0, 2.0, 3.0);
+        assert!((e - Vector3::new(end.cos(), end.sin(), 0.0) * 2.5).norm() < 1e-12);
+    }
+    assert!(nurbs_core::shapes::unit_arc(1.0, 1.0).is_err());
+    assert!(nurbs_core::shapes::unit_arc(0.0, 7.0).is_err());
+}
+
+/// A line parallel to an oblique axis turned about it is a cylinder (every point at the
+/// distance, curvatures 1/r and 0); a half circle with its ends on the axis is a sphere with two
+/// poles (curvature 1/r in every direction).
+#[test]
+fn surfaces_of_revolution_are_exact() {
+    use nurbs_core::{BSplineCurve, KnotVector};
+    let origin = Point3::new(1.0, -2.0, 0.5);
+    let axis = Vector3::new(1.0, 2.0, 2.0) / 3.0;
+    let side = Vector3::new(2.0, -1.0, 0.0).normalize() * 4.0;
+    let line = BSplineCurve::new(
+        KnotVector::bezier(1).unwrap(),
+        vec![origin + side, origin + side + axis * 10.0],
+        None,
+    )
+    .unwrap();
+    let cyl = nurbs_core::shapes::revolve_curve(&line, origin, axis * 3.0, 0.2, 2.9).unwrap();
+    let y = axis.cross(&side.normalize());
+    let sphere_profile = nurbs_core::shapes::arc(
+        origin,
+        side.normalize(),
+        axis,
+        3.0,
+        -std::f64::consts::FRAC_PI_2,
+        std::f64::consts::FRAC_PI_2,
+    )
+    .unwrap();
+    let sphere =
+        nurbs_core::shapes::revolve_curve(&sphere_profile, origin, axis, 0.0, 5.0).unwrap();
+    for a in 0..=10 {
+        for b in 0..=10 {
+            let (u, v) = (a as f64 / 10.0, 0.2 + 2.7 * b as f64 / 10.0);
+            let d = cyl.derivatives(u, v);
+            let r = d.point - origin;
+            let radial = r - axis * axis.dot(&r);
+            assert!((radial.norm() - 4.0).abs() < 1e-12);
+            let k = d.principal_curvatures().unwrap();
+            let (lo, hi) = (k.k1.abs().min(k.k2.abs()), k.k1.abs().max(k.k2.abs()));
+            assert!(lo < 1e-9 && (hi - 0.25).abs() < 1e-9, "{k:?}");
+            let (u, v) = (
+                -std::f64::consts::FRAC_PI_2
+                    + std::f64::consts::PI * (0.05 + 0.9 * a as f64 / 10.0),
+                5.0 * b as f64 / 10.0,
+            );
+            let d = sphere.derivatives(u, v);
+            assert!(((d.point - origin).norm() - 3.0).abs() < 1e-12);
+            // umbilic everywhere: H = ±1/r, K = 1/r²
+            let (h, g) = (d.mean_curvature().unwrap(), d.gaussian_curvature().unwrap());
+            assert!(
+                (h.abs() - 1.0 / 3.0).abs() < 1e-8 && (g - 1.0 / 9.0).abs() < 1e-8,
+                "{h} {g}"
+            );
+        }
+    }
+    // the start angle turns the generatrix by that much about the axis
+    let p = cyl.point(0.0, 0.2);
+    let want = origin + side * 0.2f64.cos() + y * 4.0 * 0.2f64.sin();
+    assert!((p - want).norm() < 1e-12);
+    // the sphere's profile ends lie on the axis: both rows collapse to a pole
+    let n = sphere.num_v();
+    for i in [0, sphere.num_u() - 1] {
+        let first = sphere.control_point(i, 0);
+        assert!((0..n).all(|j| (sphere.control_point(i, j) - first).norm() < 1e-12));
+    }
+}

@@ -1,6 +1,7 @@
 //! The IGES reader: records, sections, global parameters, directory, parameter data, and the
-//! entities 128 (rational B-spline surface), 126 (curve), 144 (trimmed surface) and 124
-//! (transformation matrix) ([IGES] §2, §4.23, §4.24, §4.34, §4.21).
+//! entities 128 (rational B-spline surface), 120 (surface of revolution, with its 110 axis and
+//! its 110 / 100 / 126 generatrix), 126 (curve), 144 (trimmed surface) and 124 (transformation
+//! matrix) ([IGES] §2, §4.3, §4.13, §4.16, §4.23, §4.24, §4.34, §4.21).
 //!
 //! Control points of entity 128 are stored with the u index varying fastest, W(0,0), W(1,0), …;
 //! here they go to the flat net `P[i * n_v + j]`. Weights that are all equal make a polynomial
@@ -21,7 +22,7 @@ const P_DATA_COLUMNS: usize = 64;
 /// Nesting limit of transformation matrices that reference further matrices.
 const MAX_TRANSFORM_CHAIN: usize = 32;
 
-/// A surface read from entity 128.
+/// A surface read from entity 128 or 120.
 #[derive(Debug, Clone, PartialEq)]
 pub struct IgesSurface {
     /// directory sequence number of the entity
@@ -60,7 +61,7 @@ pub struct IgesFile {
     pub unit_flag: i64,
     /// model-space scale of the Global section
     pub scale: f64,
-    /// entity-128 surfaces in directory order
+    /// entity-128 and entity-120 surfaces in directory order
     pub surfaces: Vec<IgesSurface>,
     /// entity-126 curves in directory order
     pub curves: Vec<IgesCurve>,
@@ -577,6 +578,124 @@ impl Reader<'_> {
         })
     }
 
+    /// A curve entity as an exact NURBS curve: 110 (line segment, degree 1), 100 (circular arc,
+    /// rational quadratic, [IGES] §4.3: centre, start and end in the plane z = ZT of its
+    /// definition space, counterclockwise; start = end is a full circle) or 126. The entity's
+    /// transformation applies to the control points, which is exact for a rational curve.
+    fn any_curve(&self, e: &DirEntry, scale: f64) -> Result<BSplineCurve, IgesError> {
+        let params = entity_params(e, &self.p, &self.global)?;
+        let mut c = Cursor {
+            params: &params,
+            next: 1,
+            e,
+        };
+        let g = Self::geometry_err(e);
+        match e.entity_type {
+            110 => {
+                let ends = c.reals(6)?;
+                let pts = self.points(e, &ends, scale)?;
+                BSplineCurve::new(nurbs_core::KnotVector::bezier(1).map_err(&g)?, pts, None)
+                    .map_err(&g)
+            }
+            100 => {
+                let v = c.reals(7)?;
+                let (zt, centre) = (v[0], (v[1], v[2]));
+                let (a, b) = (
+                    (v[3] - centre.0, v[4] - centre.1),
+                    (v[5] - centre.0, v[6] - centre.1),
+                );
+                let r = a.0.hypot(a.1);
+                let start = a.1.atan2(a.0);
+                let mut end = b.1.atan2(b.0);
+                while end <= start + 1e-12 {
+                    end += std::f64::consts::TAU;
+                }
+                let arc = nurbs_core::shapes::arc(
+                    Point3::new(centre.0, centre.1, zt),
+                    nurbs_core::Vector3::x(),
+                    nurbs_core::Vector3::y(),
+                    r,
+                    start,
+                    end,
+                )
+                .map_err(&g)?;
+                let coords: Vec<f64> = arc
+                    .control_points()
+                    .iter()
+                    .flat_map(|p| [p.x, p.y, p.z])
+                    .collect();
+                let pts = self.points(e, &coords, scale)?;
+                BSplineCurve::new(arc.knots().clone(), pts, arc.weights().map(<[f64]>::to_vec))
+                    .map_err(&g)
+            }
+            126 => Ok(self.curve(e, scale)?.curve),
+            other => Err(IgesError::Entity {
+                de: e.seq,
+                entity_type: other,
+                detail:
+                    "a curve of this type is not read (lines 110, arcs 100 and B-splines 126 are)"
+                        .to_string(),
+            }),
+        }
+    }
+
+    /// Entity 120, the surface of revolution ([IGES] §4.16): the generatrix C turned about the
+    /// axis line L from the start angle SA to the terminate angle TA, right-handed about L's
+    /// direction (start point to end point), as an exact rational surface
+    /// ([`nurbs_core::shapes::revolve_curve`]): u along C, v around the axis.
+    fn revolution(&self, e: &DirEntry, scale: f64) -> Result<IgesSurface, IgesError> {
+        let params = entity_params(e, &self.p, &self.global)?;
+        let mut c = Cursor {
+            params: &params,
+            next: 1,
+            e,
+        };
+        let axis = self.entry(c.int()?, e)?;
+        let generatrix = self.entry(c.int()?, e)?;
+        let (sa, ta) = (c.real()?, c.real()?);
+        if axis.entity_type != 110 {
+            return Err(IgesError::Entity {
+                de: e.seq,
+                entity_type: e.entity_type,
+                detail: format!(
+                    "the axis is entity {}, expected a line (110)",
+                    axis.entity_type
+                ),
+            });
+        }
+        // the axis and the generatrix are in the 120's definition space: the surface is built
+        // there, then the 120's own transformation and the model scale apply to its net
+        let line = self.any_curve(axis, 1.0)?;
+        let (o, d) = (
+            line.control_points()[0],
+            line.control_points()[1] - line.control_points()[0],
+        );
+        let curve = self.any_curve(generatrix, 1.0)?;
+        let g = Self::geometry_err(e);
+        let local = nurbs_core::shapes::revolve_curve(&curve, o, d, sa, ta).map_err(&g)?;
+        let coords: Vec<f64> = local
+            .control_points()
+            .iter()
+            .flat_map(|p| [p.x, p.y, p.z])
+            .collect();
+        let points = self.points(e, &coords, scale)?;
+        let surface = BSplineSurface::new(
+            local.knots_u().clone(),
+            local.knots_v().clone(),
+            points,
+            local.weights().map(<[f64]>::to_vec),
+        )
+        .map_err(&g)?;
+        let (t0, t1) = curve.knots().domain();
+        Ok(IgesSurface {
+            de: e.seq,
+            name: Self::name(e),
+            surface,
+            trimmed: false,
+            param_range: [t0, t1, sa, ta],
+        })
+    }
+
     fn curve(&self, e: &DirEntry, scale: f64) -> Result<IgesCurve, IgesError> {
         let params = entity_params(e, &self.p, &self.global)?;
         let mut c = Cursor {
@@ -657,6 +776,7 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
     for e in &reader.dir {
         match e.entity_type {
             128 => file.surfaces.push(reader.surface(e, scale)?),
+            120 => file.surfaces.push(reader.revolution(e, scale)?),
             126 => file.curves.push(reader.curve(e, scale)?),
             144 => {
                 let params = entity_params(e, &reader.p, &reader.global)?;

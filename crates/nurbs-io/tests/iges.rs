@@ -153,15 +153,16 @@ fn transformation_matrices_are_applied() {
 fn impeller_from_a_commercial_system() {
     let Some(bytes) = impeller() else { return };
     let f = read_iges(&bytes).unwrap();
-    assert_eq!(f.surfaces.len(), 247);
+    // 247 B-spline surfaces (128) and 30 surfaces of revolution (120), each under a 144
+    assert_eq!(f.surfaces.len(), 277);
     assert_eq!(f.trimmed_entities, 277);
-    assert_eq!(f.surfaces.iter().filter(|s| s.trimmed).count(), 247);
+    assert_eq!(f.surfaces.iter().filter(|s| s.trimmed).count(), 277);
     assert_eq!(
         f.surfaces
             .iter()
             .filter(|s| s.surface.is_rational())
             .count(),
-        212
+        212 + 30
     );
     assert_eq!(f.curves.len(), 2342);
     assert_eq!(f.units, "MM");
