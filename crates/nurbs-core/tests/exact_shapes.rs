@@ -225,7 +225,7 @@ fn arcs_of_every_sweep_are_exact() {
     for (start, end) in [
         (0.3, 0.9),
         (-1.0, 2.0),
-        (4.712_388_98, 6.283_2),
+        (4.712_388_98, 6.1),
         (0.0, std::f64::consts::TAU),
     ] {
         let c = nurbs_core::shapes::arc(
