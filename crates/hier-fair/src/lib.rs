@@ -9,6 +9,7 @@
 //! (JSON text, models, reports), never paths. References (keys in brackets) are listed in
 //! `docs/references.md`.
 
+pub mod build;
 pub mod check;
 pub mod connect;
 pub mod corners;
@@ -22,6 +23,7 @@ pub mod render;
 pub mod report;
 pub mod synthetic;
 
+pub use build::{BuildLog, build_hierarchy};
 pub use check::{LinkCheck, Preset, TOUCH_FACTOR, check_model, measure_model};
 pub use connect::{ConnectOptions, LinkConnect, ModelConnectReport, SurfaceConnect, connect};
 pub use error::{Error, Result};

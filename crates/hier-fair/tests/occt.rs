@@ -268,3 +268,64 @@ fn connect_never_leaves_a_link_worse_than_the_input() {
         }
     }
 }
+
+/// The hierarchy found from the geometry alone: each kernel model with its links removed and
+/// every role set to primary gets ≥ 95 % of its links back (same slave side, master and
+/// target), no link the model does not have, and ≥ 90 % of its roles.
+#[test]
+fn the_hierarchy_is_found_from_the_geometry() {
+    let (mut found, mut total, mut roles_ok, mut surfaces) = (0, 0, 0, 0);
+    for name in MODELS {
+        let Some(m) = model(name) else { return };
+        let mut bare = m.clone();
+        bare.links.clear();
+        for s in &mut bare.surfaces {
+            s.role = Role::Primary;
+        }
+        let log = hier_fair::build_hierarchy(&mut bare);
+        assert!(log.roles_found);
+        let key = |l: &hier_fair::Link| (l.slave, l.side, l.master, l.continuity);
+        let theirs: Vec<_> = m.links.iter().map(key).collect();
+        let ours: Vec<_> = bare.links.iter().map(key).collect();
+        let hit = theirs.iter().filter(|k| ours.contains(k)).count();
+        for k in &ours {
+            let l = bare.links.iter().find(|l| key(l) == *k).unwrap();
+            assert!(
+                theirs.contains(k),
+                "{name}: link {}.{} -> {} ({:?}) is not in the model\n{}",
+                bare.surfaces[l.slave].name,
+                l.side.name(),
+                bare.surfaces[l.master].name,
+                l.continuity,
+                log.lines.join("\n")
+            );
+        }
+        let r = m
+            .surfaces
+            .iter()
+            .zip(&bare.surfaces)
+            .filter(|(a, b)| a.role == b.role)
+            .count();
+        eprintln!(
+            "{name}: links {hit}/{} roles {r}/{}",
+            theirs.len(),
+            m.surfaces.len()
+        );
+        assert!(
+            hit * 100 >= 95 * theirs.len(),
+            "{name}: {hit}/{} links\n{}",
+            theirs.len(),
+            log.lines.join("\n")
+        );
+        assert!(
+            r * 100 >= 90 * m.surfaces.len(),
+            "{name}: {r}/{} roles",
+            m.surfaces.len()
+        );
+        found += hit;
+        total += theirs.len();
+        roles_ok += r;
+        surfaces += m.surfaces.len();
+    }
+    eprintln!("all: links {found}/{total}, roles {roles_ok}/{surfaces}");
+}

@@ -1,0 +1,356 @@
+//! The hierarchy found from the geometry: links where a surface's side lies on another surface,
+//! their targets from the angle there, and the roles from the topology ([SV] §1.1: primaries,
+//! connecting surfaces between them, corner patches between connecting surfaces).
+//!
+//! - **A side lies on a surface** when every one of [`SIDE_SAMPLES`] points along the side
+//!   projects onto that surface
+//!   within the model's G0 tolerance, the gap a link may have and still be met. The surface may
+//!   be trimmed: the projection goes onto the whole surface, so a fillet's contact line in the
+//!   middle of a trimmed face is found as well as one on its boundary. Of several such surfaces
+//!   the nearest is taken.
+//! - **The target** is G2 where the two normals along the side stay within
+//!   [`TANGENT_ANGLE_DEG`] (a tangent join, which the fairing raises to G2), else G0 (a sharp
+//!   edge, kept closed).
+//! - **Roles**: a surface is *connecting* when it is a strip that turns: between two opposite
+//!   sides its normal turns by more than [`TANGENT_ANGLE_DEG`] while it is narrow, at most
+//!   [`NARROW_RATIO`] of its length (a fillet — its long sides need not lie on anything within
+//!   the tolerance: a kernel's fillet of trimmed faces often does not; a narrow, strongly curved
+//!   primary band would be taken for one, and the user fixes its role); *corner* when three
+//!   or more sides lie across the ends of connecting surfaces, each no longer than
+//!   [`CORNER_SPAN`] × that surface's width (a vertex blend; a side collapsed to a pole counts as
+//!   none); the rest *primary*.
+//! - **Links** go from the lower surface in the hierarchy to the higher one: a side of a
+//!   connecting surface on a primary, of a corner on a connecting surface or a primary. A side
+//!   on a surface of the same role, or on a lower one, is no link (the other surface's side is).
+//!
+//! What the user fixed stays: existing links are kept (their sides are not linked again), and
+//! the roles are found only when every surface is primary (a model as `import` writes it).
+//! Every decision goes into the log (`import --explain`, `build --explain`).
+
+use nurbs_core::{BSplineSurface, Continuity, ProjectionParams, Side, project_to_surface};
+
+use crate::model::{Link, Model, Role};
+
+/// Points sampled along each side, both ends included (an end touches every surface of its
+/// vertex, which does not make the side lie on them: the largest gap decides). 17 points put
+/// one in every sixteenth of the side: a trimmed-off end (a fillet running past its face) is
+/// seen.
+pub const SIDE_SAMPLES: usize = 17;
+
+/// Largest normal angle (degrees) of a tangent join. A kernel's tangent joins are within a few
+/// hundredths of a degree where exact and about a degree where approximated (a lofted face's
+/// fillet meets its corner blend at up to 1.3°); a designed sharp edge is tens of degrees. 5°
+/// lies between the two by a factor of about 4 either way.
+pub const TANGENT_ANGLE_DEG: f64 = 5.0;
+
+/// Largest width across a connecting surface, as a fraction of its length along: a fillet is a
+/// strip (radius × turn across, the edge's length along), a face bounded by fillets is not.
+pub const NARROW_RATIO: f64 = 0.5;
+
+/// Longest side of a corner patch lying on a connecting surface, in widths of that surface: a
+/// vertex blend spans the ends of the fillets that meet at it (its side on a fillet is about the
+/// fillet's width, a kernel's setback adding up to about half of it), while a face bounded by
+/// fillets runs along them, many widths long.
+pub const CORNER_SPAN: f64 = 2.0;
+
+/// Which surface a side lies on.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SideContact {
+    /// the surface the side lies on
+    pub surface: usize,
+    /// largest sampled gap
+    pub distance: f64,
+    /// largest normal angle along the side where both normals are defined (degrees; `None`
+    /// where they are nowhere)
+    pub angle_deg: Option<f64>,
+}
+
+/// What [`build_hierarchy`] decided, for the log.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct BuildLog {
+    /// one line per decision, in the order they were made
+    pub lines: Vec<String>,
+    /// links added
+    pub links_added: usize,
+    /// whether the roles were found (false: the model's own were kept)
+    pub roles_found: bool,
+}
+
+const SIDES: [Side; 4] = [Side::U0, Side::U1, Side::V0, Side::V1];
+
+/// Bounding box of a control net, grown by `pad` (the surface lies inside: convex hull).
+fn net_box(s: &BSplineSurface, pad: f64) -> ([f64; 3], [f64; 3]) {
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in s.control_points() {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k] - pad);
+            hi[k] = hi[k].max(p[k] + pad);
+        }
+    }
+    (lo, hi)
+}
+
+/// The sample points of `side` of `s`.
+fn side_points(s: &BSplineSurface, side: Side) -> Vec<(f64, f64)> {
+    let (a, b) = side.along_domain(s);
+    (0..SIDE_SAMPLES)
+        .map(|k| {
+            let t = a + (b - a) * k as f64 / (SIDE_SAMPLES - 1) as f64;
+            side.params(s, t)
+        })
+        .collect()
+}
+
+/// The surface (other than `own`) that `side` of surface `own` lies on within `tol`, nearest
+/// first; and the nearest surface with its distance when none does (for the log).
+fn contact(
+    model: &Model,
+    own: usize,
+    side: Side,
+    tol: f64,
+) -> (Option<SideContact>, Option<(usize, f64)>) {
+    let s = &model.surfaces[own].surface;
+    let params = ProjectionParams::default();
+    let samples: Vec<_> = side_points(s, side)
+        .into_iter()
+        .map(|(u, v)| s.derivatives(u, v))
+        .collect();
+    let mut best: Option<SideContact> = None;
+    let mut nearest: Option<(usize, f64)> = None;
+    for (k, other) in model.surfaces.iter().enumerate() {
+        if k == own {
+            continue;
+        }
+        let (lo, hi) = net_box(&other.surface, tol);
+        let inside = samples
+            .iter()
+            .all(|d| (0..3).all(|c| d.point[c] >= lo[c] && d.point[c] <= hi[c]));
+        if !inside {
+            continue;
+        }
+        let mut distance: f64 = 0.0;
+        // the largest angle where both normals are defined (not at a pole)
+        let mut angle: Option<f64> = None;
+        for d in &samples {
+            let f = project_to_surface(&other.surface, &d.point, &params);
+            distance = distance.max(f.distance);
+            let a = match (d.normal(), other.surface.derivatives(f.u, f.v).normal()) {
+                (Some(n1), Some(n2)) => Some(n1.dot(&n2).abs().clamp(0.0, 1.0).acos().to_degrees()),
+                _ => None,
+            };
+            angle = match (angle, a) {
+                (Some(x), Some(y)) => Some(x.max(y)),
+                (x, y) => x.or(y),
+            };
+        }
+        if nearest.is_none_or(|(_, d)| distance < d) {
+            nearest = Some((k, distance));
+        }
+        if distance <= tol && best.as_ref().is_none_or(|b| distance < b.distance) {
+            best = Some(SideContact {
+                surface: k,
+                distance,
+                angle_deg: angle,
+            });
+        }
+    }
+    (best, nearest)
+}
+
+/// Whether `s` bridges the surfaces its opposite sides `a`, `b` lie on: narrow across
+/// ([`NARROW_RATIO`]) and turning across by more than [`TANGENT_ANGLE_DEG`].
+fn bridges(s: &BSplineSurface, a: Side) -> (bool, f64, f64, f64) {
+    let (t0, t1) = a.along_domain(s);
+    let mid = 0.5 * (t0 + t1);
+    let b = match a {
+        Side::U0 => Side::U1,
+        Side::U1 => Side::U0,
+        Side::V0 => Side::V1,
+        Side::V1 => Side::V0,
+    };
+    let (pa, pb) = (a.params(s, mid), b.params(s, mid));
+    let (da, db) = (s.derivatives(pa.0, pa.1), s.derivatives(pb.0, pb.1));
+    let width = (da.point - db.point).norm();
+    let length = side_length(s, a);
+    let turn = match (da.normal(), db.normal()) {
+        (Some(x), Some(y)) => x.dot(&y).clamp(-1.0, 1.0).acos().to_degrees(),
+        _ => 0.0,
+    };
+    (
+        turn > TANGENT_ANGLE_DEG && width <= NARROW_RATIO * length,
+        turn,
+        width / length.max(f64::MIN_POSITIVE),
+        width,
+    )
+}
+
+/// The length of `side` (the polyline through its samples: a closed side, a ring's, has its
+/// circumference, not the zero chord of its ends).
+fn side_length(s: &BSplineSurface, side: Side) -> f64 {
+    let pts: Vec<_> = side_points(s, side)
+        .into_iter()
+        .map(|(u, v)| s.point(u, v))
+        .collect();
+    pts.windows(2).map(|w| (w[1] - w[0]).norm()).sum()
+}
+
+/// Finds the links (and, for a model of primaries only, the roles) of `model` from its geometry;
+/// returns the log. See the module docs for the rules.
+pub fn build_hierarchy(model: &mut Model) -> BuildLog {
+    let mut log = BuildLog::default();
+    let tol = model.tolerances.g0;
+    let n = model.surfaces.len();
+    // which surface each side lies on
+    let mut contacts: Vec<[Option<SideContact>; 4]> = Vec::with_capacity(n);
+    for k in 0..n {
+        let mut row: [Option<SideContact>; 4] = Default::default();
+        for (i, &side) in SIDES.iter().enumerate() {
+            let name = &model.surfaces[k].name;
+            if g_continuity::measure::is_collapsed(&model.surfaces[k].surface, side) {
+                log.lines.push(format!(
+                    "{name}.{}: collapsed to a point (a pole): no link",
+                    side.name()
+                ));
+                continue;
+            }
+            let (c, nearest) = contact(model, k, side, tol);
+            match (&c, nearest) {
+                (Some(c), _) => log.lines.push(format!(
+                    "{name}.{}: lies on {} (max distance {:.2e}, max normal angle {})",
+                    side.name(),
+                    model.surfaces[c.surface].name,
+                    c.distance,
+                    c.angle_deg.map_or("undefined".to_string(), |a| format!("{a:.3}°"))
+                )),
+                (None, Some((m, d))) => log.lines.push(format!(
+                    "{name}.{}: lies on no surface within {tol:.1e} (closest: {}, max distance {d:.3e})",
+                    side.name(),
+                    model.surfaces[m].name
+                )),
+                (None, None) => log.lines.push(format!(
+                    "{name}.{}: no other surface is near: a free boundary",
+                    side.name()
+                )),
+            }
+            row[i] = c;
+        }
+        contacts.push(row);
+    }
+    // roles, when the model has none of its own
+    if model.surfaces.iter().all(|s| s.role == Role::Primary) {
+        log.roles_found = true;
+        let mut roles = vec![Role::Primary; n];
+        // the width across each connecting surface
+        let mut widths = vec![0.0; n];
+        for k in 0..n {
+            let s = &model.surfaces[k].surface;
+            for (a, b) in [(0, 1), (2, 3)] {
+                let tangent = |c: &Option<SideContact>| {
+                    c.as_ref()
+                        .filter(|c| c.angle_deg.is_some_and(|x| x <= TANGENT_ANGLE_DEG))
+                        .map(|c| model.surfaces[c.surface].name.as_str())
+                };
+                let on: Vec<&str> = [tangent(&contacts[k][a]), tangent(&contacts[k][b])]
+                    .into_iter()
+                    .flatten()
+                    .collect();
+                let (yes, turn, ratio, width) = bridges(s, SIDES[a]);
+                if yes {
+                    roles[k] = Role::Connecting;
+                    widths[k] = width;
+                    log.lines.push(format!(
+                        "{}: connecting — between its sides {} and {} it turns {turn:.1}° and is {ratio:.2} as wide as long ({})",
+                        model.surfaces[k].name,
+                        SIDES[a].name(),
+                        SIDES[b].name(),
+                        if on.is_empty() {
+                            "a strip that lies on no surface within the tolerance: a fillet of trimmed faces".to_string()
+                        } else {
+                            format!("tangent to {}", on.join(" and "))
+                        }
+                    ));
+                    break;
+                }
+            }
+        }
+        for k in 0..n {
+            if roles[k] != Role::Primary {
+                continue;
+            }
+            // a side across a connecting surface's end, not along it: no longer than
+            // CORNER_SPAN × that surface's width
+            let s = &model.surfaces[k].surface;
+            let on_connecting = SIDES
+                .iter()
+                .zip(&contacts[k])
+                .filter(|(side, c)| {
+                    c.as_ref().is_some_and(|c| {
+                        roles[c.surface] == Role::Connecting
+                            && side_length(s, **side) <= CORNER_SPAN * widths[c.surface]
+                    })
+                })
+                .count();
+            if on_connecting >= 3 {
+                roles[k] = Role::Corner;
+                log.lines.push(format!(
+                    "{}: corner — {on_connecting} of its sides lie across the ends of connecting surfaces",
+                    model.surfaces[k].name
+                ));
+            }
+        }
+        for k in 0..n {
+            if roles[k] == Role::Primary {
+                log.lines
+                    .push(format!("{}: primary", model.surfaces[k].name));
+            }
+            model.surfaces[k].role = roles[k];
+        }
+    } else {
+        log.lines
+            .push("roles: kept as the model gives them".to_string());
+    }
+    // links from the lower surface to the higher one; sides the model links already stay
+    for k in 0..n {
+        for (i, &side) in SIDES.iter().enumerate() {
+            let Some(c) = &contacts[k][i] else { continue };
+            let (me, other) = (&model.surfaces[k], &model.surfaces[c.surface]);
+            let label = format!("{}.{} -> {}", me.name, side.name(), other.name);
+            if model.links.iter().any(|l| l.slave == k && l.side == side) {
+                log.lines
+                    .push(format!("{label}: the model links this side already: kept"));
+                continue;
+            }
+            if me.role.rank() <= other.role.rank() {
+                log.lines.push(format!(
+                    "{label}: no link in this direction ({} is not above {})",
+                    other.role.name(),
+                    me.role.name()
+                ));
+                continue;
+            }
+            let tangent = c.angle_deg.is_some_and(|a| a <= TANGENT_ANGLE_DEG);
+            let continuity = if tangent {
+                Continuity::G2
+            } else {
+                Continuity::G0
+            };
+            log.lines.push(format!(
+                "{label}: link {continuity:?} ({})",
+                if tangent {
+                    format!("tangent, normals within {TANGENT_ANGLE_DEG}°")
+                } else {
+                    "a sharp edge".to_string()
+                }
+            ));
+            model.links.push(Link {
+                slave: k,
+                side,
+                master: c.surface,
+                continuity,
+            });
+            log.links_added += 1;
+        }
+    }
+    log
+}
