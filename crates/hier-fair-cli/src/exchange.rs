@@ -1,6 +1,8 @@
 //! `hier-fair import FILE.igs -o MODEL.json` and `hier-fair export MODEL.json -o FILE.igs`
-//! (cli-contract.md): IGES exchange through `nurbs-io`. An imported file becomes a model whose
-//! surfaces are all primary with no links; the user adds roles and links.
+//! (cli-contract.md): IGES exchange through `nurbs-io`, and `hier-fair build`. An imported file
+//! becomes a model whose hierarchy — links, their targets, the roles — is found from the
+//! geometry ([`hier_fair::build_hierarchy`]); the user may change any of it in the JSON, and
+//! `build` keeps what the model gives.
 
 use std::collections::HashSet;
 use std::path::Path;
@@ -12,13 +14,13 @@ use nurbs_io::{IgesWriteParams, read_iges, write_iges};
 use crate::files::{read_text, refuse_overwrite, write_atomic};
 
 /// Reads `input` (IGES) and writes the model JSON to `output`; returns a one-paragraph summary.
-pub fn import(input: &Path, output: &Path) -> Result<String> {
+pub fn import(input: &Path, output: &Path, explain: bool) -> Result<String> {
     refuse_overwrite(output, &[input])?;
     let bytes = std::fs::read(input).with_context(|| format!("cannot read {}", input.display()))?;
     let file = read_iges(&bytes).map_err(|e| anyhow!("{}: {e}", input.display()))?;
     if file.surfaces.is_empty() {
         bail!(
-            "{}: the file holds no B-spline surface (entity 128)",
+            "{}: the file holds no surface that is read (B-spline 128, revolution 120)",
             input.display()
         );
     }
@@ -34,6 +36,7 @@ pub fn import(input: &Path, output: &Path) -> Result<String> {
         m.name = name;
     }
     model.units = Some(file.units.to_lowercase());
+    let log = hier_fair::build_hierarchy(&mut model);
     write_atomic(output, model.to_json().as_bytes())?;
     let trimmed = file.surfaces.iter().filter(|s| s.trimmed).count();
     let skipped: Vec<String> = file
@@ -41,8 +44,13 @@ pub fn import(input: &Path, output: &Path) -> Result<String> {
         .iter()
         .map(|(t, n)| format!("{n}×{t}"))
         .collect();
-    Ok(format!(
-        "imported {} surfaces as primaries ({} trimmed by entity 144: the underlying surfaces are kept untrimmed); {} curves (126) not imported; other entities skipped: {}; wrote {}",
+    let mut out = if explain {
+        log.lines.join("\n") + "\n"
+    } else {
+        String::new()
+    };
+    out += &format!(
+        "imported {} surfaces ({} trimmed by entity 144: the underlying surfaces are kept untrimmed); {} curves (126) not imported; other entities skipped: {}; {}; wrote {}",
         file.surfaces.len(),
         trimmed,
         file.curves.len(),
@@ -51,8 +59,50 @@ pub fn import(input: &Path, output: &Path) -> Result<String> {
         } else {
             skipped.join(", ")
         },
+        hierarchy_summary(&model, &log),
         output.display()
-    ))
+    );
+    Ok(out)
+}
+
+/// "N links found; roles: …" for the summaries.
+fn hierarchy_summary(model: &Model, log: &hier_fair::BuildLog) -> String {
+    let count = |r: hier_fair::Role| model.surfaces.iter().filter(|s| s.role == r).count();
+    format!(
+        "{} links found ({} in all); roles {}: {} primary, {} connecting, {} corner",
+        log.links_added,
+        model.links.len(),
+        if log.roles_found {
+            "found"
+        } else {
+            "kept as given"
+        },
+        count(hier_fair::Role::Primary),
+        count(hier_fair::Role::Connecting),
+        count(hier_fair::Role::Corner)
+    )
+}
+
+/// `hier-fair build`: reads the model `input`, finds its hierarchy (keeping its links, and its
+/// roles when it gives any) and writes the model to `output`; returns the summary (the log
+/// first with `explain`).
+pub fn build(input: &Path, output: &Path, explain: bool) -> Result<String> {
+    refuse_overwrite(output, &[input])?;
+    let text = read_text(input)?;
+    let mut model = Model::from_json(&text).map_err(|e| anyhow!("{}: {e}", input.display()))?;
+    let log = hier_fair::build_hierarchy(&mut model);
+    write_atomic(output, model.to_json().as_bytes())?;
+    let mut out = if explain {
+        log.lines.join("\n") + "\n"
+    } else {
+        String::new()
+    };
+    out += &format!(
+        "{}; wrote {}",
+        hierarchy_summary(&model, &log),
+        output.display()
+    );
+    Ok(out)
 }
 
 /// IGES unit flag and name for a model's unit text.

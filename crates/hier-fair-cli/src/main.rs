@@ -55,13 +55,27 @@ enum Command {
         #[arg(long)]
         fit: Option<PathBuf>,
     },
-    /// Reads an IGES file (entities 128, 126, 144, 124) into a model of primary surfaces.
+    /// Reads an IGES file (surfaces 128 and 120, trimmed by 144) into a model and finds its hierarchy (links, targets, roles) from the geometry
     Import {
         /// IGES file
         input: PathBuf,
         /// Model JSON to write
         #[arg(short = 'o', long = "output")]
         output: PathBuf,
+        /// Prints every decision of the hierarchy (which side lies on which surface, at what distance and angle, why each role)
+        #[arg(long)]
+        explain: bool,
+    },
+    /// Finds the links and roles of a model from its geometry, keeping the links it has and its roles when it gives any
+    Build {
+        /// Model JSON
+        input: PathBuf,
+        /// Model JSON to write (never the input)
+        #[arg(short = 'o', long = "output")]
+        output: PathBuf,
+        /// Prints every decision (which side lies on which surface, at what distance and angle, why each role)
+        #[arg(long)]
+        explain: bool,
     },
     /// Writes the surfaces of a model as IGES 5.3 (entity 128).
     Export {
@@ -257,9 +271,28 @@ fn run(cli: Cli) -> Result<()> {
             );
             Ok(())
         }
-        Command::Import { input, output } => {
+        Command::Import {
+            input,
+            output,
+            explain,
+        } => {
             files::check_outputs(&[("-o", &output)], &[&input])?;
-            println!("{}", hier_fair_cli::exchange::import(&input, &output)?);
+            println!(
+                "{}",
+                hier_fair_cli::exchange::import(&input, &output, explain)?
+            );
+            Ok(())
+        }
+        Command::Build {
+            input,
+            output,
+            explain,
+        } => {
+            files::check_outputs(&[("-o", &output)], &[&input])?;
+            println!(
+                "{}",
+                hier_fair_cli::exchange::build(&input, &output, explain)?
+            );
             Ok(())
         }
         Command::Export { input, output } => {

@@ -178,3 +178,111 @@ fn kernel_iges_surfaces_of_revolution_are_exact() {
     }
     assert!(revolved >= 28, "{revolved} surfaces of revolution");
 }
+
+/// Importing the IGES files Open CASCADE writes gives the faces of the model the kernel exported
+/// directly (every surface of `NAME.json` lies on an imported surface within 1e-9 of the model
+/// size: planes, cylinders, spheres, tori and B-splines alike) and the hierarchy: links between
+/// the matching surfaces with the same targets, and the same roles. Printed per model; the
+/// figures asserted are those reached (`docs/benchmarks.md`).
+#[test]
+fn kernel_iges_imports_with_its_hierarchy() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/occt");
+    let params = nurbs_core::ProjectionParams::default();
+    let (mut links_hit, mut links_all) = (0, 0);
+    for name in [
+        "occt_corner3_radii",
+        "occt_box12_r5",
+        "occt_box12_variable",
+        "occt_plate_boss",
+        "occt_pipe_tee",
+        "occt_loft_block",
+    ] {
+        let tmp = tempfile::tempdir().unwrap();
+        let out = tmp.path().join("m.json");
+        let o = bin()
+            .args([
+                "import",
+                dir.join(format!("{name}.igs")).to_str().unwrap(),
+                "-o",
+                out.to_str().unwrap(),
+            ])
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let ours = hier_fair::Model::from_json(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        let theirs = hier_fair::Model::from_json(
+            &std::fs::read_to_string(dir.join(format!("{name}.json"))).unwrap(),
+        )
+        .unwrap();
+        let size = theirs
+            .surfaces
+            .iter()
+            .map(|s| s.surface.size())
+            .fold(0.0, f64::max);
+        // each JSON surface: the imported surface it lies on, or that lies on it (a trimmed
+        // plane: the JSON has it over its UV box, the import over the face's own rectangle)
+        let grid = |s: &nurbs_core::BSplineSurface| -> Vec<nurbs_core::Point3> {
+            let (u0, u1) = s.domain_u();
+            let (v0, v1) = s.domain_v();
+            [0.2, 0.5, 0.8]
+                .iter()
+                .flat_map(|a| {
+                    [0.2, 0.5, 0.8].map(|b| s.point(u0 + a * (u1 - u0), v0 + b * (v1 - v0)))
+                })
+                .collect()
+        };
+        let on = |pts: &[nurbs_core::Point3], s: &nurbs_core::BSplineSurface| {
+            pts.iter()
+                .all(|p| nurbs_core::project_to_surface(s, p, &params).distance <= 1e-9 * size)
+        };
+        let matched: Vec<Option<usize>> = theirs
+            .surfaces
+            .iter()
+            .map(|t| {
+                let pts = grid(&t.surface);
+                ours.surfaces
+                    .iter()
+                    .position(|s| on(&pts, &s.surface))
+                    .or_else(|| {
+                        ours.surfaces
+                            .iter()
+                            .position(|s| on(&grid(&s.surface), &t.surface))
+                    })
+            })
+            .collect();
+        for (t, m) in theirs.surfaces.iter().zip(&matched) {
+            assert!(
+                m.is_some(),
+                "{name}: {} lies on no imported surface",
+                t.name
+            );
+        }
+        let roles = theirs
+            .surfaces
+            .iter()
+            .zip(&matched)
+            .filter(|(t, m)| m.is_some_and(|m| ours.surfaces[m].role == t.role))
+            .count();
+        let hit = theirs
+            .links
+            .iter()
+            .filter(|l| {
+                let (s, m) = (matched[l.slave].unwrap(), matched[l.master].unwrap());
+                ours.links
+                    .iter()
+                    .any(|o| o.slave == s && o.master == m && o.continuity == l.continuity)
+            })
+            .count();
+        eprintln!(
+            "{name}: surfaces {}/{} matched, links {hit}/{}, roles {roles}/{}",
+            theirs.surfaces.len(),
+            theirs.surfaces.len(),
+            theirs.links.len(),
+            theirs.surfaces.len()
+        );
+        links_hit += hit;
+        links_all += theirs.links.len();
+    }
+    eprintln!("all: links {links_hit}/{links_all}");
+    assert!(links_hit * 100 >= 80 * links_all, "{links_hit}/{links_all}");
+}

@@ -1,7 +1,8 @@
 //! The IGES reader: records, sections, global parameters, directory, parameter data, and the
 //! entities 128 (rational B-spline surface), 120 (surface of revolution, with its 110 axis and
-//! its 110 / 100 / 126 generatrix), 126 (curve), 144 (trimmed surface) and 124 (transformation
-//! matrix) ([IGES] §2, §4.3, §4.13, §4.16, §4.23, §4.24, §4.34, §4.21).
+//! its 110 / 100 / 126 generatrix), 108 (plane, bounded by the outer boundary of the 144 that
+//! trims it: its 142 and the 102 / 110 / 100 / 126 model-space curve), 126 (curve), 144 (trimmed
+//! surface) and 124 (transformation matrix) ([IGES] §2, §4.3, §4.13, §4.16, §4.23, §4.24, §4.34, §4.21).
 //!
 //! Control points of entity 128 are stored with the u index varying fastest, W(0,0), W(1,0), …;
 //! here they go to the flat net `P[i * n_v + j]`. Weights that are all equal make a polynomial
@@ -19,6 +20,8 @@ use crate::params::{Located, Param, parse_params};
 pub const RECORD_COLUMNS: usize = 80;
 const LETTER_COLUMN: usize = 72;
 const P_DATA_COLUMNS: usize = 64;
+/// Points sampled along each member of a plane's boundary curve.
+const BOUNDARY_SAMPLES: usize = 17;
 /// Nesting limit of transformation matrices that reference further matrices.
 const MAX_TRANSFORM_CHAIN: usize = 32;
 
@@ -61,7 +64,8 @@ pub struct IgesFile {
     pub unit_flag: i64,
     /// model-space scale of the Global section
     pub scale: f64,
-    /// entity-128 and entity-120 surfaces in directory order
+    /// entity-128 and entity-120 surfaces in directory order, each plane (108) at the place of
+    /// the trimmed surface (144) that bounds it
     pub surfaces: Vec<IgesSurface>,
     /// entity-126 curves in directory order
     pub curves: Vec<IgesCurve>,
@@ -696,6 +700,178 @@ impl Reader<'_> {
         })
     }
 
+    /// Points along a model-space boundary curve: a composite (102) of lines, arcs and
+    /// B-splines, each sampled at [`BOUNDARY_SAMPLES`] points; every transformation from the
+    /// member up to `e` applied, not the model scale.
+    fn boundary_points(&self, e: &DirEntry, depth: usize) -> Result<Vec<Point3>, IgesError> {
+        if depth > MAX_TRANSFORM_CHAIN {
+            return Err(IgesError::Entity {
+                de: e.seq,
+                entity_type: e.entity_type,
+                detail: "composite curves nest too deep (a cycle?)".into(),
+            });
+        }
+        let local = match e.entity_type {
+            102 => {
+                let params = entity_params(e, &self.p, &self.global)?;
+                let mut c = Cursor {
+                    params: &params,
+                    next: 1,
+                    e,
+                };
+                let n = c.count("N (number of curves of the composite)", 0)?;
+                let mut out = Vec::new();
+                for _ in 0..n {
+                    let member = self.entry(c.int()?, e)?;
+                    out.extend(self.boundary_points(member, depth + 1)?);
+                }
+                // the members carry their own transformations; the composite's applies on top
+                return Ok(match self.transform(e)? {
+                    Some(a) => out.iter().map(|p| a.apply(p)).collect(),
+                    None => out,
+                });
+            }
+            _ => self.any_curve(e, 1.0)?,
+        };
+        let (t0, t1) = local.knots().domain();
+        Ok((0..BOUNDARY_SAMPLES)
+            .map(|k| local.point(t0 + (t1 - t0) * k as f64 / (BOUNDARY_SAMPLES - 1) as f64))
+            .collect())
+    }
+
+    /// A plane (108) under a trimmed surface (144) whose outer boundary (142, its model-space
+    /// curve) bounds it ([IGES] §4.12, §4.32): the bilinear 2 × 2 patch over the smallest
+    /// rectangle in the plane that holds the boundary, its sides along one of the boundary's
+    /// chords (the minimum-area rectangle of a polygon has a side along one of its edges: exact
+    /// for a face bounded by lines, tight for one bounded by arcs), u and v by length.
+    fn bounded_plane(
+        &self,
+        plane: &DirEntry,
+        boundary: &DirEntry,
+        face: &DirEntry,
+        scale: f64,
+    ) -> Result<IgesSurface, IgesError> {
+        let err = |detail: String| IgesError::Entity {
+            de: face.seq,
+            entity_type: face.entity_type,
+            detail,
+        };
+        let params = entity_params(plane, &self.p, &self.global)?;
+        let mut c = Cursor {
+            params: &params,
+            next: 1,
+            e: plane,
+        };
+        let abcd = c.reals(4)?;
+        let mut n = nurbs_core::Vector3::new(abcd[0], abcd[1], abcd[2]);
+        let len = n.norm();
+        if !(len > 0.0) {
+            return Err(err("the plane's normal (A, B, C) is zero".into()));
+        }
+        n /= len;
+        let mut origin = Point3::from(n * (abcd[3] / len));
+        if let Some(a) = self.transform(plane)? {
+            let tip = a.apply(&(origin + n));
+            origin = a.apply(&origin);
+            n = (tip - origin)
+                .try_normalize(0.0)
+                .ok_or_else(|| err("the plane's transformation is singular".into()))?;
+        }
+        // the 142's model-space curve
+        let params = entity_params(boundary, &self.p, &self.global)?;
+        let mut c = Cursor {
+            params: &params,
+            next: 1,
+            e: boundary,
+        };
+        let _crtn = c.int()?;
+        let _surface = c.int()?;
+        let _parametric = c.int()?;
+        let model_curve = c.int()?;
+        if model_curve == 0 {
+            return Err(err("the plane's boundary has no model-space curve".into()));
+        }
+        let curve = self.entry(model_curve, boundary)?;
+        let mut pts = self.boundary_points(curve, 0)?;
+        if let Some(a) = self.transform(boundary)? {
+            pts = pts.iter().map(|p| a.apply(p)).collect();
+        }
+        if pts.len() < 3 {
+            return Err(err("the plane's boundary has fewer than 3 points".into()));
+        }
+        // a frame in the plane: any unit x ⟂ n, then y = n × x
+        let helper = if n.x.abs() < 0.9 {
+            nurbs_core::Vector3::x()
+        } else {
+            nurbs_core::Vector3::y()
+        };
+        let e1 = n.cross(&helper).normalize();
+        let e2 = n.cross(&e1);
+        let flat: Vec<(f64, f64)> = pts
+            .iter()
+            .map(|p| {
+                let d = p - origin;
+                (d.dot(&e1), d.dot(&e2))
+            })
+            .collect();
+        let mut best: Option<(f64, f64, [f64; 4])> = None;
+        for w in flat.windows(2) {
+            let (dx, dy) = (w[1].0 - w[0].0, w[1].1 - w[0].1);
+            let l = dx.hypot(dy);
+            if !(l > 0.0) {
+                continue;
+            }
+            let (cx, cy) = (dx / l, dy / l);
+            let mut b = [
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+                f64::INFINITY,
+                f64::NEG_INFINITY,
+            ];
+            for &(x, y) in &flat {
+                let (a, c) = (x * cx + y * cy, -x * cy + y * cx);
+                b = [b[0].min(a), b[1].max(a), b[2].min(c), b[3].max(c)];
+            }
+            let area = (b[1] - b[0]) * (b[3] - b[2]);
+            if best.is_none_or(|(ar, _, _)| area < ar) {
+                best = Some((area, cy.atan2(cx), b));
+            }
+        }
+        let Some((_, angle, b)) = best else {
+            return Err(err("the plane's boundary is a single point".into()));
+        };
+        let (x, y) = (
+            e1 * angle.cos() + e2 * angle.sin(),
+            -e1 * angle.sin() + e2 * angle.cos(),
+        );
+        let at = |a: f64, c: f64| {
+            let p = origin + x * a + y * c;
+            Point3::from(p.coords / scale)
+        };
+        let (lu, lv) = ((b[1] - b[0]) / scale, (b[3] - b[2]) / scale);
+        let g = Self::geometry_err(face);
+        let knots = |l: f64| KnotVector::new(1, vec![0.0, 0.0, l, l]);
+        let surface = BSplineSurface::new(
+            knots(lu).map_err(&g)?,
+            knots(lv).map_err(&g)?,
+            vec![
+                at(b[0], b[2]),
+                at(b[0], b[3]),
+                at(b[1], b[2]),
+                at(b[1], b[3]),
+            ],
+            None,
+        )
+        .map_err(&g)?;
+        Ok(IgesSurface {
+            de: plane.seq,
+            name: Self::name(plane),
+            surface,
+            trimmed: true,
+            param_range: [0.0, lu, 0.0, lv],
+        })
+    }
+
     fn curve(&self, e: &DirEntry, scale: f64) -> Result<IgesCurve, IgesError> {
         let params = entity_params(e, &self.p, &self.global)?;
         let mut c = Cursor {
@@ -773,6 +949,7 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
         skipped: BTreeMap::new(),
     };
     let mut trimmed_targets = Vec::new();
+    let mut planes_read = Vec::new();
     for e in &reader.dir {
         match e.entity_type {
             128 => file.surfaces.push(reader.surface(e, scale)?),
@@ -789,10 +966,30 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
                 let target = reader.entry(pts, e)?;
                 trimmed_targets.push(target.seq);
                 file.trimmed_entities += 1;
+                if target.entity_type == 108 {
+                    // a plane is as large as its face: bounded by the outer boundary
+                    let (_n1, _n2) = (c.int()?, c.int()?);
+                    let outer = c.int()?;
+                    if outer != 0 && !planes_read.contains(&target.seq) {
+                        let boundary = reader.entry(outer, e)?;
+                        file.surfaces
+                            .push(reader.bounded_plane(target, boundary, e, scale)?);
+                        planes_read.push(target.seq);
+                    }
+                }
             }
-            124 => {}
+            // planes are read through the trimmed surfaces that bound them
+            124 | 108 => {}
             other => *file.skipped.entry(other).or_default() += 1,
         }
+    }
+    let unbounded = reader
+        .dir
+        .iter()
+        .filter(|e| e.entity_type == 108 && !planes_read.contains(&e.seq))
+        .count();
+    if unbounded > 0 {
+        file.skipped.insert(108, unbounded);
     }
     for s in &mut file.surfaces {
         s.trimmed = trimmed_targets.contains(&s.de);
