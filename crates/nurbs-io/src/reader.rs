@@ -20,6 +20,12 @@ use crate::params::{Located, Param, parse_params};
 pub const RECORD_COLUMNS: usize = 80;
 const LETTER_COLUMN: usize = 72;
 const P_DATA_COLUMNS: usize = 64;
+/// A face's parameter box that differs from its surface's domain by at most this fraction of
+/// the domain on every side is the whole surface (the boundary curve's own rounding).
+const BOX_RELATIVE: f64 = 1e-9;
+/// A surface boundary lies in a plane when its control row does within this fraction of the
+/// model size: 1e-9 holds the round-off of exact kernel geometry written with 10–16 digits.
+const IN_PLANE_RELATIVE: f64 = 1e-9;
 /// Points sampled along each member of a plane's boundary curve.
 const BOUNDARY_SAMPLES: usize = 17;
 /// Nesting limit of transformation matrices that reference further matrices.
@@ -739,6 +745,64 @@ impl Reader<'_> {
             .collect())
     }
 
+    /// `surface` cut to the parameter box of the outer boundary `boundary` (142) of the trimmed
+    /// surface `face`: the box of its parameter-space curve, clamped to the surface's domain
+    /// (`None` where the 142 has no parameter curve, or the box is the whole domain to
+    /// [`BOX_RELATIVE`]). A kernel trims a face on its underlying surface, which may run far
+    /// beyond it (a fillet past the faces it ends on); the face's box is the surface the face
+    /// uses, as the kernel's own UV bounds give it.
+    fn face_box(
+        &self,
+        surface: &BSplineSurface,
+        boundary: &DirEntry,
+        face: &DirEntry,
+    ) -> Result<Option<BSplineSurface>, IgesError> {
+        let params = entity_params(boundary, &self.p, &self.global)?;
+        let mut c = Cursor {
+            params: &params,
+            next: 1,
+            e: boundary,
+        };
+        let _crtn = c.int()?;
+        let _surface = c.int()?;
+        let parametric = c.int()?;
+        if parametric == 0 {
+            return Ok(None);
+        }
+        let curve = self.entry(parametric, boundary)?;
+        let pts = self.boundary_points(curve, 0)?;
+        let (du, dv) = (surface.domain_u(), surface.domain_v());
+        let mut b = [
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        for p in &pts {
+            b = [b[0].min(p.x), b[1].max(p.x), b[2].min(p.y), b[3].max(p.y)];
+        }
+        let (u0, u1) = (b[0].max(du.0), b[1].min(du.1));
+        let (v0, v1) = (b[2].max(dv.0), b[3].min(dv.1));
+        if !(u1 > u0 && v1 > v0) {
+            return Err(IgesError::Entity {
+                de: face.seq,
+                entity_type: face.entity_type,
+                detail: format!(
+                    "the outer boundary's parameter box [{}, {}] × [{}, {}] misses the surface's domain",
+                    b[0], b[1], b[2], b[3]
+                ),
+            });
+        }
+        let tiny = |a: f64, b: f64, d: (f64, f64)| (a - b).abs() <= BOX_RELATIVE * (d.1 - d.0);
+        if tiny(u0, du.0, du) && tiny(u1, du.1, du) && tiny(v0, dv.0, dv) && tiny(v1, dv.1, dv) {
+            return Ok(None);
+        }
+        surface
+            .extract((u0, u1), (v0, v1))
+            .map(Some)
+            .map_err(Self::geometry_err(face))
+    }
+
     /// A plane (108) under a trimmed surface (144) whose outer boundary (142, its model-space
     /// curve) bounds it ([IGES] §4.12, §4.32): the bilinear 2 × 2 patch over the smallest
     /// rectangle in the plane that holds the boundary, its sides along one of the boundary's
@@ -950,6 +1014,7 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
     };
     let mut trimmed_targets = Vec::new();
     let mut planes_read = Vec::new();
+    let mut boxed = Vec::new();
     for e in &reader.dir {
         match e.entity_type {
             128 => file.surfaces.push(reader.surface(e, scale)?),
@@ -966,7 +1031,23 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
                 let target = reader.entry(pts, e)?;
                 trimmed_targets.push(target.seq);
                 file.trimmed_entities += 1;
-                if target.entity_type == 108 {
+                if target.entity_type == 128 {
+                    // a B-spline face is its surface over the face's parameter box
+                    let (_n1, _n2) = (c.int()?, c.int()?);
+                    let outer = c.int()?;
+                    if outer != 0
+                        && let Some(k) = file.surfaces.iter().position(|s| s.de == target.seq)
+                        && !boxed.contains(&target.seq)
+                    {
+                        let boundary = reader.entry(outer, e)?;
+                        if let Some(cut) =
+                            reader.face_box(&file.surfaces[k].surface, boundary, e)?
+                        {
+                            file.surfaces[k].surface = cut;
+                            boxed.push(target.seq);
+                        }
+                    }
+                } else if target.entity_type == 108 {
                     // a plane is as large as its face: bounded by the outer boundary
                     let (_n1, _n2) = (c.int()?, c.int()?);
                     let outer = c.int()?;
@@ -983,6 +1064,7 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
             other => *file.skipped.entry(other).or_default() += 1,
         }
     }
+    grow_planes(&mut file.surfaces, &planes_read);
     let unbounded = reader
         .dir
         .iter()
@@ -995,6 +1077,92 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
         s.trimmed = trimmed_targets.contains(&s.de);
     }
     Ok(file)
+}
+
+/// Grows each plane read from a 108 (by directory number in `planes`) to hold every boundary of
+/// another surface that lies in it and reaches its rectangle: a kernel's surfaces run past the
+/// face they bound (a fillet beyond the plane's corner, into the vertex blend), and a side that
+/// lies on the plane must project onto it. A boundary lies in the plane when its whole control
+/// row does (convex hull) within [`IN_PLANE_RELATIVE`] of the model size.
+fn grow_planes(surfaces: &mut [IgesSurface], planes: &[usize]) {
+    let size = surfaces
+        .iter()
+        .map(|s| s.surface.size())
+        .fold(0.0, f64::max);
+    let tol = IN_PLANE_RELATIVE * size;
+    for k in 0..surfaces.len() {
+        if !planes.contains(&surfaces[k].de) {
+            continue;
+        }
+        let s = &surfaces[k].surface;
+        let cp = s.control_points();
+        let (o, px, py) = (cp[0], cp[2], cp[1]);
+        let (lx, ly) = ((px - o).norm(), (py - o).norm());
+        let (x, y) = ((px - o) / lx, (py - o) / ly);
+        let n = x.cross(&y);
+        let mut b = [0.0, lx, 0.0, ly];
+        let inside = |p: &Point3, b: &[f64; 4]| {
+            let d = p - o;
+            let (a, c) = (d.dot(&x), d.dot(&y));
+            a >= b[0] - tol && a <= b[1] + tol && c >= b[2] - tol && c <= b[3] + tol
+        };
+        let mut grown = b;
+        for (j, other) in surfaces.iter().enumerate() {
+            if j == k {
+                continue;
+            }
+            let g = &other.surface;
+            for side in [
+                nurbs_core::Side::U0,
+                nurbs_core::Side::U1,
+                nurbs_core::Side::V0,
+                nurbs_core::Side::V1,
+            ] {
+                let row: Vec<Point3> = side
+                    .row(0, g.num_u(), g.num_v())
+                    .into_iter()
+                    .map(|(i, j)| g.control_point(i, j))
+                    .collect();
+                let flat = row.iter().all(|p| n.dot(&(p - o)).abs() <= tol);
+                if !flat || !row.iter().any(|p| inside(p, &b)) {
+                    continue;
+                }
+                for p in &row {
+                    let d = p - o;
+                    let (a, c) = (d.dot(&x), d.dot(&y));
+                    grown = [
+                        grown[0].min(a),
+                        grown[1].max(a),
+                        grown[2].min(c),
+                        grown[3].max(c),
+                    ];
+                }
+            }
+        }
+        if grown == b {
+            continue;
+        }
+        b = grown;
+        let at = |a: f64, c: f64| o + x * a + y * c;
+        let (lu, lv) = (b[1] - b[0], b[3] - b[2]);
+        let knots = |l: f64| KnotVector::new(1, vec![0.0, 0.0, l, l]);
+        if let (Ok(ku), Ok(kv)) = (knots(lu), knots(lv))
+            && let Ok(plane) = BSplineSurface::new(
+                ku,
+                kv,
+                vec![
+                    at(b[0], b[2]),
+                    at(b[0], b[3]),
+                    at(b[1], b[2]),
+                    at(b[1], b[3]),
+                ],
+                None,
+            )
+        {
+            surfaces[k].surface = plane;
+            surfaces[k].param_range = [0.0, lu, 0.0, lv];
+        }
+    }
 }
 
 pub(crate) fn check_terminate(sec: &Sections<'_>) -> Result<(), IgesError> {
