@@ -13,14 +13,22 @@ use nurbs_io::{IgesWriteParams, read_iges, write_iges};
 
 use crate::files::{read_text, refuse_overwrite, write_atomic};
 
-/// Reads `input` (IGES) and writes the model JSON to `output`; returns a one-paragraph summary.
-pub fn import(input: &Path, output: &Path, explain: bool) -> Result<String> {
-    refuse_overwrite(output, &[input])?;
+/// Whether `path` names an IGES file (`.igs`, `.iges`, any case).
+pub fn is_iges(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("igs") || e.eq_ignore_ascii_case("iges"))
+}
+
+/// Reads the IGES file `input` into a model with its hierarchy found
+/// ([`hier_fair::build_hierarchy`]); returns it, the summary of what was read and found, and
+/// the log.
+pub fn model_from_iges(input: &Path) -> Result<(Model, String, hier_fair::BuildLog)> {
     let bytes = std::fs::read(input).with_context(|| format!("cannot read {}", input.display()))?;
     let file = read_iges(&bytes).map_err(|e| anyhow!("{}: {e}", input.display()))?;
     if file.surfaces.is_empty() {
         bail!(
-            "{}: the file holds no surface that is read (B-spline 128, revolution 120)",
+            "{}: the file holds no surface that is read (B-spline 128, revolution 120, plane 108 under a 144)",
             input.display()
         );
     }
@@ -37,20 +45,14 @@ pub fn import(input: &Path, output: &Path, explain: bool) -> Result<String> {
     }
     model.units = Some(file.units.to_lowercase());
     let log = hier_fair::build_hierarchy(&mut model);
-    write_atomic(output, model.to_json().as_bytes())?;
     let trimmed = file.surfaces.iter().filter(|s| s.trimmed).count();
     let skipped: Vec<String> = file
         .skipped
         .iter()
         .map(|(t, n)| format!("{n}×{t}"))
         .collect();
-    let mut out = if explain {
-        log.lines.join("\n") + "\n"
-    } else {
-        String::new()
-    };
-    out += &format!(
-        "imported {} surfaces ({} trimmed by entity 144: the underlying surfaces are kept untrimmed); {} curves (126) not imported; other entities skipped: {}; {}; wrote {}",
+    let summary = format!(
+        "imported {} surfaces ({} trimmed by entity 144: each kept over its face's box, the trim itself not kept); {} curves (126) not imported; other entities skipped: {}; {}",
         file.surfaces.len(),
         trimmed,
         file.curves.len(),
@@ -60,8 +62,22 @@ pub fn import(input: &Path, output: &Path, explain: bool) -> Result<String> {
             skipped.join(", ")
         },
         hierarchy_summary(&model, &log),
-        output.display()
     );
+    Ok((model, summary, log))
+}
+
+/// Reads `input` (IGES) and writes the model JSON to `output`; returns a one-paragraph summary
+/// (the hierarchy's log first with `explain`).
+pub fn import(input: &Path, output: &Path, explain: bool) -> Result<String> {
+    refuse_overwrite(output, &[input])?;
+    let (model, summary, log) = model_from_iges(input)?;
+    write_atomic(output, model.to_json().as_bytes())?;
+    let mut out = if explain {
+        log.lines.join("\n") + "\n"
+    } else {
+        String::new()
+    };
+    out += &format!("{summary}; wrote {}", output.display());
     Ok(out)
 }
 
@@ -148,6 +164,17 @@ pub fn export(input: &Path, output: &Path) -> Result<String> {
     refuse_overwrite(output, &[input])?;
     let model =
         Model::from_json(&read_text(input)?).map_err(|e| anyhow!("{}: {e}", input.display()))?;
+    let text = iges_text(&model, output).map_err(|e| anyhow!("{}: {e}", input.display()))?;
+    write_atomic(output, text.as_bytes())?;
+    Ok(format!(
+        "exported {} surfaces (entity 128) to {}",
+        model.surfaces.len(),
+        output.display()
+    ))
+}
+
+/// The surfaces of `model` as the text of an IGES 5.3 file named `output` (entity 128).
+pub fn iges_text(model: &Model, output: &Path) -> Result<String> {
     let (unit_flag, units) = unit(model.units.as_deref());
     let params = IgesWriteParams {
         unit_flag,
@@ -163,14 +190,7 @@ pub fn export(input: &Path, output: &Path) -> Result<String> {
         .iter()
         .map(|s| (s.name.as_str(), &s.surface))
         .collect();
-    let text =
-        write_iges(&surfaces, &[], &params).map_err(|e| anyhow!("{}: {e}", input.display()))?;
-    write_atomic(output, text.as_bytes())?;
-    Ok(format!(
-        "exported {} surfaces (entity 128) to {}",
-        surfaces.len(),
-        output.display()
-    ))
+    write_iges(&surfaces, &[], &params).map_err(|e| anyhow!("{e}"))
 }
 
 #[cfg(test)]

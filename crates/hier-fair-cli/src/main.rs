@@ -336,8 +336,13 @@ fn run(cli: Cli) -> Result<()> {
             for (role, mm) in tolerance_role {
                 role_tolerance[role.rank()] = Some(mm);
             }
-            let text = files::read_text(&input)?;
-            if hier_fair_cli::pipeline::is_model(&text) {
+            let iges = hier_fair_cli::exchange::is_iges(&input);
+            let text = if iges {
+                String::new()
+            } else {
+                files::read_text(&input)?
+            };
+            if iges || hier_fair_cli::pipeline::is_model(&text) {
                 let options = hier_fair_cli::pipeline::ModelOptions {
                     method,
                     tolerance,

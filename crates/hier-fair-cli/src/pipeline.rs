@@ -334,9 +334,19 @@ pub fn run_fair(
     if let Some(r) = report_path {
         files::refuse_overwrite(r, &[input, output])?;
     }
-    let model = Model::from_json(text).with_context(|| format!("{}", input.display()))?;
+    // a CAD file in, a CAD file out: IGES is imported (hierarchy found) and written back
+    let model = if crate::exchange::is_iges(input) {
+        crate::exchange::model_from_iges(input)?.0
+    } else {
+        Model::from_json(text).with_context(|| format!("{}", input.display()))?
+    };
     let (faired, report) = fair(&model, options)?;
-    files::write_atomic(output, faired.to_json().as_bytes())?;
+    let written = if crate::exchange::is_iges(output) {
+        crate::exchange::iges_text(&faired, output)?
+    } else {
+        faired.to_json()
+    };
+    files::write_atomic(output, written.as_bytes())?;
     if let Some(r) = report_path {
         let json = serde_json::to_string_pretty(&hier_fair::report_json(&report))? + "\n";
         files::write_atomic(r, json.as_bytes())?;

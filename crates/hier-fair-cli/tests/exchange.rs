@@ -286,3 +286,33 @@ fn kernel_iges_imports_with_its_hierarchy() {
     eprintln!("all: links {links_hit}/{links_all}");
     assert!(links_hit * 100 >= 95 * links_all, "{links_hit}/{links_all}");
 }
+
+/// A CAD file in, a CAD file out: `fair NAME.igs -o OUT.igs` imports (hierarchy found), fairs
+/// and writes IGES; the output reads back with the same surfaces and links, and the report says
+/// every link of the plate with the boss is met.
+#[test]
+fn fair_round_trips_iges() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/occt");
+    let tmp = tempfile::tempdir().unwrap();
+    let (out, report) = (tmp.path().join("out.igs"), tmp.path().join("r.json"));
+    let o = bin()
+        .args([
+            "fair",
+            dir.join("occt_plate_boss.igs").to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--report",
+            report.to_str().unwrap(),
+            "--quiet",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let links = r["links"].as_array().unwrap();
+    assert_eq!(links.len(), 4);
+    assert!(links.iter().all(|l| l["met"] == true), "{links:?}");
+    let back = nurbs_io::read_iges(&std::fs::read(&out).unwrap()).unwrap();
+    assert_eq!(back.surfaces.len(), 10);
+}
