@@ -353,10 +353,10 @@ fn solve_row_once(
             }
         }
     }
-    if step == Continuity::G0
-        && b.iter()
-            .all(|d| d.abs() <= crate::slave::C0_EXACT * slave.size())
-    {
+    if step == Continuity::G0 && {
+        let exact = crate::slave::C0_EXACT * slave.size();
+        b.iter().all(|d| d.abs() <= exact)
+    } {
         // already on the master: keep the row bit-identical
         return Ok(RowMove {
             side,

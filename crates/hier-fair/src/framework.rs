@@ -573,6 +573,16 @@ struct Run<'a> {
 
 impl Run<'_> {
     fn record(&mut self, stage: Stage, before: &BSplineSurface, after: &BSplineSurface) {
+        self.record_known(stage, before, after, None);
+    }
+    /// [`Run::record`] with the energy of `after` when the caller has it already.
+    fn record_known(
+        &mut self,
+        stage: Stage,
+        before: &BSplineSurface,
+        after: &BSplineSurface,
+        energy: Option<f64>,
+    ) {
         let max_move = if before.control_points().len() == after.control_points().len() {
             nurbs_core::max_displacement(before.control_points(), after.control_points())
         } else {
@@ -582,7 +592,7 @@ impl Run<'_> {
             stage,
             max_move,
             deviation: max_deviation(self.original, after, self.grid),
-            energy: thin_plate_energy(after),
+            energy: energy.unwrap_or_else(|| thin_plate_energy(after)),
             iterations: 0,
             knots_inserted: 0,
             epsilon: 0.0,
@@ -1124,9 +1134,10 @@ impl Job<'_> {
             let stage = Stage::fair(level);
             let eps = ((budget - run.deviation()) / fair_left as f64).max(0.0);
             fair_left -= 1;
-            match self.fair_stage(&s, &links, level, &master_sides, eps) {
-                Ok(Some((next, iterations))) => {
-                    run.record(stage, &s, &next);
+            let known = run.stages.last().map(|r| r.energy);
+            match self.fair_stage(&s, &links, level, &master_sides, eps, known) {
+                Ok(Some((next, iterations, energy))) => {
+                    run.record_known(stage, &s, &next, Some(energy));
                     if let Some(r) = run.stages.last_mut() {
                         r.iterations = iterations;
                         r.epsilon = eps;
@@ -1195,10 +1206,11 @@ impl Job<'_> {
                 stages: vec![run.stages[0].clone()],
             };
             once.record(Stage::set(h), &prepared_for_once, &connected);
-            if let Ok(Some((faired, iterations))) =
-                self.fair_stage(&connected, &links, h, &master_sides, budget - dc)
+            let known = once.stages.last().map(|r| r.energy);
+            if let Ok(Some((faired, iterations, energy))) =
+                self.fair_stage(&connected, &links, h, &master_sides, budget - dc, known)
             {
-                once.record(Stage::fair(h), &connected, &faired);
+                once.record_known(Stage::fair(h), &connected, &faired, Some(energy));
                 if let Some(r) = once.stages.last_mut() {
                     r.iterations = iterations;
                     r.epsilon = budget - dc;
@@ -1339,7 +1351,8 @@ impl Job<'_> {
         level: Continuity,
         master_sides: &[Side],
         eps: f64,
-    ) -> std::result::Result<Option<(BSplineSurface, usize)>, String> {
+        energy_of_s: Option<f64>,
+    ) -> std::result::Result<Option<(BSplineSurface, usize, f64)>, String> {
         let mut mask = stage_mask(s, links, level);
         for &side in master_sides {
             mask.fix_frame(side, MASTER_FRAME);
@@ -1355,13 +1368,15 @@ impl Job<'_> {
             .fair(s, &mask, eps)
             .map_err(|e| e.to_string())?;
         // a fairing stage ends fairer than it started, or is not used
-        let (before, after) = (thin_plate_energy(s), thin_plate_energy(&next));
+        // (the energy of `s` as the caller's stage record has it, when it has)
+        let before = energy_of_s.unwrap_or_else(|| thin_plate_energy(s));
+        let after = thin_plate_energy(&next);
         if after > before {
             return Err(format!(
                 "it raised the thin-plate energy from {before:.4e} to {after:.4e}"
             ));
         }
-        Ok(Some((next, fr.iterations)))
+        Ok(Some((next, fr.iterations, after)))
     }
 
     /// The largest [`growths`] factors of `result` over this surface's links against the input,
