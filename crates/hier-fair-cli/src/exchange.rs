@@ -20,6 +20,63 @@ pub fn is_iges(path: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("igs") || e.eq_ignore_ascii_case("iges"))
 }
 
+/// Whether `path` names a STEP file (`.step`, `.stp`, any case).
+pub fn is_step(path: &Path) -> bool {
+    path.extension()
+        .and_then(|e| e.to_str())
+        .is_some_and(|e| e.eq_ignore_ascii_case("step") || e.eq_ignore_ascii_case("stp"))
+}
+
+/// Reads a CAD file (STEP or IGES, by its extension) into a model with its hierarchy found.
+pub fn model_from_cad(input: &Path) -> Result<(Model, String, hier_fair::BuildLog)> {
+    if is_step(input) {
+        model_from_step(input)
+    } else {
+        model_from_iges(input)
+    }
+}
+
+/// Reads the STEP file `input` (its faces, [`nurbs_io::read_step`]) into a model with its
+/// hierarchy found; returns it, the summary and the log.
+pub fn model_from_step(input: &Path) -> Result<(Model, String, hier_fair::BuildLog)> {
+    let text = read_text(input)?;
+    let file = nurbs_io::read_step(&text).map_err(|e| anyhow!("{}: {e}", input.display()))?;
+    if file.faces.is_empty() {
+        bail!(
+            "{}: the file holds no face whose surface is read",
+            input.display()
+        );
+    }
+    let mut model = Model::from_primaries(file.faces.iter().map(|f| f.surface.clone()).collect());
+    let mut used = HashSet::new();
+    for (m, f) in model.surfaces.iter_mut().zip(&file.faces) {
+        let mut name = f.name.clone();
+        if !used.insert(name.clone()) {
+            name = format!("{}_{}", f.name, f.id);
+            used.insert(name.clone());
+        }
+        m.name = name;
+    }
+    model.units = Some(file.units.clone());
+    let log = hier_fair::build_hierarchy(&mut model);
+    let skipped: Vec<String> = file
+        .skipped
+        .iter()
+        .map(|(t, n)| format!("{n}×{t}"))
+        .collect();
+    let summary = format!(
+        "imported {} faces, each over its parameter box (the trim itself not kept); faces of surfaces not read: {}; {}",
+        file.faces.len(),
+        if skipped.is_empty() {
+            "none".to_string()
+        } else {
+            skipped.join(", ")
+        },
+        hierarchy_summary(&model, &log),
+    );
+    Ok((model, summary, log))
+}
+
 /// Reads the IGES file `input` into a model with its hierarchy found
 /// ([`hier_fair::build_hierarchy`]); returns it, the summary of what was read and found, and
 /// the log.
@@ -66,11 +123,12 @@ pub fn model_from_iges(input: &Path) -> Result<(Model, String, hier_fair::BuildL
     Ok((model, summary, log))
 }
 
-/// Reads `input` (IGES) and writes the model JSON to `output`; returns a one-paragraph summary
+/// Reads `input` (STEP or IGES, by the extension) and writes the model JSON to `output`;
+/// returns a one-paragraph summary
 /// (the hierarchy's log first with `explain`).
 pub fn import(input: &Path, output: &Path, explain: bool) -> Result<String> {
     refuse_overwrite(output, &[input])?;
-    let (model, summary, log) = model_from_iges(input)?;
+    let (model, summary, log) = model_from_cad(input)?;
     write_atomic(output, model.to_json().as_bytes())?;
     let mut out = if explain {
         log.lines.join("\n") + "\n"

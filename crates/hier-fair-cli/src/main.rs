@@ -55,9 +55,9 @@ enum Command {
         #[arg(long)]
         fit: Option<PathBuf>,
     },
-    /// Reads an IGES file (surfaces 128 and 120, trimmed by 144) into a model and finds its hierarchy (links, targets, roles) from the geometry
+    /// Reads a STEP (.step, .stp: elementary and B-spline faces) or IGES file (surfaces 128, 120 and planes 108, trimmed by 144) into a model and finds its hierarchy (links, targets, roles) from the geometry
     Import {
-        /// IGES file
+        /// STEP or IGES file
         input: PathBuf,
         /// Model JSON to write
         #[arg(short = 'o', long = "output")]
@@ -336,7 +336,8 @@ fn run(cli: Cli) -> Result<()> {
             for (role, mm) in tolerance_role {
                 role_tolerance[role.rank()] = Some(mm);
             }
-            let iges = hier_fair_cli::exchange::is_iges(&input);
+            let iges = hier_fair_cli::exchange::is_iges(&input)
+                || hier_fair_cli::exchange::is_step(&input);
             let text = if iges {
                 String::new()
             } else {

@@ -334,9 +334,10 @@ pub fn run_fair(
     if let Some(r) = report_path {
         files::refuse_overwrite(r, &[input, output])?;
     }
-    // a CAD file in, a CAD file out: IGES is imported (hierarchy found) and written back
-    let model = if crate::exchange::is_iges(input) {
-        crate::exchange::model_from_iges(input)?.0
+    // a CAD file in, a CAD file out: STEP or IGES is imported (hierarchy found); an IGES output
+    // is written as IGES
+    let model = if crate::exchange::is_iges(input) || crate::exchange::is_step(input) {
+        crate::exchange::model_from_cad(input)?.0
     } else {
         Model::from_json(text).with_context(|| format!("{}", input.display()))?
     };

@@ -186,6 +186,21 @@ fn kernel_iges_surfaces_of_revolution_are_exact() {
 /// figures asserted are those reached (`docs/benchmarks.md`).
 #[test]
 fn kernel_iges_imports_with_its_hierarchy() {
+    let (hit, all) = kernel_imports("igs");
+    assert!(hit * 100 >= 95 * all, "{hit}/{all}");
+}
+
+/// The same for the STEP files Open CASCADE writes (AP214: PLANE, CYLINDRICAL_SURFACE,
+/// SPHERICAL_SURFACE, TOROIDAL_SURFACE, B-spline surfaces, faces bounded by edge loops).
+#[test]
+fn kernel_step_imports_with_its_hierarchy() {
+    let (hit, all) = kernel_imports("step");
+    assert!(hit * 100 >= 95 * all, "{hit}/{all}");
+}
+
+/// Imports every kernel model from its `ext` file and compares it with its JSON (see
+/// [`kernel_iges_imports_with_its_hierarchy`]); returns the links found and the links there are.
+fn kernel_imports(ext: &str) -> (usize, usize) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/occt");
     let params = nurbs_core::ProjectionParams::default();
     let (mut links_hit, mut links_all) = (0, 0);
@@ -202,7 +217,7 @@ fn kernel_iges_imports_with_its_hierarchy() {
         let o = bin()
             .args([
                 "import",
-                dir.join(format!("{name}.igs")).to_str().unwrap(),
+                dir.join(format!("{name}.{ext}")).to_str().unwrap(),
                 "-o",
                 out.to_str().unwrap(),
             ])
@@ -283,8 +298,8 @@ fn kernel_iges_imports_with_its_hierarchy() {
         links_hit += hit;
         links_all += theirs.links.len();
     }
-    eprintln!("all: links {links_hit}/{links_all}");
-    assert!(links_hit * 100 >= 95 * links_all, "{links_hit}/{links_all}");
+    eprintln!("{ext}: links {links_hit}/{links_all}");
+    (links_hit, links_all)
 }
 
 /// A CAD file in, a CAD file out: `fair NAME.igs -o OUT.igs` imports (hierarchy found), fairs

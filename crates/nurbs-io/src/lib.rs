@@ -5,14 +5,19 @@
 //! `trimmed` flag) and transformation matrices (124, applied where referenced). Other entities are
 //! counted and skipped. The reader checks the fixed 80-column layout and reports errors by line;
 //! the writer produces files that pass the same checks ([`check_structure`]).
+//!
+//! STEP (ISO 10303-21) faces are read by [`read_step`]: elementary and B-spline surfaces over
+//! their faces' parameter boxes (module [`step`]).
 
 pub mod error;
 pub mod params;
 pub mod reader;
+pub mod step;
 pub mod structure;
 pub mod writer;
 
 pub use error::IgesError;
 pub use reader::{IgesCurve, IgesFile, IgesSurface, read_iges};
+pub use step::{StepError, StepFace, StepFile, read_step};
 pub use structure::{StructureReport, check_structure};
 pub use writer::{IgesWriteParams, write_iges};

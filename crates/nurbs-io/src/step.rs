@@ -1,0 +1,986 @@
+//! A STEP reader (ISO 10303-21 exchange structure, the AP203/AP214/AP242 geometry of
+//! ISO 10303-42): each ADVANCED_FACE (or FACE_SURFACE) becomes an exact NURBS surface over the
+//! parameter box of its bounds.
+//!
+//! Surfaces: PLANE, CYLINDRICAL_SURFACE, CONICAL_SURFACE, SPHERICAL_SURFACE, TOROIDAL_SURFACE
+//! (rational quadratic arcs in the angular directions, [NB] A7.1 / A8.1), SURFACE_OF_REVOLUTION
+//! of a B-spline curve, and B_SPLINE_SURFACE_WITH_KNOTS, plain or in the complex instance with
+//! RATIONAL_B_SPLINE_SURFACE.
+//! The parameter box of a face is that of its edges: the vertices and points along every edge
+//! curve (LINE between its vertices, CIRCLE along the arc the edge runs, B-spline curves
+//! sampled) are inverted on the surface — in closed form on the elementary surfaces, by
+//! projection on a B-spline — and an angular range that wraps is taken as the complement of the
+//! largest gap. Length unit: the SI_UNIT of the LENGTH_UNIT (METRE with its prefix) or a
+//! CONVERSION_BASED_UNIT named INCH / FOOT; coordinates stay in that unit.
+//!
+//! # Deviation from the standard
+//! Only what a face's geometry needs is read; topology beyond the face bounds, colours,
+//! assemblies and placements of product instances are ignored (a file of several placed
+//! solids reads each solid in its own coordinates).
+
+use std::collections::HashMap;
+
+use nurbs_core::{BSplineCurve, BSplineSurface, KnotVector, Point3, ProjectionParams, Vector3};
+
+/// Points along each edge curve used for a face's parameter box.
+pub const EDGE_SAMPLES: usize = 17;
+
+/// What is wrong with a STEP file, with the entity it concerns.
+#[derive(Debug, thiserror::Error, PartialEq)]
+pub enum StepError {
+    /// The exchange structure itself (sections, an entity instance's syntax).
+    #[error("line {line}: {detail}")]
+    Syntax {
+        /// 1-based line
+        line: usize,
+        /// what is wrong
+        detail: String,
+    },
+    /// An entity whose parameters do not fit its type.
+    #[error("#{id} {entity}: {detail}")]
+    Entity {
+        /// instance number
+        id: u64,
+        /// entity type
+        entity: String,
+        /// what is wrong
+        detail: String,
+    },
+    /// Geometry rejected by the kernel.
+    #[error("#{id}: {source}")]
+    Geometry {
+        /// instance number
+        id: u64,
+        /// the kernel's error
+        source: nurbs_core::Error,
+    },
+}
+
+/// A parameter value of an entity instance.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Value {
+    /// integer or real
+    Number(f64),
+    /// 'text'
+    Text(String),
+    /// .ENUM.
+    Enum(String),
+    /// #N
+    Ref(u64),
+    /// ( … )
+    List(Vec<Value>),
+    /// $ or *
+    Unset,
+    /// TYPE( … ) inside a parameter list
+    Typed(String, Vec<Value>),
+}
+
+/// One instance: its parts (one for a simple instance, several for a complex one).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Instance {
+    /// (entity type, parameters) per part
+    pub parts: Vec<(String, Vec<Value>)>,
+    /// 1-based line where it starts
+    pub line: usize,
+}
+
+/// A face read from a STEP file.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StepFace {
+    /// instance number of the face
+    pub id: u64,
+    /// the face's name, or `step<id>`
+    pub name: String,
+    /// the surface over the face's parameter box
+    pub surface: BSplineSurface,
+    /// the entity type of the face's surface
+    pub kind: String,
+}
+
+/// What a STEP file held.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct StepFile {
+    /// the faces, in instance order
+    pub faces: Vec<StepFace>,
+    /// the length unit's name ("mm", "m", "in", …)
+    pub units: String,
+    /// faces whose surface type is not read, by type
+    pub skipped: std::collections::BTreeMap<String, usize>,
+}
+
+/// Parses the DATA section of a Part 21 file into its instances.
+pub fn parse_instances(text: &str) -> Result<HashMap<u64, Instance>, StepError> {
+    let bytes = text.as_bytes();
+    let Some(start) = text.find("DATA;") else {
+        return Err(StepError::Syntax {
+            line: 1,
+            detail: "no DATA section (not an ISO 10303-21 file?)".into(),
+        });
+    };
+    let mut p = Parser {
+        b: bytes,
+        i: start + 5,
+        line: 1 + text[..start].matches('\n').count(),
+    };
+    let mut out = HashMap::new();
+    loop {
+        p.skip();
+        if p.i >= bytes.len() {
+            return Err(p.err("the DATA section has no ENDSEC"));
+        }
+        if bytes[p.i..].starts_with(b"ENDSEC") {
+            break;
+        }
+        if bytes[p.i] != b'#' {
+            return Err(p.err("expected an instance #N = …"));
+        }
+        let line = p.line;
+        p.i += 1;
+        let id = p.integer()?;
+        p.skip();
+        p.expect(b'=')?;
+        p.skip();
+        let mut parts = Vec::new();
+        if p.peek() == Some(b'(') {
+            // complex instance: ( A(..) B(..) … )
+            p.i += 1;
+            loop {
+                p.skip();
+                if p.peek() == Some(b')') {
+                    p.i += 1;
+                    break;
+                }
+                let name = p.keyword()?;
+                p.skip();
+                let args = p.list()?;
+                parts.push((name, args));
+            }
+        } else {
+            let name = p.keyword()?;
+            p.skip();
+            let args = p.list()?;
+            parts.push((name, args));
+        }
+        p.skip();
+        p.expect(b';')?;
+        if out.insert(id, Instance { parts, line }).is_some() {
+            return Err(StepError::Syntax {
+                line,
+                detail: format!("instance #{id} is defined twice"),
+            });
+        }
+    }
+    Ok(out)
+}
+
+struct Parser<'a> {
+    b: &'a [u8],
+    i: usize,
+    line: usize,
+}
+
+impl Parser<'_> {
+    fn err(&self, detail: &str) -> StepError {
+        StepError::Syntax {
+            line: self.line,
+            detail: detail.to_string(),
+        }
+    }
+    fn peek(&self) -> Option<u8> {
+        self.b.get(self.i).copied()
+    }
+    /// Skips white space and /* comments */.
+    fn skip(&mut self) {
+        while let Some(c) = self.peek() {
+            if c == b'\n' {
+                self.line += 1;
+                self.i += 1;
+            } else if c.is_ascii_whitespace() {
+                self.i += 1;
+            } else if self.b[self.i..].starts_with(b"/*") {
+                match self.b[self.i + 2..].windows(2).position(|w| w == b"*/") {
+                    Some(k) => {
+                        self.line += self.b[self.i..self.i + k + 4]
+                            .iter()
+                            .filter(|&&c| c == b'\n')
+                            .count();
+                        self.i += k + 4;
+                    }
+                    None => self.i = self.b.len(),
+                }
+            } else {
+                break;
+            }
+        }
+    }
+    fn expect(&mut self, c: u8) -> Result<(), StepError> {
+        if self.peek() == Some(c) {
+            self.i += 1;
+            Ok(())
+        } else {
+            Err(self.err(&format!("expected '{}'", c as char)))
+        }
+    }
+    fn integer(&mut self) -> Result<u64, StepError> {
+        let s = self.i;
+        while self.peek().is_some_and(|c| c.is_ascii_digit()) {
+            self.i += 1;
+        }
+        std::str::from_utf8(&self.b[s..self.i])
+            .ok()
+            .and_then(|t| t.parse().ok())
+            .ok_or_else(|| self.err("expected an instance number"))
+    }
+    fn keyword(&mut self) -> Result<String, StepError> {
+        let s = self.i;
+        while self
+            .peek()
+            .is_some_and(|c| c.is_ascii_alphanumeric() || c == b'_' || c == b'!')
+        {
+            self.i += 1;
+        }
+        if s == self.i {
+            return Err(self.err("expected an entity name"));
+        }
+        Ok(String::from_utf8_lossy(&self.b[s..self.i]).to_uppercase())
+    }
+    /// ( value, value, … )
+    fn list(&mut self) -> Result<Vec<Value>, StepError> {
+        self.expect(b'(')?;
+        let mut out = Vec::new();
+        loop {
+            self.skip();
+            if self.peek() == Some(b')') {
+                self.i += 1;
+                return Ok(out);
+            }
+            out.push(self.value()?);
+            self.skip();
+            match self.peek() {
+                Some(b',') => self.i += 1,
+                Some(b')') => {}
+                _ => return Err(self.err("expected ',' or ')' in a parameter list")),
+            }
+        }
+    }
+    fn value(&mut self) -> Result<Value, StepError> {
+        match self.peek() {
+            Some(b'(') => Ok(Value::List(self.list()?)),
+            Some(b'#') => {
+                self.i += 1;
+                Ok(Value::Ref(self.integer()?))
+            }
+            Some(b'$') | Some(b'*') => {
+                self.i += 1;
+                Ok(Value::Unset)
+            }
+            Some(b'\'') => {
+                self.i += 1;
+                let mut s = Vec::new();
+                loop {
+                    match self.peek() {
+                        None => return Err(self.err("a string does not end")),
+                        Some(b'\'') if self.b.get(self.i + 1) == Some(&b'\'') => {
+                            s.push(b'\'');
+                            self.i += 2;
+                        }
+                        Some(b'\'') => {
+                            self.i += 1;
+                            break;
+                        }
+                        Some(c) => {
+                            if c == b'\n' {
+                                self.line += 1;
+                            }
+                            s.push(c);
+                            self.i += 1;
+                        }
+                    }
+                }
+                Ok(Value::Text(String::from_utf8_lossy(&s).into_owned()))
+            }
+            Some(b'.')
+                if self
+                    .b
+                    .get(self.i + 1)
+                    .is_some_and(|c| c.is_ascii_alphabetic()) =>
+            {
+                self.i += 1;
+                let s = self.i;
+                while self.peek().is_some_and(|c| c != b'.') {
+                    self.i += 1;
+                }
+                let e = String::from_utf8_lossy(&self.b[s..self.i]).to_uppercase();
+                self.expect(b'.')?;
+                Ok(Value::Enum(e))
+            }
+            Some(c) if c.is_ascii_digit() || c == b'-' || c == b'+' || c == b'.' => {
+                let s = self.i;
+                while self
+                    .peek()
+                    .is_some_and(|c| c.is_ascii_digit() || b"+-.eE".contains(&c))
+                {
+                    self.i += 1;
+                }
+                std::str::from_utf8(&self.b[s..self.i])
+                    .ok()
+                    .and_then(|t| t.parse::<f64>().ok())
+                    .filter(|x| x.is_finite())
+                    .map(Value::Number)
+                    .ok_or_else(|| self.err("a malformed number"))
+            }
+            Some(c) if c.is_ascii_alphabetic() => {
+                let name = self.keyword()?;
+                self.skip();
+                Ok(Value::Typed(name, self.list()?))
+            }
+            _ => Err(self.err("an unexpected character in a parameter list")),
+        }
+    }
+}
+
+/// Access to the instances with errors that name them.
+struct Model<'a> {
+    all: &'a HashMap<u64, Instance>,
+}
+
+type R<T> = Result<T, StepError>;
+
+impl<'a> Model<'a> {
+    fn get(&self, id: u64) -> R<&'a Instance> {
+        self.all.get(&id).ok_or_else(|| StepError::Entity {
+            id,
+            entity: "?".into(),
+            detail: "is referenced but not defined".into(),
+        })
+    }
+    /// The parameters of the part `name` of instance `id`.
+    fn part(&self, id: u64, name: &str) -> R<&'a [Value]> {
+        let inst = self.get(id)?;
+        inst.parts
+            .iter()
+            .find(|(n, _)| n == name)
+            .map(|(_, v)| v.as_slice())
+            .ok_or_else(|| StepError::Entity {
+                id,
+                entity: inst.parts.first().map_or_else(String::new, |p| p.0.clone()),
+                detail: format!("expected {name}"),
+            })
+    }
+    fn kind(&self, id: u64) -> R<&'a str> {
+        Ok(self.get(id)?.parts.first().map_or("", |p| p.0.as_str()))
+    }
+    fn bad(&self, id: u64, detail: impl Into<String>) -> StepError {
+        StepError::Entity {
+            id,
+            entity: self.kind(id).unwrap_or("?").to_string(),
+            detail: detail.into(),
+        }
+    }
+    fn num(&self, id: u64, v: Option<&Value>) -> R<f64> {
+        match v {
+            Some(Value::Number(x)) => Ok(*x),
+            Some(Value::Typed(_, inner)) => self.num(id, inner.first()),
+            _ => Err(self.bad(id, "expected a number")),
+        }
+    }
+    fn reference(&self, id: u64, v: Option<&Value>) -> R<u64> {
+        match v {
+            Some(Value::Ref(r)) => Ok(*r),
+            _ => Err(self.bad(id, "expected a reference")),
+        }
+    }
+    fn list<'v>(&self, id: u64, v: Option<&'v Value>) -> R<&'v [Value]> {
+        match v {
+            Some(Value::List(l)) => Ok(l),
+            _ => Err(self.bad(id, "expected a list")),
+        }
+    }
+    fn numbers(&self, id: u64, v: Option<&Value>) -> R<Vec<f64>> {
+        self.list(id, v)?
+            .iter()
+            .map(|x| self.num(id, Some(x)))
+            .collect()
+    }
+    fn point(&self, id: u64) -> R<Point3> {
+        let c = self.numbers(id, self.part(id, "CARTESIAN_POINT")?.get(1))?;
+        Ok(Point3::new(
+            c.first().copied().unwrap_or(0.0),
+            c.get(1).copied().unwrap_or(0.0),
+            c.get(2).copied().unwrap_or(0.0),
+        ))
+    }
+    fn direction(&self, id: u64) -> R<Vector3> {
+        let c = self.numbers(id, self.part(id, "DIRECTION")?.get(1))?;
+        Vector3::new(
+            c.first().copied().unwrap_or(0.0),
+            c.get(1).copied().unwrap_or(0.0),
+            c.get(2).copied().unwrap_or(0.0),
+        )
+        .try_normalize(0.0)
+        .ok_or_else(|| self.bad(id, "a zero direction"))
+    }
+    /// AXIS2_PLACEMENT_3D: origin and the right-handed frame (x, y, z).
+    fn placement(&self, id: u64) -> R<(Point3, Vector3, Vector3, Vector3)> {
+        let p = self.part(id, "AXIS2_PLACEMENT_3D")?;
+        let o = self.point(self.reference(id, p.get(1))?)?;
+        let z = match p.get(2) {
+            Some(Value::Ref(r)) => self.direction(*r)?,
+            _ => Vector3::z(),
+        };
+        let x0 = match p.get(3) {
+            Some(Value::Ref(r)) => self.direction(*r)?,
+            _ => {
+                if z.x.abs() < 0.9 {
+                    Vector3::x()
+                } else {
+                    Vector3::y()
+                }
+            }
+        };
+        let x = (x0 - z * z.dot(&x0))
+            .try_normalize(0.0)
+            .ok_or_else(|| self.bad(id, "the reference direction is along the axis"))?;
+        Ok((o, x, z.cross(&x), z))
+    }
+}
+
+/// An elementary or B-spline surface with its closed-form parametrization.
+enum Surface {
+    Plane(Point3, Vector3, Vector3),
+    /// origin, x, y, z, radius, semi-angle (0 for a cylinder)
+    Cone(Point3, Vector3, Vector3, Vector3, f64, f64),
+    /// origin, x, y, z, radius
+    Sphere(Point3, Vector3, Vector3, Vector3, f64),
+    /// origin, x, y, z, major, minor
+    Torus(Point3, Vector3, Vector3, Vector3, f64, f64),
+    Spline(BSplineSurface),
+    /// a generatrix turned about the axis through the point with the unit direction; the
+    /// generatrix's radial direction at its middle is angle 0 (it lies in a half-plane through
+    /// the axis, as every surface of revolution a kernel writes)
+    Revolution(BSplineCurve, Point3, Vector3, Vector3),
+}
+
+impl Surface {
+    /// Parameters (u, v) of a point on the surface, u the angle where there is one.
+    fn invert(&self, p: &Point3) -> (f64, f64) {
+        match self {
+            Surface::Plane(o, x, y) => ((p - o).dot(x), (p - o).dot(y)),
+            Surface::Cone(o, x, y, z, _, _) => {
+                let d = p - o;
+                (d.dot(y).atan2(d.dot(x)), d.dot(z))
+            }
+            Surface::Sphere(o, x, y, z, _) => {
+                let d = p - o;
+                let (a, b) = (d.dot(x), d.dot(y));
+                (b.atan2(a), d.dot(z).atan2(a.hypot(b)))
+            }
+            Surface::Torus(o, x, y, z, major, _) => {
+                let d = p - o;
+                let (a, b) = (d.dot(x), d.dot(y));
+                (b.atan2(a), d.dot(z).atan2(a.hypot(b) - major))
+            }
+            Surface::Spline(s) => {
+                let f = nurbs_core::project_to_surface(s, p, &ProjectionParams::default());
+                (f.u, f.v)
+            }
+            Surface::Revolution(c, o, z, x) => {
+                let d = p - o;
+                let y = z.cross(x);
+                let u = d.dot(&y).atan2(d.dot(x));
+                // turned back into the generatrix's half-plane, the point lies on it
+                let h = z * d.dot(z);
+                let back = o + h + x * (d - h).norm();
+                (u, nearest_parameter(c, &back))
+            }
+        }
+    }
+    fn angular(&self) -> (bool, bool) {
+        match self {
+            Surface::Plane(..) | Surface::Spline(_) => (false, false),
+            Surface::Revolution(..) => (true, false),
+            Surface::Cone(..) => (true, false),
+            // a sphere's latitude never wraps (−π/2 … π/2)
+            Surface::Sphere(..) => (true, false),
+            Surface::Torus(..) => (true, true),
+        }
+    }
+    /// The NURBS surface over [u0, u1] × [v0, v1].
+    fn build(&self, u: (f64, f64), v: (f64, f64)) -> nurbs_core::Result<BSplineSurface> {
+        use nurbs_core::shapes::{arc, revolve_curve};
+        let line = |a: Point3, b: Point3| {
+            BSplineCurve::new(
+                KnotVector::new(1, vec![v.0, v.0, v.1, v.1])?,
+                vec![a, b],
+                None,
+            )
+        };
+        match self {
+            Surface::Plane(o, x, y) => {
+                let at = |a: f64, b: f64| o + x * a + y * b;
+                BSplineSurface::new(
+                    KnotVector::new(1, vec![u.0, u.0, u.1, u.1])?,
+                    KnotVector::new(1, vec![v.0, v.0, v.1, v.1])?,
+                    vec![at(u.0, v.0), at(u.0, v.1), at(u.1, v.0), at(u.1, v.1)],
+                    None,
+                )
+            }
+            Surface::Cone(o, x, _, z, r, semi) => {
+                let at = |h: f64| o + x * (r + h * semi.tan()) + z * h;
+                let profile = line(at(v.0), at(v.1))?;
+                // u the angle about z: the profile turned from u0 to u1; the result runs
+                // (profile, angle), transposed to (angle, height)
+                Ok(revolve_curve(&profile, *o, *z, u.0, u.1)?.transposed()?)
+            }
+            Surface::Sphere(o, x, _, z, r) => {
+                let profile = arc(*o, *x, *z, *r, v.0, v.1)?;
+                Ok(revolve_curve(&profile, *o, *z, u.0, u.1)?.transposed()?)
+            }
+            Surface::Torus(o, x, _, z, major, minor) => {
+                let profile = arc(o + x * *major, *x, *z, *minor, v.0, v.1)?;
+                Ok(revolve_curve(&profile, *o, *z, u.0, u.1)?.transposed()?)
+            }
+            Surface::Spline(s) => s.extract(u, v),
+            Surface::Revolution(c, o, z, _) => {
+                let part = c.extract(v.0, v.1)?;
+                Ok(revolve_curve(&part, *o, *z, u.0, u.1)?.transposed()?)
+            }
+        }
+    }
+}
+
+/// The parameter of the point of `c` nearest to `p`: the nearest of 256 samples, then a
+/// golden-section search between its neighbours.
+fn nearest_parameter(c: &BSplineCurve, p: &Point3) -> f64 {
+    let (t0, t1) = c.knots().domain();
+    let n = 256;
+    let at = |k: usize| t0 + (t1 - t0) * k as f64 / n as f64;
+    let dist = |t: f64| (c.point(t) - p).norm();
+    let k = (0..=n)
+        .min_by(|&a, &b| dist(at(a)).total_cmp(&dist(at(b))))
+        .unwrap_or(0);
+    let (mut a, mut b) = (at(k.saturating_sub(1)), at((k + 1).min(n)));
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..80 {
+        let (x1, x2) = (b - g * (b - a), a + g * (b - a));
+        if dist(x1) < dist(x2) {
+            b = x2;
+        } else {
+            a = x1;
+        }
+    }
+    0.5 * (a + b)
+}
+
+/// The range of angles `a` (radians) as an interval: the complement of the largest gap on the
+/// circle, from its end to its start + 2π; a full turn where the points are all around.
+fn angle_range(a: &[f64]) -> (f64, f64) {
+    let mut s: Vec<f64> = a
+        .iter()
+        .map(|x| x.rem_euclid(std::f64::consts::TAU))
+        .collect();
+    s.sort_by(f64::total_cmp);
+    let n = s.len();
+    let mut best = (s[0] + std::f64::consts::TAU - s[n - 1], n - 1);
+    for k in 0..n - 1 {
+        let gap = s[k + 1] - s[k];
+        if gap > best.0 {
+            best = (gap, k);
+        }
+    }
+    // a gap below 1/EDGE_SAMPLES of a turn between two samples: the face goes all around
+    if best.0 < std::f64::consts::TAU / EDGE_SAMPLES as f64 * 0.5 {
+        return (0.0, std::f64::consts::TAU);
+    }
+    let start = s[(best.1 + 1) % n];
+    let end = s[best.1];
+    let end = if end <= start {
+        end + std::f64::consts::TAU
+    } else {
+        end
+    };
+    (start, end)
+}
+
+/// Reads the faces of a STEP file.
+pub fn read_step(text: &str) -> Result<StepFile, StepError> {
+    let all = parse_instances(text)?;
+    let m = Model { all: &all };
+    let mut ids: Vec<u64> = all.keys().copied().collect();
+    ids.sort_unstable();
+    let mut file = StepFile {
+        units: units(&m, &ids),
+        ..StepFile::default()
+    };
+    for &id in &ids {
+        let kind = m.kind(id)?;
+        if kind != "ADVANCED_FACE" && kind != "FACE_SURFACE" {
+            continue;
+        }
+        let p = m.part(id, kind)?;
+        let name = match p.first() {
+            Some(Value::Text(t)) if !t.is_empty() => t.clone(),
+            _ => format!("step{id}"),
+        };
+        let sid = m.reference(id, p.get(2))?;
+        let skind = m.kind(sid)?.to_string();
+        let Some(surface) = surface(&m, sid)? else {
+            *file.skipped.entry(skind).or_default() += 1;
+            continue;
+        };
+        // the face's boundary points, inverted on the surface
+        let mut params = Vec::new();
+        for b in m.list(id, p.get(1))? {
+            let Value::Ref(bid) = b else { continue };
+            let fb = &m.get(*bid)?.parts[0].1;
+            let loop_id = m.reference(*bid, fb.get(1))?;
+            for pt in loop_points(&m, loop_id)? {
+                params.push(surface.invert(&pt));
+            }
+        }
+        if params.is_empty() {
+            return Err(m.bad(id, "the face has no bounds"));
+        }
+        let (ua, va) = surface.angular();
+        let range = |xs: Vec<f64>, angular: bool| {
+            if angular {
+                angle_range(&xs)
+            } else {
+                xs.iter()
+                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+                        (a.min(x), b.max(x))
+                    })
+            }
+        };
+        let u = range(params.iter().map(|p| p.0).collect(), ua);
+        let v = range(params.iter().map(|p| p.1).collect(), va);
+        let built = surface
+            .build(u, v)
+            .map_err(|source| StepError::Geometry { id, source })?;
+        file.faces.push(StepFace {
+            id,
+            name,
+            surface: built,
+            kind: skind,
+        });
+    }
+    Ok(file)
+}
+
+/// The surface of instance `sid`, `None` for a type that is not read.
+fn surface(m: &Model, sid: u64) -> R<Option<Surface>> {
+    let kind = m.kind(sid)?;
+    let inst = m.get(sid)?;
+    Ok(Some(match kind {
+        "PLANE" => {
+            let (o, x, y, _) = m.placement(m.reference(sid, m.part(sid, kind)?.get(1))?)?;
+            Surface::Plane(o, x, y)
+        }
+        "CYLINDRICAL_SURFACE" | "CONICAL_SURFACE" | "SPHERICAL_SURFACE" | "TOROIDAL_SURFACE" => {
+            let p = m.part(sid, kind)?;
+            let (o, x, y, z) = m.placement(m.reference(sid, p.get(1))?)?;
+            let a = m.num(sid, p.get(2))?;
+            match kind {
+                "CYLINDRICAL_SURFACE" => Surface::Cone(o, x, y, z, a, 0.0),
+                "CONICAL_SURFACE" => {
+                    // the semi-angle in the file's plane-angle unit: radians, or degrees when
+                    // it is above π/2 (no cone opens that wide)
+                    let semi = m.num(sid, p.get(3))?;
+                    let semi = if semi.abs() > std::f64::consts::FRAC_PI_2 {
+                        semi.to_radians()
+                    } else {
+                        semi
+                    };
+                    Surface::Cone(o, x, y, z, a, semi)
+                }
+                "SPHERICAL_SURFACE" => Surface::Sphere(o, x, y, z, a),
+                _ => Surface::Torus(o, x, y, z, a, m.num(sid, p.get(3))?),
+            }
+        }
+        "SURFACE_OF_REVOLUTION" => {
+            let p = m.part(sid, kind)?;
+            let cid = m.reference(sid, p.get(1))?;
+            let curve = match m.kind(cid)? {
+                _ if m
+                    .get(cid)?
+                    .parts
+                    .iter()
+                    .any(|(k, _)| k == "B_SPLINE_CURVE_WITH_KNOTS") =>
+                {
+                    spline_curve(m, cid)?
+                }
+                _ => return Ok(None),
+            };
+            let aid = m.reference(sid, p.get(2))?;
+            let a = m.part(aid, "AXIS1_PLACEMENT")?;
+            let o = m.point(m.reference(aid, a.get(1))?)?;
+            let z = match a.get(2) {
+                Some(Value::Ref(r)) => m.direction(*r)?,
+                _ => Vector3::z(),
+            };
+            let (t0, t1) = curve.knots().domain();
+            let mid = curve.point(0.5 * (t0 + t1)) - o;
+            let x = (mid - z * z.dot(&mid))
+                .try_normalize(0.0)
+                .ok_or_else(|| m.bad(sid, "the generatrix lies on the axis"))?;
+            Surface::Revolution(curve, o, z, x)
+        }
+        _ if inst
+            .parts
+            .iter()
+            .any(|(n, _)| n == "B_SPLINE_SURFACE_WITH_KNOTS") =>
+        {
+            Surface::Spline(spline_surface(m, sid)?)
+        }
+        _ => return Ok(None),
+    }))
+}
+
+/// B_SPLINE_SURFACE_WITH_KNOTS, simple or in a complex instance with B_SPLINE_SURFACE and
+/// RATIONAL_B_SPLINE_SURFACE. Control points are listed row by row, u the outer index, as the
+/// crate's flat net P[i · n_v + j].
+fn spline_surface(m: &Model, sid: u64) -> R<BSplineSurface> {
+    let inst = m.get(sid)?;
+    let (base, knots) = if inst.parts.len() == 1 {
+        // simple instance: name, du, dv, points, form, closed u, closed v, self-intersect,
+        // mults u, mults v, knots u, knots v, spec
+        let p = &inst.parts[0].1;
+        (&p[1..], &p[9..])
+    } else {
+        (
+            m.part(sid, "B_SPLINE_SURFACE")?,
+            m.part(sid, "B_SPLINE_SURFACE_WITH_KNOTS")?,
+        )
+    };
+    let (du, dv) = (
+        m.num(sid, base.first())? as usize,
+        m.num(sid, base.get(1))? as usize,
+    );
+    let rows = m.list(sid, base.get(2))?;
+    let mut points = Vec::new();
+    let mut nv = 0;
+    for row in rows {
+        let r = m.list(sid, Some(row))?;
+        nv = r.len();
+        for x in r {
+            points.push(m.point(m.reference(sid, Some(x))?)?);
+        }
+    }
+    let expand = |mults: &[f64], values: &[f64]| -> Vec<f64> {
+        values
+            .iter()
+            .zip(mults)
+            .flat_map(|(&k, &n)| std::iter::repeat_n(k, n as usize))
+            .collect()
+    };
+    let (mu, mv) = (
+        m.numbers(sid, knots.first())?,
+        m.numbers(sid, knots.get(1))?,
+    );
+    let (ku, kv) = (m.numbers(sid, knots.get(2))?, m.numbers(sid, knots.get(3))?);
+    let weights = match inst
+        .parts
+        .iter()
+        .find(|(n, _)| n == "RATIONAL_B_SPLINE_SURFACE")
+    {
+        Some((_, w)) => {
+            let mut out = Vec::new();
+            for row in m.list(sid, w.first())? {
+                out.extend(m.numbers(sid, Some(row))?);
+            }
+            Some(out)
+        }
+        None => None,
+    };
+    let g = |source| StepError::Geometry { id: sid, source };
+    if nv == 0 || points.len() != rows.len() * nv {
+        return Err(m.bad(sid, "the control point rows differ in length"));
+    }
+    BSplineSurface::new(
+        KnotVector::new(du, expand(&mu, &ku)).map_err(g)?,
+        KnotVector::new(dv, expand(&mv, &kv)).map_err(g)?,
+        points,
+        weights,
+    )
+    .map_err(g)
+}
+
+/// Points of an EDGE_LOOP (or POLY_LOOP, VERTEX_LOOP): each edge's vertices and points along
+/// its curve.
+fn loop_points(m: &Model, lid: u64) -> R<Vec<Point3>> {
+    let kind = m.kind(lid)?;
+    let p = m.part(lid, kind)?;
+    let mut out = Vec::new();
+    match kind {
+        "EDGE_LOOP" => {
+            for oe in m.list(lid, p.get(1))? {
+                let oe = m.reference(lid, Some(oe))?;
+                let o = m.part(oe, "ORIENTED_EDGE")?;
+                let edge = m.reference(oe, o.get(3))?;
+                out.extend(edge_points(m, edge)?);
+            }
+        }
+        "POLY_LOOP" => {
+            for x in m.list(lid, p.get(1))? {
+                out.push(m.point(m.reference(lid, Some(x))?)?);
+            }
+        }
+        "VERTEX_LOOP" => out.push(vertex(m, m.reference(lid, p.get(1))?)?),
+        _ => return Err(m.bad(lid, "not a loop of edges")),
+    }
+    Ok(out)
+}
+
+fn vertex(m: &Model, vid: u64) -> R<Point3> {
+    m.point(m.reference(vid, m.part(vid, "VERTEX_POINT")?.get(1))?)
+}
+
+/// An EDGE_CURVE's vertices and points along its geometry between them.
+fn edge_points(m: &Model, eid: u64) -> R<Vec<Point3>> {
+    let p = m.part(eid, "EDGE_CURVE")?;
+    let (a, b) = (
+        vertex(m, m.reference(eid, p.get(1))?)?,
+        vertex(m, m.reference(eid, p.get(2))?)?,
+    );
+    let same = !matches!(p.get(4), Some(Value::Enum(e)) if e == "F");
+    let mut cid = m.reference(eid, p.get(3))?;
+    // a SURFACE_CURVE / SEAM_CURVE carries its 3D curve first
+    for _ in 0..4 {
+        let k = m.kind(cid)?;
+        if k == "SURFACE_CURVE" || k == "SEAM_CURVE" || k == "INTERSECTION_CURVE" {
+            cid = m.reference(cid, m.part(cid, k)?.get(1))?;
+        } else {
+            break;
+        }
+    }
+    let mut out = vec![a, b];
+    let kind = m.kind(cid)?;
+    let n = EDGE_SAMPLES;
+    match kind {
+        "CIRCLE" | "ELLIPSE" => {
+            let c = m.part(cid, kind)?;
+            let (o, x, y, _) = m.placement(m.reference(cid, c.get(1))?)?;
+            let r1 = m.num(cid, c.get(2))?;
+            let r2 = if kind == "ELLIPSE" {
+                m.num(cid, c.get(3))?
+            } else {
+                r1
+            };
+            let angle = |p: &Point3| {
+                let d = p - o;
+                (d.dot(&y) / r2).atan2(d.dot(&x) / r1)
+            };
+            // the curve runs counterclockwise; the edge from a to b along it, or against it
+            let (s, e) = if same { (a, b) } else { (b, a) };
+            let t0 = angle(&s);
+            let mut t1 = angle(&e);
+            while t1 <= t0 + 1e-12 {
+                t1 += std::f64::consts::TAU;
+            }
+            for k in 1..n - 1 {
+                let t = t0 + (t1 - t0) * k as f64 / (n - 1) as f64;
+                out.push(o + x * (r1 * t.cos()) + y * (r2 * t.sin()));
+            }
+        }
+        "LINE" | "POLYLINE" => {}
+        _ if m
+            .get(cid)?
+            .parts
+            .iter()
+            .any(|(k, _)| k == "B_SPLINE_CURVE_WITH_KNOTS") =>
+        {
+            let c = spline_curve(m, cid)?;
+            // the points of the curve between the vertices
+            let (t0, t1) = c.knots().domain();
+            let pts: Vec<Point3> = (0..=4 * n)
+                .map(|k| c.point(t0 + (t1 - t0) * k as f64 / (4 * n) as f64))
+                .collect();
+            let nearest = |q: &Point3| {
+                (0..pts.len())
+                    .min_by(|&i, &j| (pts[i] - q).norm().total_cmp(&(pts[j] - q).norm()))
+                    .unwrap_or(0)
+            };
+            let (i, j) = (nearest(&a), nearest(&b));
+            let (i, j) = (i.min(j), i.max(j));
+            out.extend_from_slice(&pts[i..=j]);
+        }
+        _ => {}
+    }
+    Ok(out)
+}
+
+/// B_SPLINE_CURVE_WITH_KNOTS, simple or in a complex instance with RATIONAL_B_SPLINE_CURVE.
+fn spline_curve(m: &Model, cid: u64) -> R<BSplineCurve> {
+    let inst = m.get(cid)?;
+    let (base, knots) = if inst.parts.len() == 1 {
+        let p = &inst.parts[0].1;
+        (&p[1..], &p[6..])
+    } else {
+        (
+            m.part(cid, "B_SPLINE_CURVE")?,
+            m.part(cid, "B_SPLINE_CURVE_WITH_KNOTS")?,
+        )
+    };
+    let d = m.num(cid, base.first())? as usize;
+    let points = m
+        .list(cid, base.get(1))?
+        .iter()
+        .map(|x| m.point(m.reference(cid, Some(x))?))
+        .collect::<R<Vec<_>>>()?;
+    let (mults, values) = (
+        m.numbers(cid, knots.first())?,
+        m.numbers(cid, knots.get(1))?,
+    );
+    let kv: Vec<f64> = values
+        .iter()
+        .zip(&mults)
+        .flat_map(|(&k, &n)| std::iter::repeat_n(k, n as usize))
+        .collect();
+    let weights = match inst
+        .parts
+        .iter()
+        .find(|(n, _)| n == "RATIONAL_B_SPLINE_CURVE")
+    {
+        Some((_, w)) => Some(m.numbers(cid, w.first())?),
+        None => None,
+    };
+    let g = |source| StepError::Geometry { id: cid, source };
+    BSplineCurve::new(KnotVector::new(d, kv).map_err(g)?, points, weights).map_err(g)
+}
+
+/// The length unit's name from the first LENGTH_UNIT instance.
+fn units(m: &Model, ids: &[u64]) -> String {
+    for &id in ids {
+        let Ok(inst) = m.get(id) else { continue };
+        if !inst.parts.iter().any(|(n, _)| n == "LENGTH_UNIT") {
+            continue;
+        }
+        if let Some((_, p)) = inst.parts.iter().find(|(n, _)| n == "SI_UNIT") {
+            let prefix = match p.first() {
+                Some(Value::Enum(e)) => e.as_str(),
+                _ => "",
+            };
+            return match prefix {
+                "MILLI" => "mm",
+                "CENTI" => "cm",
+                "MICRO" => "um",
+                "KILO" => "km",
+                _ => "m",
+            }
+            .to_string();
+        }
+        if let Some((_, p)) = inst
+            .parts
+            .iter()
+            .find(|(n, _)| n == "CONVERSION_BASED_UNIT")
+            && let Some(Value::Text(t)) = p.first()
+        {
+            return match t.to_uppercase().as_str() {
+                "INCH" => "in".to_string(),
+                "FOOT" => "ft".to_string(),
+                other => other.to_lowercase(),
+            };
+        }
+    }
+    "mm".to_string()
+}

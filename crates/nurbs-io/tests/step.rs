@@ -1,0 +1,104 @@
+//! The STEP reader on bad input: one error naming the line or the instance, never a panic.
+
+use nurbs_io::read_step;
+
+#[test]
+fn bad_step_files_are_one_line_errors() {
+    let head = "ISO-10303-21;\nHEADER;\nENDSEC;\nDATA;\n";
+    for (body, expect) in [
+        ("", "no ENDSEC"),
+        ("#1 = CARTESIAN_POINT('',(0.,0.,0.));\n", "no ENDSEC"),
+        (
+            "#1 = CARTESIAN_POINT('',(0.,0.,0.)\nENDSEC;\n",
+            "expected ',' or ')'",
+        ),
+        (
+            "#1 = CARTESIAN_POINT('unterminated,(0.));\n",
+            "string does not end",
+        ),
+        (
+            "#1 = CARTESIAN_POINT('',(1.e999));\nENDSEC;\n",
+            "malformed number",
+        ),
+        ("#1 = X('');\n#1 = Y('');\nENDSEC;\n", "defined twice"),
+        (
+            "#1 = ADVANCED_FACE('',(#2),#3,.T.);\nENDSEC;\n",
+            "not defined",
+        ),
+        (
+            "#3 = PLANE('',#9);\n#1 = ADVANCED_FACE('',(),#3,.T.);\nENDSEC;\n",
+            "not defined",
+        ),
+    ] {
+        let text = format!("{head}{body}");
+        let e = read_step(&text).expect_err(body).to_string();
+        assert!(e.contains(expect), "{body:?}: {e}");
+        assert!(!e.contains('\n'), "{e}");
+    }
+    assert!(read_step("no data here").is_err());
+}
+
+/// A face of a cylinder of radius 2 about z, bounded by two lines and two quarter arcs: the
+/// surface is the quarter cylinder, every point at the radius, heights 0 … 3.
+#[test]
+fn a_cylinder_face_is_its_quarter() {
+    let text = "ISO-10303-21;\nHEADER;\nENDSEC;\nDATA;
+#1 = CARTESIAN_POINT('',(0.,0.,0.));
+#2 = DIRECTION('',(0.,0.,1.));
+#3 = DIRECTION('',(1.,0.,0.));
+#4 = AXIS2_PLACEMENT_3D('',#1,#2,#3);
+#5 = CYLINDRICAL_SURFACE('',#4,2.);
+#10 = CARTESIAN_POINT('',(2.,0.,0.));
+#11 = CARTESIAN_POINT('',(0.,2.,0.));
+#12 = CARTESIAN_POINT('',(0.,2.,3.));
+#13 = CARTESIAN_POINT('',(2.,0.,3.));
+#20 = VERTEX_POINT('',#10);
+#21 = VERTEX_POINT('',#11);
+#22 = VERTEX_POINT('',#12);
+#23 = VERTEX_POINT('',#13);
+#30 = CIRCLE('',#4,2.);
+#31 = CARTESIAN_POINT('',(0.,0.,3.));
+#32 = AXIS2_PLACEMENT_3D('',#31,#2,#3);
+#33 = CIRCLE('',#32,2.);
+#34 = LINE('',#10,#35);
+#35 = VECTOR('',#2,1.);
+#40 = EDGE_CURVE('',#20,#21,#30,.T.);
+#41 = EDGE_CURVE('',#21,#22,#34,.T.);
+#42 = EDGE_CURVE('',#23,#22,#33,.T.);
+#43 = EDGE_CURVE('',#20,#23,#34,.T.);
+#50 = ORIENTED_EDGE('',*,*,#40,.T.);
+#51 = ORIENTED_EDGE('',*,*,#41,.T.);
+#52 = ORIENTED_EDGE('',*,*,#42,.F.);
+#53 = ORIENTED_EDGE('',*,*,#43,.F.);
+#60 = EDGE_LOOP('',(#50,#51,#52,#53));
+#61 = FACE_OUTER_BOUND('',#60,.T.);
+#70 = ADVANCED_FACE('quarter',(#61),#5,.T.);
+#80 = ( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.) );
+ENDSEC;
+END-ISO-10303-21;
+";
+    let f = read_step(text).unwrap();
+    assert_eq!(f.units, "mm");
+    assert_eq!(f.faces.len(), 1);
+    let s = &f.faces[0].surface;
+    assert_eq!(f.faces[0].name, "quarter");
+    let (u0, u1) = s.domain_u();
+    let (v0, v1) = s.domain_v();
+    let (mut zmin, mut zmax, mut amin, mut amax) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for a in 0..=10 {
+        for b in 0..=10 {
+            let p = s.point(
+                u0 + (u1 - u0) * a as f64 / 10.0,
+                v0 + (v1 - v0) * b as f64 / 10.0,
+            );
+            assert!((p.x.hypot(p.y) - 2.0).abs() < 1e-12);
+            zmin = zmin.min(p.z);
+            zmax = zmax.max(p.z);
+            let ang = p.y.atan2(p.x);
+            amin = amin.min(ang);
+            amax = amax.max(ang);
+        }
+    }
+    assert!(zmin.abs() < 1e-12 && (zmax - 3.0).abs() < 1e-12);
+    assert!(amin.abs() < 1e-12 && (amax - std::f64::consts::FRAC_PI_2).abs() < 1e-12);
+}
