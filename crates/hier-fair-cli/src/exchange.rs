@@ -222,13 +222,37 @@ pub fn export(input: &Path, output: &Path) -> Result<String> {
     refuse_overwrite(output, &[input])?;
     let model =
         Model::from_json(&read_text(input)?).map_err(|e| anyhow!("{}: {e}", input.display()))?;
-    let text = iges_text(&model, output).map_err(|e| anyhow!("{}: {e}", input.display()))?;
+    let text = cad_text(&model, output).map_err(|e| anyhow!("{}: {e}", input.display()))?;
     write_atomic(output, text.as_bytes())?;
     Ok(format!(
-        "exported {} surfaces (entity 128) to {}",
+        "exported {} surfaces ({}) to {}",
         model.surfaces.len(),
+        if is_step(output) {
+            "STEP AP214 B-spline faces"
+        } else {
+            "IGES entity 128"
+        },
         output.display()
     ))
+}
+
+/// The model as the text of the CAD file `output` names by its extension: STEP (`.step`,
+/// `.stp`: AP214, each surface a B-spline face bounded by its boundary curves) or IGES.
+pub fn cad_text(model: &Model, output: &Path) -> Result<String> {
+    if is_step(output) {
+        let surfaces: Vec<(&str, &nurbs_core::BSplineSurface)> = model
+            .surfaces
+            .iter()
+            .map(|s| (s.name.as_str(), &s.surface))
+            .collect();
+        let name = output
+            .file_name()
+            .map_or_else(|| "model.step".into(), |n| n.to_string_lossy().into_owned());
+        nurbs_io::write_step(&surfaces, model.units.as_deref().unwrap_or("mm"), &name)
+            .map_err(|e| anyhow!("{e}"))
+    } else {
+        iges_text(model, output)
+    }
 }
 
 /// The surfaces of `model` as the text of an IGES 5.3 file named `output` (entity 128).

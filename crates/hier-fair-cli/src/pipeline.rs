@@ -334,16 +334,16 @@ pub fn run_fair(
     if let Some(r) = report_path {
         files::refuse_overwrite(r, &[input, output])?;
     }
-    // a CAD file in, a CAD file out: STEP or IGES is imported (hierarchy found); an IGES output
-    // is written as IGES
+    // a CAD file in, a CAD file out: STEP or IGES is imported (hierarchy found) and written
+    // back in the format the output's extension names
     let model = if crate::exchange::is_iges(input) || crate::exchange::is_step(input) {
         crate::exchange::model_from_cad(input)?.0
     } else {
         Model::from_json(text).with_context(|| format!("{}", input.display()))?
     };
     let (faired, report) = fair(&model, options)?;
-    let written = if crate::exchange::is_iges(output) {
-        crate::exchange::iges_text(&faired, output)?
+    let written = if crate::exchange::is_iges(output) || crate::exchange::is_step(output) {
+        crate::exchange::cad_text(&faired, output)?
     } else {
         faired.to_json()
     };

@@ -18,6 +18,6 @@ pub mod writer;
 
 pub use error::IgesError;
 pub use reader::{IgesCurve, IgesFile, IgesSurface, read_iges};
-pub use step::{StepError, StepFace, StepFile, read_step};
+pub use step::{StepError, StepFace, StepFile, read_step, write_step};
 pub use structure::{StructureReport, check_structure};
 pub use writer::{IgesWriteParams, write_iges};
