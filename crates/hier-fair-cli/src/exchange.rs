@@ -47,34 +47,52 @@ pub fn model_from_step(input: &Path) -> Result<(Model, String, hier_fair::BuildL
             input.display()
         );
     }
-    let mut model = Model::from_primaries(file.faces.iter().map(|f| f.surface.clone()).collect());
-    let mut used = HashSet::new();
-    for (m, f) in model.surfaces.iter_mut().zip(&file.faces) {
-        let mut name = f.name.clone();
-        if !used.insert(name.clone()) {
-            name = format!("{}_{}", f.name, f.id);
-            used.insert(name.clone());
-        }
-        m.name = name;
-    }
+    let mut model = named_primaries(
+        file.faces
+            .iter()
+            .map(|f| (f.name.clone(), f.id.to_string(), f.surface.clone())),
+    );
     model.units = Some(file.units.clone());
     let log = hier_fair::build_hierarchy(&mut model);
-    let skipped: Vec<String> = file
-        .skipped
-        .iter()
-        .map(|(t, n)| format!("{n}×{t}"))
-        .collect();
     let summary = format!(
         "imported {} faces, each over its parameter box (the trim itself not kept); faces of surfaces not read: {}; {}",
         file.faces.len(),
-        if skipped.is_empty() {
-            "none".to_string()
-        } else {
-            skipped.join(", ")
-        },
+        counts_text(&file.skipped),
         hierarchy_summary(&model, &log),
     );
     Ok((model, summary, log))
+}
+
+/// A model of primaries from (name, suffix, surface): a name already taken gets `_suffix`.
+fn named_primaries(
+    items: impl Iterator<Item = (String, String, nurbs_core::BSplineSurface)>,
+) -> Model {
+    let (names, surfaces): (Vec<(String, String)>, Vec<_>) =
+        items.map(|(n, x, s)| ((n, x), s)).unzip();
+    let mut model = Model::from_primaries(surfaces);
+    let mut used = HashSet::new();
+    for (m, (name, suffix)) in model.surfaces.iter_mut().zip(names) {
+        let name = if used.contains(&name) {
+            format!("{name}_{suffix}")
+        } else {
+            name
+        };
+        used.insert(name.clone());
+        m.name = name;
+    }
+    model
+}
+
+/// "3×100, 2×102" of a count per kind, or "none".
+fn counts_text<K: std::fmt::Display>(counts: &std::collections::BTreeMap<K, usize>) -> String {
+    if counts.is_empty() {
+        return "none".to_string();
+    }
+    counts
+        .iter()
+        .map(|(t, n)| format!("{n}×{t}"))
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// Reads the IGES file `input` into a model with its hierarchy found
@@ -89,35 +107,20 @@ pub fn model_from_iges(input: &Path) -> Result<(Model, String, hier_fair::BuildL
             input.display()
         );
     }
-    let mut model =
-        Model::from_primaries(file.surfaces.iter().map(|s| s.surface.clone()).collect());
-    let mut used = HashSet::new();
-    for (m, s) in model.surfaces.iter_mut().zip(&file.surfaces) {
-        let mut name = s.name.clone();
-        if !used.insert(name.clone()) {
-            name = format!("{}_de{}", s.name, s.de);
-            used.insert(name.clone());
-        }
-        m.name = name;
-    }
+    let mut model = named_primaries(
+        file.surfaces
+            .iter()
+            .map(|s| (s.name.clone(), format!("de{}", s.de), s.surface.clone())),
+    );
     model.units = Some(file.units.to_lowercase());
     let log = hier_fair::build_hierarchy(&mut model);
     let trimmed = file.surfaces.iter().filter(|s| s.trimmed).count();
-    let skipped: Vec<String> = file
-        .skipped
-        .iter()
-        .map(|(t, n)| format!("{n}×{t}"))
-        .collect();
     let summary = format!(
         "imported {} surfaces ({} trimmed by entity 144: each kept over its face's box, the trim itself not kept); {} curves (126) not imported; other entities skipped: {}; {}",
         file.surfaces.len(),
         trimmed,
         file.curves.len(),
-        if skipped.is_empty() {
-            "none".to_string()
-        } else {
-            skipped.join(", ")
-        },
+        counts_text(&file.skipped),
         hierarchy_summary(&model, &log),
     );
     Ok((model, summary, log))

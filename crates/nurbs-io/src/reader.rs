@@ -745,6 +745,19 @@ impl Reader<'_> {
             .collect())
     }
 
+    /// The pointers of a curve on a surface (142, [IGES] §4.32): to its parameter-space curve
+    /// and to its model-space curve (0 where absent).
+    fn curve_on_surface(&self, e: &DirEntry) -> Result<(i64, i64), IgesError> {
+        let params = entity_params(e, &self.p, &self.global)?;
+        let mut c = Cursor {
+            params: &params,
+            next: 1,
+            e,
+        };
+        let (_crtn, _surface) = (c.int()?, c.int()?);
+        Ok((c.int()?, c.int()?))
+    }
+
     /// `surface` cut to the parameter box of the outer boundary `boundary` (142) of the trimmed
     /// surface `face`: the box of its parameter-space curve, clamped to the surface's domain
     /// (`None` where the 142 has no parameter curve, or the box is the whole domain to
@@ -757,15 +770,7 @@ impl Reader<'_> {
         boundary: &DirEntry,
         face: &DirEntry,
     ) -> Result<Option<BSplineSurface>, IgesError> {
-        let params = entity_params(boundary, &self.p, &self.global)?;
-        let mut c = Cursor {
-            params: &params,
-            next: 1,
-            e: boundary,
-        };
-        let _crtn = c.int()?;
-        let _surface = c.int()?;
-        let parametric = c.int()?;
+        let (parametric, _) = self.curve_on_surface(boundary)?;
         if parametric == 0 {
             return Ok(None);
         }
@@ -841,17 +846,7 @@ impl Reader<'_> {
                 .try_normalize(0.0)
                 .ok_or_else(|| err("the plane's transformation is singular".into()))?;
         }
-        // the 142's model-space curve
-        let params = entity_params(boundary, &self.p, &self.global)?;
-        let mut c = Cursor {
-            params: &params,
-            next: 1,
-            e: boundary,
-        };
-        let _crtn = c.int()?;
-        let _surface = c.int()?;
-        let _parametric = c.int()?;
-        let model_curve = c.int()?;
+        let (_, model_curve) = self.curve_on_surface(boundary)?;
         if model_curve == 0 {
             return Err(err("the plane's boundary has no model-space curve".into()));
         }
