@@ -1,4 +1,4 @@
-//! The layering of DEVELOPERS.md / docs/ARCHITECTURE.md, checked on `cargo metadata`.
+//! The layering of docs/ARCHITECTURE.md, checked on `cargo metadata`.
 
 use std::collections::BTreeMap;
 

@@ -1,4 +1,4 @@
-//! Local and global energy fairing on the seed's example: the 52×52 quartic of `shared/data/bench`
+//! Local and global energy fairing on [H]'s example: the 52×52 quartic of `shared/data/bench`
 //! (ε = 0.02, 10,000 iterations, [H] slide "Examples (1)"), the local scheme on the same net made
 //! rational (smooth weights in [0.75, 1.25], held fixed), and the global variant on 200×200.
 //!
@@ -13,7 +13,7 @@ use fair_energy::{
 };
 use nurbs_core::{BSplineSurface, ControlMask, Frame, KnotVector, Point3};
 
-/// ε of the seed's example (model units).
+/// ε of [H]'s example (model units).
 const SEED_TOLERANCE: f64 = 0.02;
 
 fn seed_surface() -> BSplineSurface {

@@ -63,9 +63,9 @@ pub enum KnotRemoval {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BezierSplineParams {
     /// The local scheme; its `joint_weight` is λ. Default: [`EnergyParams::default`] with
-    /// λ = 0.9, the middle of the seed's examples (0.85–0.95, [H] "Examples (4)–(6)").
+    /// λ = 0.9, the middle of [H]'s examples (0.85–0.95, [H] "Examples (4)–(6)").
     pub energy: EnergyParams,
-    /// Step 2, before fairing. Default [`KnotRemoval::ThroughFixedFrames`]: the seed removes
+    /// Step 2, before fairing. Default [`KnotRemoval::ThroughFixedFrames`]: [H] removes
     /// every C¹ joint ([H] "Extension", ②) and the removal is exact.
     pub initial_removal: KnotRemoval,
     /// Step 5, after the finishing projection. Default [`KnotRemoval::Keep`]: the joints are C¹

@@ -17,7 +17,7 @@
 //!
 //! # Deviation from the paper
 //! [H] only penalizes the jumps (λ-weighted) and leaves them small but non-zero; this step makes
-//! them vanish, as the issue asks. A frozen point stays on its ball although it could still slide
+//! them vanish. A frozen point stays on its ball although it could still slide
 //! along it: the active set is greedy, so a joint may be reported as left open where a cleverer
 //! solver could still close it.
 //!

@@ -67,7 +67,7 @@ impl SparseSolver {
 pub struct GlobalParams {
     /// w relative to the mean diagonal of K_ff (unit-free, > 0). Default 1e-3: small enough that
     /// noise at the control-point scale is smoothed away, large enough to keep the overall shape;
-    /// on the seed's 52×52 example (ε = 0.02) no move needs clamping (`docs/benchmarks.md`).
+    /// on [H]'s 52×52 example (ε = 0.02) no move needs clamping (`docs/benchmarks.md`).
     pub deviation_weight: f64,
     /// Which sparse Cholesky. Default: [`SparseSolver::FASTEST`].
     pub solver: SparseSolver,

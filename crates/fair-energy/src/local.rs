@@ -49,8 +49,8 @@ pub(crate) trait LocalStiffness {
 }
 
 /// Factor (just below 1) applied to ε when a point is projected onto its tolerance sphere, so that
-/// the stored point is within ε despite rounding.
-pub const BALL_SHRINK: f64 = 1.0 - 1e-12;
+/// the stored point is within ε despite rounding (the kernel's value).
+pub use nurbs_core::fairing::BALL_SHRINK;
 
 /// Diagonal entries K_rr at or below this fraction of the largest one count as zero: such a point
 /// does not influence the functional (e.g. a degree-1 curve) and is never moved.

@@ -24,7 +24,7 @@ use crate::stiffness::SeparableStiffness;
 /// Settings of the local surface scheme.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EnergyParams {
-    /// Largest number of single-point moves. Default 10,000: the seed's 52×52 example ([H] slide
+    /// Largest number of single-point moves. Default 10,000: [H]'s 52×52 example ([H] slide
     /// "Examples (1)").
     pub max_iterations: usize,
     /// Least number of moves per free control point: the limit is
@@ -36,7 +36,7 @@ pub struct EnergyParams {
     /// decides.
     pub min_relative_decrease: f64,
     /// λ of the Bézier-spline extension ([H] part ②): weight of the cross-derivative jumps at
-    /// interior knots of full multiplicity, 0 ≤ λ < 1. Default 0 (plain thin plate); the seed's
+    /// interior knots of full multiplicity, 0 ≤ λ < 1. Default 0 (plain thin plate); [H]'s
     /// examples use 0.85–0.95.
     pub joint_weight: f64,
 }

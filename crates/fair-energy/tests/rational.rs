@@ -19,7 +19,7 @@ use rand::Rng;
 const SAME_RULE_REL: f64 = 1e-9;
 
 /// Samples per direction for the sampled deviation.
-const DEVIATION_SAMPLES: usize = 41;
+const DEVIATION_SAMPLES: usize = nurbs_core::fairing::REPORT_DEVIATION_SAMPLES;
 
 fn params(iterations: usize) -> EnergyParams {
     EnergyParams {

@@ -21,8 +21,8 @@ use crate::jump::KnotJumps;
 pub const MIN_MOVE_REL: f64 = 1e-9;
 
 /// Factor (just below 1) applied to ε when a point is clamped onto its tolerance sphere, so that
-/// rounding never puts it outside.
-pub const BALL_SHRINK: f64 = 1.0 - 1e-12;
+/// rounding never puts it outside (the kernel's value).
+pub use nurbs_core::fairing::BALL_SHRINK;
 
 /// How the jump at a knot is removed.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

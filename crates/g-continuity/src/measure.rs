@@ -30,14 +30,15 @@ use nurbs_core::{BSplineSurface, Direction, ProjectionParams, Side, SurfaceDeriv
 use crate::error::{Error, Result};
 use crate::sampling::{MasterTracker, uniform_side_params};
 
-/// A side whose control row spans less than this fraction of the slave size is a point.
-pub const COLLAPSED_SIDE_RELATIVE: f64 = 1e-9;
+/// A side whose control row spans less than this fraction of the slave size is a point (the
+/// kernel's value, one for the workspace).
+pub use nurbs_core::mesh::COLLAPSED_SIDE_RELATIVE;
 
 /// Default flatness cut-off: curvatures below 1/(FLAT_RADIUS_FACTOR × slave size) count as zero
 /// (a radius a thousand times the part is flat for every practical reflection line).
 pub const FLAT_RADIUS_FACTOR: f64 = 1e3;
 
-/// Default number of samples per side (the K = 101: every 1 % of the side).
+/// Default number of samples per side (K = 101: a sample every 1 % of the side).
 pub const DEFAULT_SAMPLES: usize = 101;
 
 /// Settings of a measurement.

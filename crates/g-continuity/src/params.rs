@@ -77,7 +77,7 @@ impl Default for SetParams {
 }
 
 /// Continuity tolerances: the targets that decide whether more freedom (knot insertion) is
-/// needed. Defaults: the Class-A values of the issue (0.001 mm, 0.01°, 0.02).
+/// needed. Defaults: Class-A values (0.001 mm, 0.01°, 0.02).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Tolerances {
     /// largest gap (model units)

@@ -209,7 +209,7 @@ fn trimmed_master_non_isoparametric_boundary_with_knot_insertion() {
     assert!(m.g2_rel.unwrap() <= 5e-3, "curvature {:?}", m.g2_rel);
     assert!(
         report.knots_inserted > 0,
-        "the issue asks for knot insertion here"
+        "the corner needs knot insertion here"
     );
     assert_eq!(
         measure_link(&w, &s, Side::U0, &MeasureParams::default())

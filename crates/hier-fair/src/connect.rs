@@ -108,7 +108,7 @@ pub struct ModelConnectReport {
 }
 
 /// Grid size of the sampled deviation (the same as the fairing reports).
-pub const DEVIATION_GRID: usize = 41;
+pub const DEVIATION_GRID: usize = nurbs_core::fairing::REPORT_DEVIATION_SAMPLES;
 
 /// Sets continuity on every slave of `model` in hierarchy order; returns the new model and the
 /// report. Links that do not touch their masters are errors (see [`check_model`]).

@@ -139,7 +139,7 @@ fn bezier_fairing(iterations: Option<usize>) -> fair_energy::BezierSplineFairing
     fair_energy::BezierSplineFairing { params }
 }
 
-/// `energy`: Hadenfeld's local energy fairing, with the seed's extension to Bézier-spline surfaces
+/// `energy`: Hadenfeld's local energy fairing, with [H]'s extension to Bézier-spline surfaces
 /// wherever the surface has an interior knot of full multiplicity (C⁰-joined Bézier patches in one
 /// surface): those joints come out C¹ ([H] part ②; `energy-bezier` forces that flow).
 struct EnergyFairing {

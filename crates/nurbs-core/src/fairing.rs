@@ -14,6 +14,10 @@ use crate::surface::BSplineSurface;
 /// Samples per direction of the sampled deviation in reports.
 pub const REPORT_DEVIATION_SAMPLES: usize = 41;
 
+/// Factor (just below 1) applied to ε when a fairing method puts a point onto its tolerance
+/// sphere, so that the stored point is within ε despite rounding (one value for every method).
+pub const BALL_SHRINK: f64 = 1.0 - 1e-12;
+
 /// Largest distance between corresponding points of two equally long lists (the largest
 /// control-point or vertex move of a run; 0 for empty lists).
 pub fn max_displacement(before: &[Point3], after: &[Point3]) -> f64 {

@@ -44,6 +44,8 @@ pub struct IgesSurface {
     pub trimmed: bool,
     /// parameter ranges U0, U1, V0, V1 from the entity
     pub param_range: [f64; 4],
+    /// the entity's own surface where `surface` is cut from it to a trimmed face's box
+    pub underlying: Option<BSplineSurface>,
 }
 
 /// A curve read from entity 126.
@@ -585,6 +587,7 @@ impl Reader<'_> {
             surface,
             trimmed: false,
             param_range: [range[0], range[1], range[2], range[3]],
+            underlying: None,
         })
     }
 
@@ -703,6 +706,7 @@ impl Reader<'_> {
             surface,
             trimmed: false,
             param_range: [t0, t1, sa, ta],
+            underlying: None,
         })
     }
 
@@ -928,6 +932,7 @@ impl Reader<'_> {
             surface,
             trimmed: true,
             param_range: [0.0, lu, 0.0, lv],
+            underlying: None,
         })
     }
 
@@ -1038,7 +1043,8 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
                         if let Some(cut) =
                             reader.face_box(&file.surfaces[k].surface, boundary, e)?
                         {
-                            file.surfaces[k].surface = cut;
+                            let whole = std::mem::replace(&mut file.surfaces[k].surface, cut);
+                            file.surfaces[k].underlying = Some(whole);
                             boxed.push(target.seq);
                         }
                     }

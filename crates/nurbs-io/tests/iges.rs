@@ -169,7 +169,10 @@ fn impeller_from_a_commercial_system() {
     // hand-read from the file: directory entry 3, parameter lines 2–19
     let s = &f.surfaces[0];
     assert_eq!(s.de, 3);
-    let g = &s.surface;
+    // the face uses u in [0.4399, 0.5593] of it (its 142's parameter curve): the entity's own
+    // surface is kept beside the cut one
+    assert_eq!(s.surface.domain_u(), (0.439938532, 0.559345007));
+    let g = s.underlying.as_ref().expect("cut to its face");
     assert_eq!(
         (g.degree_u(), g.degree_v(), g.num_u(), g.num_v()),
         (3, 3, 4, 4)
