@@ -163,6 +163,12 @@ pub fn parse_instances(text: &str) -> Result<HashMap<u64, Instance>, StepError> 
         }
         p.skip();
         p.expect(b';')?;
+        if parts.is_empty() {
+            return Err(StepError::Syntax {
+                line,
+                detail: format!("instance #{id} is an empty complex instance"),
+            });
+        }
         if out.insert(id, Instance { parts, line }).is_some() {
             return Err(StepError::Syntax {
                 line,
@@ -745,6 +751,9 @@ fn spline_surface(m: &Model, sid: u64) -> R<BSplineSurface> {
         // simple instance: name, du, dv, points, form, closed u, closed v, self-intersect,
         // mults u, mults v, knots u, knots v, spec
         let p = &inst.parts[0].1;
+        if p.len() < 13 {
+            return Err(m.bad(sid, format!("{} parameters, expected 13", p.len())));
+        }
         // name, du, dv, points, form, u closed, v closed, self-intersect, then the knots
         (&p[1..], &p[8..])
     } else {
@@ -915,6 +924,10 @@ fn spline_curve(m: &Model, cid: u64) -> R<BSplineCurve> {
     let inst = m.get(cid)?;
     let (base, knots) = if inst.parts.len() == 1 {
         let p = &inst.parts[0].1;
+        if p.len() < 9 {
+            return Err(m.bad(cid, format!("{} parameters, expected 9", p.len())));
+        }
+        // name, degree, points, form, closed, self-intersect, then the knots
         (&p[1..], &p[6..])
     } else {
         (

@@ -29,6 +29,11 @@ fn bad_step_files_are_one_line_errors() {
             "#3 = PLANE('',#9);\n#1 = ADVANCED_FACE('',(),#3,.T.);\nENDSEC;\n",
             "not defined",
         ),
+        (
+            "#3 = B_SPLINE_SURFACE_WITH_KNOTS('',1,1);\n#1 = ADVANCED_FACE('',(),#3,.T.);\nENDSEC;\n",
+            "expected 13",
+        ),
+        ("#1 = ADVANCED_FACE();\nENDSEC;\n", "expected"),
     ] {
         let text = format!("{head}{body}");
         let e = read_step(&text).expect_err(body).to_string();
