@@ -25,6 +25,11 @@ use nurbs_core::{BSplineCurve, BSplineSurface, KnotVector, Point3, ProjectionPar
 /// Points along each edge curve used for a face's parameter box.
 pub const EDGE_SAMPLES: usize = 17;
 
+/// Largest angle (radians) between the samples of a circular edge: 2°. An angular range whose
+/// largest gap between boundary samples is at most two steps is a full turn (a face closed
+/// around its axis: a ring fillet, a pipe); a face open by more than 4° keeps its opening.
+pub const ARC_STEP: f64 = std::f64::consts::TAU / 180.0;
+
 /// What is wrong with a STEP file, with the entity it concerns.
 #[derive(Debug, thiserror::Error, PartialEq)]
 pub enum StepError {
@@ -594,8 +599,8 @@ fn angle_range(a: &[f64]) -> (f64, f64) {
             best = (gap, k);
         }
     }
-    // a gap below 1/EDGE_SAMPLES of a turn between two samples: the face goes all around
-    if best.0 < std::f64::consts::TAU / EDGE_SAMPLES as f64 * 0.5 {
+    // no gap wider than two arc samples: the face goes all around
+    if best.0 <= 2.0 * ARC_STEP {
         return (0.0, std::f64::consts::TAU);
     }
     let start = s[(best.1 + 1) % n];
@@ -887,6 +892,7 @@ fn edge_points(m: &Model, eid: u64) -> R<Vec<Point3>> {
             while t1 <= t0 + 1e-12 {
                 t1 += std::f64::consts::TAU;
             }
+            let n = n.max(((t1 - t0) / ARC_STEP).ceil() as usize + 1);
             for k in 1..n - 1 {
                 let t = t0 + (t1 - t0) * k as f64 / (n - 1) as f64;
                 out.push(o + x * (r1 * t.cos()) + y * (r2 * t.sin()));
