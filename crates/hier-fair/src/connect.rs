@@ -9,10 +9,13 @@
 //! Never worse than the input ([SV] §1.1: the hierarchy exists so that a slave adapts to its
 //! masters, not the other way round, and a join already made must not be lost): a slave whose
 //! result leaves any of its links with a larger gap, normal angle or curvature difference than
-//! the input had is set again with the corners' end tangents turned into the neighbouring
-//! masters' tangent planes, then with its G2 links capped at G1, and kept as it was when none
-//! of these is no worse; of the candidates the one whose links grow the least wins (a gap before
-//! an angle before a curvature), and the report says which and why.
+//! the input had is set again — step by step (each continuity level's refinement from the rows
+//! the level below met, as the framework's dry run does), step by step with the corners' end
+//! tangents turned into the neighbouring masters' tangent planes, in one call with the turned
+//! tangents, with its G2 links capped at G1 — until a candidate keeps every gap and angle, and
+//! is kept as it was when none is no worse; of the candidates the first no worse in every figure
+//! wins, else the one whose links grow the least (a gap before an angle before a curvature), and
+//! the report says which and why.
 
 use std::time::Instant;
 
