@@ -197,6 +197,19 @@ fn side_length(s: &BSplineSurface, side: Side) -> f64 {
 
 /// Finds the links (and, for a model of primaries only, the roles) of `model` from its geometry;
 /// returns the log. See the module docs for the rules.
+///
+/// ```
+/// use hier_fair::{Model, Role, build_hierarchy};
+/// // a kernel model with its links and roles taken away gets them back
+/// let path = concat!(env!("CARGO_MANIFEST_DIR"), "/../../fixtures/occt/occt_plate_boss.json");
+/// let given = Model::from_json(&std::fs::read_to_string(path).unwrap()).unwrap();
+/// let mut bare = given.clone();
+/// bare.links.clear();
+/// bare.surfaces.iter_mut().for_each(|s| s.role = Role::Primary);
+/// let log = build_hierarchy(&mut bare);
+/// assert_eq!(bare.links.len(), given.links.len());
+/// assert!(log.lines.iter().any(|l| l.contains("connecting")));
+/// ```
 pub fn build_hierarchy(model: &mut Model) -> BuildLog {
     let mut log = BuildLog::default();
     let tol = model.tolerances.g0;

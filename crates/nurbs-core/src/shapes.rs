@@ -193,6 +193,18 @@ pub fn unit_arc(start: f64, end: f64) -> Result<UnitArc> {
 /// The arc of radius `r` about `center` in the plane spanned by the orthonormal `x` and `y`,
 /// from angle `start` to `end` (radians, counterclockwise from `x` towards `y`), rational
 /// quadratic ([NB] A7.1).
+///
+/// ```
+/// use nurbs_core::{Point3, Vector3, shapes::arc};
+/// // three quarters of a circle of radius 2 about (1, 0, 0)
+/// let c = arc(Point3::new(1.0, 0.0, 0.0), Vector3::x(), Vector3::y(), 2.0, 0.0, 4.71238898038469)
+///     .unwrap();
+/// let (t0, t1) = c.knots().domain();
+/// for k in 0..=10 {
+///     let p = c.point(t0 + (t1 - t0) * k as f64 / 10.0);
+///     assert!(((p - Point3::new(1.0, 0.0, 0.0)).norm() - 2.0).abs() < 1e-12);
+/// }
+/// ```
 pub fn arc(
     center: Point3,
     x: crate::Vector3,
@@ -215,6 +227,21 @@ pub fn arc(
 /// O + cos θ (P − O) + sin θ (axis × (P − O)) with O its foot on the axis, and the rational arc
 /// reproduces (cos θ, sin θ), so P_ij = O_i + a_j X_i + b_j (axis × X_i), w_ij = w_i w_j. A
 /// control point on the axis gives a row collapsed to that point (a sphere's pole).
+///
+/// ```
+/// use nurbs_core::{BSplineCurve, KnotVector, Point3, Vector3, shapes::revolve_curve};
+/// // a segment parallel to the z axis at distance 3, turned a half turn: a half cylinder
+/// let line = BSplineCurve::new(
+///     KnotVector::bezier(1).unwrap(),
+///     vec![Point3::new(3.0, 0.0, 0.0), Point3::new(3.0, 0.0, 5.0)],
+///     None,
+/// )
+/// .unwrap();
+/// let s = revolve_curve(&line, Point3::origin(), Vector3::z(), 0.0, std::f64::consts::PI).unwrap();
+/// let (v0, v1) = s.domain_v();
+/// let p = s.point(0.5, 0.5 * (v0 + v1));
+/// assert!((p.x.hypot(p.y) - 3.0).abs() < 1e-12 && (p.z - 2.5).abs() < 1e-12);
+/// ```
 pub fn revolve_curve(
     curve: &BSplineCurve,
     origin: Point3,
