@@ -78,27 +78,12 @@ pub struct BuildLog {
 
 const SIDES: [Side; 4] = [Side::U0, Side::U1, Side::V0, Side::V1];
 
-/// Bounding box of a control net, grown by `pad` (the surface lies inside: convex hull).
-fn net_box(s: &BSplineSurface, pad: f64) -> ([f64; 3], [f64; 3]) {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for p in s.control_points() {
-        for k in 0..3 {
-            lo[k] = lo[k].min(p[k] - pad);
-            hi[k] = hi[k].max(p[k] + pad);
-        }
-    }
-    (lo, hi)
-}
-
 /// The sample points of `side` of `s`.
 fn side_points(s: &BSplineSurface, side: Side) -> Vec<(f64, f64)> {
-    let (a, b) = side.along_domain(s);
-    (0..SIDE_SAMPLES)
-        .map(|k| {
-            let t = a + (b - a) * k as f64 / (SIDE_SAMPLES - 1) as f64;
-            side.params(s, t)
-        })
+    g_continuity::sampling::uniform_side_params(s, side, SIDE_SAMPLES)
+        .unwrap_or_default()
+        .into_iter()
+        .map(|t| side.params(s, t))
         .collect()
 }
 
@@ -122,7 +107,7 @@ fn contact(
         if k == own {
             continue;
         }
-        let (lo, hi) = net_box(&other.surface, tol);
+        let (lo, hi) = crate::patches::net_box(&other.surface, tol);
         let inside = samples
             .iter()
             .all(|d| (0..3).all(|c| d.point[c] >= lo[c] && d.point[c] <= hi[c]));

@@ -94,7 +94,7 @@ pub fn shared_sides(surfaces: &[BSplineSurface]) -> Vec<[Option<SharedSide>; 4]>
 }
 
 /// The box of `s`'s control points, grown by `grow` on every side.
-fn net_box(s: &BSplineSurface, grow: f64) -> ([f64; 3], [f64; 3]) {
+pub(crate) fn net_box(s: &BSplineSurface, grow: f64) -> ([f64; 3], [f64; 3]) {
     let mut lo = [f64::INFINITY; 3];
     let mut hi = [f64::NEG_INFINITY; 3];
     for p in s.control_points() {

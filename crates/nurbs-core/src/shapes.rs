@@ -270,3 +270,21 @@ pub fn revolve_curve(
     }
     BSplineSurface::new(curve.knots().clone(), kv, points, Some(weights))
 }
+
+/// The bilinear 2 × 2 patch S(u, v) = `origin` + u `x` + v `y` over [u0, u1] × [v0, v1]: a plane
+/// exactly, parametrized by length when `x` and `y` are unit vectors (as a kernel's plane is).
+pub fn plane_patch(
+    origin: Point3,
+    x: crate::Vector3,
+    y: crate::Vector3,
+    (u0, u1): (f64, f64),
+    (v0, v1): (f64, f64),
+) -> Result<BSplineSurface> {
+    let at = |a: f64, b: f64| origin + x * a + y * b;
+    BSplineSurface::new(
+        KnotVector::new(1, vec![u0, u0, u1, u1])?,
+        KnotVector::new(1, vec![v0, v0, v1, v1])?,
+        vec![at(u0, v0), at(u0, v1), at(u1, v0), at(u1, v1)],
+        None,
+    )
+}

@@ -907,25 +907,16 @@ impl Reader<'_> {
             e1 * angle.cos() + e2 * angle.sin(),
             -e1 * angle.sin() + e2 * angle.cos(),
         );
-        let at = |a: f64, c: f64| {
-            let p = origin + x * a + y * c;
-            Point3::from(p.coords / scale)
-        };
+        let corner = origin + x * b[0] + y * b[2];
         let (lu, lv) = ((b[1] - b[0]) / scale, (b[3] - b[2]) / scale);
-        let g = Self::geometry_err(face);
-        let knots = |l: f64| KnotVector::new(1, vec![0.0, 0.0, l, l]);
-        let surface = BSplineSurface::new(
-            knots(lu).map_err(&g)?,
-            knots(lv).map_err(&g)?,
-            vec![
-                at(b[0], b[2]),
-                at(b[0], b[3]),
-                at(b[1], b[2]),
-                at(b[1], b[3]),
-            ],
-            None,
+        let surface = nurbs_core::shapes::plane_patch(
+            Point3::from(corner.coords / scale),
+            x,
+            y,
+            (0.0, lu),
+            (0.0, lv),
         )
-        .map_err(&g)?;
+        .map_err(Self::geometry_err(face))?;
         Ok(IgesSurface {
             de: plane.seq,
             name: Self::name(plane),
@@ -1144,22 +1135,9 @@ fn grow_planes(surfaces: &mut [IgesSurface], planes: &[usize]) {
             continue;
         }
         b = grown;
-        let at = |a: f64, c: f64| o + x * a + y * c;
         let (lu, lv) = (b[1] - b[0], b[3] - b[2]);
-        let knots = |l: f64| KnotVector::new(1, vec![0.0, 0.0, l, l]);
-        if let (Ok(ku), Ok(kv)) = (knots(lu), knots(lv))
-            && let Ok(plane) = BSplineSurface::new(
-                ku,
-                kv,
-                vec![
-                    at(b[0], b[2]),
-                    at(b[0], b[3]),
-                    at(b[1], b[2]),
-                    at(b[1], b[3]),
-                ],
-                None,
-            )
-        {
+        let corner = o + x * b[0] + y * b[2];
+        if let Ok(plane) = nurbs_core::shapes::plane_patch(corner, x, y, (0.0, lu), (0.0, lv)) {
             surfaces[k].surface = plane;
             surfaces[k].param_range = [0.0, lu, 0.0, lv];
         }

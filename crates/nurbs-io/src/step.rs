@@ -502,7 +502,10 @@ impl Surface {
                 // turned back into the generatrix's half-plane, the point lies on it
                 let h = z * d.dot(z);
                 let back = o + h + x * (d - h).norm();
-                (u, nearest_parameter(c, &back))
+                (
+                    u,
+                    nurbs_core::project_to_curve(c, &back, &ProjectionParams::default()).t,
+                )
             }
         }
     }
@@ -527,15 +530,7 @@ impl Surface {
             )
         };
         match self {
-            Surface::Plane(o, x, y) => {
-                let at = |a: f64, b: f64| o + x * a + y * b;
-                BSplineSurface::new(
-                    KnotVector::new(1, vec![u.0, u.0, u.1, u.1])?,
-                    KnotVector::new(1, vec![v.0, v.0, v.1, v.1])?,
-                    vec![at(u.0, v.0), at(u.0, v.1), at(u.1, v.0), at(u.1, v.1)],
-                    None,
-                )
-            }
+            Surface::Plane(o, x, y) => nurbs_core::shapes::plane_patch(*o, *x, *y, u, v),
             Surface::Cone(o, x, _, z, r, semi) => {
                 let at = |h: f64| o + x * (r + h * semi.tan()) + z * h;
                 let profile = line(at(v.0), at(v.1))?;
@@ -558,29 +553,6 @@ impl Surface {
             }
         }
     }
-}
-
-/// The parameter of the point of `c` nearest to `p`: the nearest of 256 samples, then a
-/// golden-section search between its neighbours.
-fn nearest_parameter(c: &BSplineCurve, p: &Point3) -> f64 {
-    let (t0, t1) = c.knots().domain();
-    let n = 256;
-    let at = |k: usize| t0 + (t1 - t0) * k as f64 / n as f64;
-    let dist = |t: f64| (c.point(t) - p).norm();
-    let k = (0..=n)
-        .min_by(|&a, &b| dist(at(a)).total_cmp(&dist(at(b))))
-        .unwrap_or(0);
-    let (mut a, mut b) = (at(k.saturating_sub(1)), at((k + 1).min(n)));
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    for _ in 0..80 {
-        let (x1, x2) = (b - g * (b - a), a + g * (b - a));
-        if dist(x1) < dist(x2) {
-            b = x2;
-        } else {
-            a = x1;
-        }
-    }
-    0.5 * (a + b)
 }
 
 /// The range of angles `a` (radians) as an interval: the complement of the largest gap on the
@@ -747,6 +719,15 @@ fn surface(m: &Model, sid: u64) -> R<Option<Surface>> {
     }))
 }
 
+/// The knot vector of STEP's distinct knots and their multiplicities.
+fn expand_knots(mults: &[f64], values: &[f64]) -> Vec<f64> {
+    values
+        .iter()
+        .zip(mults)
+        .flat_map(|(&k, &n)| std::iter::repeat_n(k, n.max(0.0) as usize))
+        .collect()
+}
+
 /// B_SPLINE_SURFACE_WITH_KNOTS, simple or in a complex instance with B_SPLINE_SURFACE and
 /// RATIONAL_B_SPLINE_SURFACE. Control points are listed row by row, u the outer index, as the
 /// crate's flat net P[i · n_v + j].
@@ -781,13 +762,6 @@ fn spline_surface(m: &Model, sid: u64) -> R<BSplineSurface> {
             points.push(m.point(m.reference(sid, Some(x))?)?);
         }
     }
-    let expand = |mults: &[f64], values: &[f64]| -> Vec<f64> {
-        values
-            .iter()
-            .zip(mults)
-            .flat_map(|(&k, &n)| std::iter::repeat_n(k, n as usize))
-            .collect()
-    };
     let (mu, mv) = (
         m.numbers(sid, knots.first())?,
         m.numbers(sid, knots.get(1))?,
@@ -812,8 +786,8 @@ fn spline_surface(m: &Model, sid: u64) -> R<BSplineSurface> {
         return Err(m.bad(sid, "the control point rows differ in length"));
     }
     BSplineSurface::new(
-        KnotVector::new(du, expand(&mu, &ku)).map_err(g)?,
-        KnotVector::new(dv, expand(&mv, &kv)).map_err(g)?,
+        KnotVector::new(du, expand_knots(&mu, &ku)).map_err(g)?,
+        KnotVector::new(dv, expand_knots(&mv, &kv)).map_err(g)?,
         points,
         weights,
     )
@@ -951,11 +925,7 @@ fn spline_curve(m: &Model, cid: u64) -> R<BSplineCurve> {
         m.numbers(cid, knots.first())?,
         m.numbers(cid, knots.get(1))?,
     );
-    let kv: Vec<f64> = values
-        .iter()
-        .zip(&mults)
-        .flat_map(|(&k, &n)| std::iter::repeat_n(k, n as usize))
-        .collect();
+    let kv = expand_knots(&mults, &values);
     let weights = match inst
         .parts
         .iter()
