@@ -30,6 +30,7 @@
 use std::collections::BTreeMap;
 
 use nurbs_core::{BSplineSurface, Continuity, Direction, Point3, Side, Vector3};
+use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::measure::{LinkMeasure, is_collapsed, measure_link};
@@ -238,13 +239,21 @@ fn step_all(
         }
         statuses.push(status);
     }
-    let mut moves = Vec::with_capacity(active.len());
-    for (l, status) in active.iter().zip(&statuses) {
-        let movable: Vec<bool> = status.iter().map(|s| *s != Status::Fixed).collect();
-        let mut mv = solve_row(l.master, &base, l.side, step, &movable, params)?;
-        slide(&mut mv, k, status, l.side, links, &base, params);
-        moves.push(mv);
-    }
+    // the sides' row systems are independent (each reads `base` only): solved side by side in
+    // parallel and collected in side order (the first error in side order wins), so the result
+    // does not depend on the thread count
+    let moves: Vec<RowMove> = active
+        .par_iter()
+        .zip(&statuses)
+        .map(|(l, status)| {
+            let movable: Vec<bool> = status.iter().map(|s| *s != Status::Fixed).collect();
+            let mut mv = solve_row(l.master, &base, l.side, step, &movable, params)?;
+            slide(&mut mv, k, status, l.side, links, &base, params);
+            Ok(mv)
+        })
+        .collect::<Vec<Result<RowMove>>>()
+        .into_iter()
+        .collect::<Result<_>>()?;
     // average the candidates of shared points
     let mut shared: BTreeMap<(usize, usize), (Vector3, usize)> = BTreeMap::new();
     for (l, (status, mv)) in active.iter().zip(statuses.iter().zip(&moves)) {
@@ -281,7 +290,7 @@ fn step_all(
         outcome.max_move = outcome.max_move.max(d.norm());
     }
     let second: Vec<RowMove> = active
-        .iter()
+        .par_iter()
         .zip(&statuses)
         .map(|(l, status)| {
             let movable: Vec<bool> = status
@@ -292,6 +301,8 @@ fn step_all(
             slide(&mut mv, k, status, l.side, links, &pinned, params);
             Ok(mv)
         })
+        .collect::<Vec<Result<RowMove>>>()
+        .into_iter()
         .collect::<Result<_>>()?;
     for mv in &second {
         mv.apply(&mut pinned);

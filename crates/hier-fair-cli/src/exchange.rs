@@ -103,8 +103,13 @@ pub fn model_from_iges(input: &Path) -> Result<(Model, String, hier_fair::BuildL
     let file = read_iges(&bytes).map_err(|e| anyhow!("{}: {e}", input.display()))?;
     if file.surfaces.is_empty() {
         bail!(
-            "{}: the file holds no surface that is read (B-spline 128, revolution 120, plane 108 under a 144)",
-            input.display()
+            "{}: the file holds no surface that is read (B-spline 128, revolution 120, tabulated cylinder 122, ruled 118, plane 108 under a 144){}",
+            input.display(),
+            if file.refused.is_empty() {
+                String::new()
+            } else {
+                format!("; not read exactly: {}", file.refused.join("; "))
+            }
         );
     }
     let mut model = named_primaries(
@@ -116,11 +121,16 @@ pub fn model_from_iges(input: &Path) -> Result<(Model, String, hier_fair::BuildL
     let log = hier_fair::build_hierarchy(&mut model);
     let trimmed = file.surfaces.iter().filter(|s| s.trimmed).count();
     let summary = format!(
-        "imported {} surfaces ({} trimmed by entity 144: each kept over its face's box, the trim itself not kept); {} curves (126) not imported; other entities skipped: {}; {}",
+        "imported {} surfaces ({} trimmed by entity 144: each kept over its face's box, the trim itself not kept); {} curves (126) not imported; other entities skipped: {}; surfaces with no exact form, not imported: {}; {}",
         file.surfaces.len(),
         trimmed,
         file.curves.len(),
         counts_text(&file.skipped),
+        if file.refused.is_empty() {
+            "none".to_string()
+        } else {
+            file.refused.join("; ")
+        },
         hierarchy_summary(&model, &log),
     );
     Ok((model, summary, log))

@@ -1129,6 +1129,17 @@ impl Job<'_> {
                     r.max_move = step.max_move;
                 }
                 s = next;
+                // at the top target every link's rows are fixed in the fairing stage, so its
+                // gap, angle and curvature stay as this set step leaves them: a link it leaves
+                // worse than the input or loses is final, and the stage's fairing is not run
+                // (the fallback below decides from the same measures)
+                if top.is_some_and(|t| level >= t)
+                    && (self.worse_link(&labelled, &s).is_some()
+                        || self.lost_link(&labelled, &connected, &s).is_some())
+                {
+                    run.record(Stage::fair(level), &s, &s);
+                    break;
+                }
             }
             // fairing keeping `level`
             let stage = Stage::fair(level);

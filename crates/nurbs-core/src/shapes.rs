@@ -288,3 +288,134 @@ pub fn plane_patch(
         None,
     )
 }
+
+/// The surface swept by `curve` moved along `direction`: S(u, v) = C(u) + v `direction` for v in
+/// [v0, v1], u the curve's parameter ([NB] §8.3, the general cylinder; IGES 122 and STEP's
+/// SURFACE_OF_LINEAR_EXTRUSION). Exact for rational curves too: with row j = C's control
+/// points moved by v_j `direction` and the weights of C in both rows,
+/// Σ w_i N_i (P_i + v d) / Σ w_i N_i = C(u) + v d.
+///
+/// ```
+/// use nurbs_core::{Point3, Vector3, shapes::{arc, extrude_curve}};
+/// // a quarter circle of radius 2 extruded 5 along z: a quarter cylinder
+/// let c = arc(Point3::origin(), Vector3::x(), Vector3::y(), 2.0, 0.0, 1.5).unwrap();
+/// let s = extrude_curve(&c, Vector3::z(), (0.0, 5.0)).unwrap();
+/// let (u0, u1) = s.domain_u();
+/// let p = s.point(0.3 * u0 + 0.7 * u1, 2.5);
+/// assert!((p.x.hypot(p.y) - 2.0).abs() < 1e-12 && (p.z - 2.5).abs() < 1e-12);
+/// ```
+pub fn extrude_curve(
+    curve: &BSplineCurve,
+    direction: crate::Vector3,
+    (v0, v1): (f64, f64),
+) -> Result<BSplineSurface> {
+    if !(direction.norm() > 0.0) {
+        return Err(crate::error::Error::Degenerate {
+            detail: "the extrusion direction has zero length".to_string(),
+        });
+    }
+    let mut points = Vec::with_capacity(2 * curve.control_points().len());
+    for p in curve.control_points() {
+        points.push(p + direction * v0);
+        points.push(p + direction * v1);
+    }
+    let weights = curve
+        .weights()
+        .map(|w| w.iter().flat_map(|&x| [x, x]).collect());
+    BSplineSurface::new(
+        curve.knots().clone(),
+        KnotVector::new(1, vec![v0, v0, v1, v1])?,
+        points,
+        weights,
+    )
+}
+
+/// Relative difference below which two weight sequences count as proportional in
+/// [`ruled_surface`]: far above the rounding of knot insertion and degree elevation (a few
+/// hundred ulps), far below any weight a modeller sets.
+pub const PROPORTIONAL_WEIGHTS_RELATIVE: f64 = 1e-12;
+
+/// The ruled surface S(u, v) = (1 − v) C₁(u) + v C₂(u), u ∈ [0, 1] the two curves' parameters
+/// mapped linearly onto [0, 1] (IGES 118 form 1, [NB] §8.2): the curves are made compatible —
+/// the lower degree elevated, the knots of each inserted into the other — and the two
+/// control polygons are the rows v = 0 and v = 1.
+///
+/// Exact when both curves are polynomial or their weights are proportional after that (then
+/// one weight function W divides both rows); two rational curves with different weight
+/// functions have no ruling of this degree (it needs W₁ W₂ in the denominator) and are refused
+/// with [`crate::Error::Degenerate`] rather than approximated.
+///
+/// ```
+/// use nurbs_core::{Point3, Vector3, shapes::{arc, ruled_surface}};
+/// // two coaxial quarter circles of radii 1 and 3, 4 apart: a frustum of a cone
+/// let a = arc(Point3::origin(), Vector3::x(), Vector3::y(), 1.0, 0.0, 1.5).unwrap();
+/// let b = arc(Point3::new(0.0, 0.0, 4.0), Vector3::x(), Vector3::y(), 3.0, 0.0, 1.5).unwrap();
+/// let s = ruled_surface(&a, &b).unwrap();
+/// let p = s.point(0.4, 0.25);
+/// assert!((p.x.hypot(p.y) - 1.5).abs() < 1e-12 && (p.z - 1.0).abs() < 1e-12);
+/// ```
+pub fn ruled_surface(c1: &BSplineCurve, c2: &BSplineCurve) -> Result<BSplineSurface> {
+    let unit = |c: &BSplineCurve| -> Result<BSplineCurve> {
+        let (a, b) = c.knots().domain();
+        let knots = c
+            .knots()
+            .knots()
+            .iter()
+            .map(|t| (t - a) / (b - a))
+            .collect();
+        BSplineCurve::new(
+            KnotVector::new(c.degree(), knots)?,
+            c.control_points().to_vec(),
+            c.weights().map(<[f64]>::to_vec),
+        )
+    };
+    let (mut a, mut b) = (unit(c1)?, unit(c2)?);
+    let p = a.degree().max(b.degree());
+    if a.degree() < p {
+        a = a.elevate_degree(p - a.degree())?;
+    }
+    if b.degree() < p {
+        b = b.elevate_degree(p - b.degree())?;
+    }
+    // the knots each lacks (multiplicities counted), inserted so that both share one vector
+    let lacking = |x: &BSplineCurve, y: &BSplineCurve| -> Vec<f64> {
+        let mut out = Vec::new();
+        for (t, m) in y.knots().interior_knots() {
+            let have = x.knots().multiplicity(t);
+            out.extend(std::iter::repeat_n(t, m.saturating_sub(have)));
+        }
+        out
+    };
+    let (more_a, more_b) = (lacking(&a, &b), lacking(&b, &a));
+    if !more_a.is_empty() {
+        a = a.refine(&more_a)?;
+    }
+    if !more_b.is_empty() {
+        b = b.refine(&more_b)?;
+    }
+    let n = a.control_points().len();
+    let weights = match (a.weights(), b.weights()) {
+        (None, None) => None,
+        (wa, wb) => {
+            let wa: Vec<f64> = wa.map_or_else(|| vec![1.0; n], <[f64]>::to_vec);
+            let wb: Vec<f64> = wb.map_or_else(|| vec![1.0; n], <[f64]>::to_vec);
+            let ratio = wb[0] / wa[0];
+            if wa
+                .iter()
+                .zip(&wb)
+                .any(|(x, y)| (y / x - ratio).abs() > PROPORTIONAL_WEIGHTS_RELATIVE * ratio)
+            {
+                return Err(crate::error::Error::Degenerate {
+                    detail: "the two curves of a ruled surface are rational with different weight functions: no exact ruling of their degree".to_string(),
+                });
+            }
+            Some(wa.iter().flat_map(|&x| [x, x]).collect())
+        }
+    };
+    let mut points = Vec::with_capacity(2 * n);
+    for (p, q) in a.control_points().iter().zip(b.control_points()) {
+        points.push(*p);
+        points.push(*q);
+    }
+    BSplineSurface::new(a.knots().clone(), KnotVector::bezier(1)?, points, weights)
+}

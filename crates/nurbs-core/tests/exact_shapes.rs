@@ -326,3 +326,127 @@ fn surfaces_of_revolution_are_exact() {
         assert!((0..n).all(|j| (sphere.control_point(i, j) - first).norm() < 1e-12));
     }
 }
+
+/// A rational circle extruded along a slanted direction is an elliptic cylinder whose sections
+/// parallel to the circle's plane are that circle moved: every point is C(u) + v d exactly, and
+/// with d along the axis it is a circular cylinder (curvatures 0 and 1/r).
+#[test]
+fn an_extruded_circle_is_an_exact_cylinder() {
+    let c = circle(2.5).unwrap();
+    let (t0, t1) = c.knots().domain();
+    for d in [Vector3::new(0.0, 0.0, 4.0), Vector3::new(1.0, -0.5, 3.0)] {
+        let s = nurbs_core::shapes::extrude_curve(&c, d, (-1.0, 2.0)).unwrap();
+        assert!(s.is_rational());
+        for a in 0..=20 {
+            for b in 0..=6 {
+                let t = t0 + (t1 - t0) * a as f64 / 20.0;
+                let v = -1.0 + 3.0 * b as f64 / 6.0;
+                let want = c.point(t) + d * v;
+                assert!((s.point(t, v) - want).norm() < TOL, "{d:?} {t} {v}");
+                if d.x == 0.0 {
+                    let k = s.derivatives(t, v).principal_curvatures().unwrap();
+                    let (lo, hi) = (k.k1.abs().min(k.k2.abs()), k.k1.abs().max(k.k2.abs()));
+                    assert!(lo < 1e-9 && (hi - 0.4).abs() < 1e-9, "{k:?}");
+                }
+            }
+        }
+    }
+    assert!(nurbs_core::shapes::extrude_curve(&c, Vector3::zeros(), (0.0, 1.0)).is_err());
+}
+
+/// The ruling of two coaxial circular arcs of radii r₁, r₂ at heights 0 and h is the cone
+/// frustum: at v the point lies at radius (1 − v) r₁ + v r₂ and height v h. A line and a cubic
+/// of different knots rule exactly too (the rows are the two curves), and two rational curves
+/// with different weight functions are refused.
+#[test]
+fn ruled_surfaces_are_exact_where_a_ruling_of_their_degree_exists() {
+    use nurbs_core::shapes::{arc, ruled_surface};
+    use nurbs_core::{BSplineCurve, KnotVector};
+    let a = arc(Point3::origin(), Vector3::x(), Vector3::y(), 1.0, 0.0, 2.0).unwrap();
+    let b = arc(
+        Point3::new(0.0, 0.0, 4.0),
+        Vector3::x(),
+        Vector3::y(),
+        3.0,
+        0.0,
+        2.0,
+    )
+    .unwrap();
+    let s = ruled_surface(&a, &b).unwrap();
+    for i in 0..=10 {
+        for j in 0..=10 {
+            let (u, v) = (i as f64 / 10.0, j as f64 / 10.0);
+            let p = s.point(u, v);
+            assert!((p.x.hypot(p.y) - (1.0 + 2.0 * v)).abs() < TOL, "{u} {v}");
+            assert!((p.z - 4.0 * v).abs() < TOL);
+        }
+    }
+    // a segment and a cubic on other knots: every point is the interpolation of the two curves
+    let line = BSplineCurve::new(
+        KnotVector::new(1, vec![2.0, 2.0, 7.0, 7.0]).unwrap(),
+        vec![Point3::new(0.0, 0.0, 0.0), Point3::new(10.0, 0.0, 0.0)],
+        None,
+    )
+    .unwrap();
+    let cubic = BSplineCurve::new(
+        KnotVector::new(3, vec![0.0, 0.0, 0.0, 0.0, 0.3, 1.0, 1.0, 1.0, 1.0]).unwrap(),
+        vec![
+            Point3::new(0.0, 5.0, 1.0),
+            Point3::new(3.0, 6.0, -1.0),
+            Point3::new(6.0, 4.0, 2.0),
+            Point3::new(8.0, 5.0, 0.0),
+            Point3::new(10.0, 5.0, 1.0),
+        ],
+        None,
+    )
+    .unwrap();
+    let s = ruled_surface(&line, &cubic).unwrap();
+    assert_eq!(s.degree_u(), 3);
+    for i in 0..=20 {
+        for j in 0..=4 {
+            let (u, v) = (i as f64 / 20.0, j as f64 / 4.0);
+            let want = line.point(2.0 + 5.0 * u) * (1.0 - v) + cubic.point(u).coords * v;
+            assert!((s.point(u, v) - want).norm() < TOL, "{u} {v}");
+        }
+    }
+    // a circle against a rational arc of other weights: no exact ruling of this degree
+    let bent = BSplineCurve::new(
+        KnotVector::bezier(2).unwrap(),
+        vec![
+            Point3::new(0.0, 0.0, 1.0),
+            Point3::new(1.0, 1.0, 1.0),
+            Point3::new(2.0, 0.0, 1.0),
+        ],
+        Some(vec![1.0, 3.0, 1.0]),
+    )
+    .unwrap();
+    let other = BSplineCurve::new(
+        KnotVector::bezier(2).unwrap(),
+        vec![
+            Point3::new(0.0, 0.0, 0.0),
+            Point3::new(1.0, 1.0, 0.0),
+            Point3::new(2.0, 0.0, 0.0),
+        ],
+        Some(vec![1.0, 0.5, 1.0]),
+    )
+    .unwrap();
+    assert!(ruled_surface(&bent, &other).is_err());
+    // proportional weights are one weight function: ruled exactly
+    let scaled = BSplineCurve::new(
+        KnotVector::bezier(2).unwrap(),
+        vec![
+            Point3::new(0.0, 0.0, 0.0),
+            Point3::new(1.0, 1.0, 0.0),
+            Point3::new(2.0, 0.0, 0.0),
+        ],
+        Some(vec![2.0, 6.0, 2.0]),
+    )
+    .unwrap();
+    let s = ruled_surface(&bent, &scaled).unwrap();
+    for i in 0..=10 {
+        let u = i as f64 / 10.0;
+        let want = bent.point(u) + Vector3::new(0.0, 0.0, -0.5);
+        let got = s.point(u, 0.5);
+        assert!((got - want).norm() < TOL, "{u}: {got:?} vs {want:?}");
+    }
+}

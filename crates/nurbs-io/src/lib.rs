@@ -1,9 +1,11 @@
 //! # nurbs-io
 //!
 //! IGES 5.3 exchange ([IGES] US PRO/IPO-100-1996) of B-spline geometry: rational B-spline
-//! surfaces (entity 128), curves (126), trimmed surfaces (144, read as their underlying 128 with a
-//! `trimmed` flag) and transformation matrices (124, applied where referenced). Other entities are
-//! counted and skipped. The reader checks the fixed 80-column layout and reports errors by line;
+//! surfaces (entity 128), curves (126), surfaces of revolution (120), tabulated cylinders (122)
+//! and ruled surfaces (118) as exact NURBS surfaces, planes (108) bounded by the trimmed surface
+//! (144) over them, trimmed B-spline surfaces cut to their face's parameter box, and
+//! transformation matrices (124, applied where referenced). Other entities are counted and
+//! skipped. The reader checks the fixed 80-column layout and reports errors by line;
 //! the writer produces files that pass the same checks ([`check_structure`]).
 //!
 //! STEP (ISO 10303-21) faces are read by [`read_step`]: elementary and B-spline surfaces over

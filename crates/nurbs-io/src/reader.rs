@@ -72,8 +72,8 @@ pub struct IgesFile {
     pub unit_flag: i64,
     /// model-space scale of the Global section
     pub scale: f64,
-    /// entity-128 and entity-120 surfaces in directory order, each plane (108) at the place of
-    /// the trimmed surface (144) that bounds it
+    /// entity-128, 120 (revolution), 122 (tabulated cylinder) and 118 (ruled) surfaces in
+    /// directory order, each plane (108) at the place of the trimmed surface (144) that bounds it
     pub surfaces: Vec<IgesSurface>,
     /// entity-126 curves in directory order
     pub curves: Vec<IgesCurve>,
@@ -81,6 +81,10 @@ pub struct IgesFile {
     pub trimmed_entities: usize,
     /// entities not read, by type
     pub skipped: BTreeMap<i64, usize>,
+    /// surfaces that have no exact NURBS form here, one line each (directory entry, type, why):
+    /// a ruled surface (118) between rational curves of different weight functions, or of
+    /// form 0 between curves of unlike speed; never approximated without a word
+    pub refused: Vec<String>,
 }
 
 pub(crate) struct Record<'a> {
@@ -270,6 +274,8 @@ pub(crate) struct DirEntry {
     pub(crate) pointer: i64,
     transform: i64,
     pub(crate) line_count: i64,
+    /// the form number (second line, field 5)
+    form: i64,
     label: [u8; 8],
     subscript: i64,
 }
@@ -310,6 +316,7 @@ pub(crate) fn parse_directory(records: &[Record<'_>]) -> Result<Vec<DirEntry>, I
             pointer: field(a, 1)?,
             transform: field(a, 6)?,
             line_count: field(b, 3)?,
+            form: field(b, 4)?,
             label,
             subscript: field(b, 8).unwrap_or(0),
         });
@@ -710,6 +717,102 @@ impl Reader<'_> {
         })
     }
 
+    /// A surface built in an entity's definition space, moved into model space by the entity's
+    /// own transformation and the model scale (exact: an affine map of a rational net).
+    fn placed(
+        &self,
+        e: &DirEntry,
+        local: BSplineSurface,
+        scale: f64,
+        param_range: [f64; 4],
+    ) -> Result<IgesSurface, IgesError> {
+        let coords: Vec<f64> = local
+            .control_points()
+            .iter()
+            .flat_map(|p| [p.x, p.y, p.z])
+            .collect();
+        let points = self.points(e, &coords, scale)?;
+        let surface = BSplineSurface::new(
+            local.knots_u().clone(),
+            local.knots_v().clone(),
+            points,
+            local.weights().map(<[f64]>::to_vec),
+        )
+        .map_err(Self::geometry_err(e))?;
+        Ok(IgesSurface {
+            de: e.seq,
+            name: Self::name(e),
+            surface,
+            trimmed: false,
+            param_range,
+            underlying: None,
+        })
+    }
+
+    /// Entity 122, the tabulated cylinder ([IGES] §4.19): the directrix C (110, 100 or 126)
+    /// moved along the line from its start point C(t0) to the terminate point L,
+    /// S(u, v) = C(u) + v (L − C(t0)), v ∈ [0, 1], exactly
+    /// ([`nurbs_core::shapes::extrude_curve`]); u keeps the directrix's parameter.
+    fn tabulated(&self, e: &DirEntry, scale: f64) -> Result<IgesSurface, IgesError> {
+        let params = entity_params(e, &self.p, &self.global)?;
+        let mut c = Cursor {
+            params: &params,
+            next: 1,
+            e,
+        };
+        let directrix = self.entry(c.int()?, e)?;
+        let l = c.reals(3)?;
+        let curve = self.any_curve(directrix, 1.0)?;
+        let (t0, t1) = curve.knots().domain();
+        let d = Point3::new(l[0], l[1], l[2]) - curve.point(t0);
+        let local = nurbs_core::shapes::extrude_curve(&curve, d, (0.0, 1.0))
+            .map_err(Self::geometry_err(e))?;
+        self.placed(e, local, scale, [t0, t1, 0.0, 1.0])
+    }
+
+    /// Entity 118, the ruled surface ([IGES] §4.14) between two curves (110, 100 or 126),
+    /// S(u, v) = (1 − v) C₁(u) + v C₂(u), DIRFLG 1 joining the first end of C₁ to the last of
+    /// C₂, exactly ([`nurbs_core::shapes::ruled_surface`]). Form 1 (equal relative parameter)
+    /// is that surface. Form 0 rules points of equal relative arc length: it is read when the
+    /// two curves' relative arc lengths agree at their relative parameters within
+    /// [`RULED_ARC_LENGTH_RELATIVE`] (lines, arcs of the same sweep, one curve a scaled copy
+    /// of the other), and refused otherwise rather than approximated.
+    fn ruled(&self, e: &DirEntry, scale: f64) -> Result<IgesSurface, IgesError> {
+        let params = entity_params(e, &self.p, &self.global)?;
+        let mut c = Cursor {
+            params: &params,
+            next: 1,
+            e,
+        };
+        let first = self.entry(c.int()?, e)?;
+        let second = self.entry(c.int()?, e)?;
+        let reversed = c.int()? == 1;
+        let a = self.any_curve(first, 1.0)?;
+        let mut b = self.any_curve(second, 1.0)?;
+        if reversed {
+            b = reverse(&b).map_err(Self::geometry_err(e))?;
+        }
+        if e.form == 0 {
+            let (fa, fb) = (relative_arc_lengths(&a), relative_arc_lengths(&b));
+            let off = fa
+                .iter()
+                .zip(&fb)
+                .map(|(x, y)| (x - y).abs())
+                .fold(0.0, f64::max);
+            if off > RULED_ARC_LENGTH_RELATIVE {
+                return Err(IgesError::Entity {
+                    de: e.seq,
+                    entity_type: e.entity_type,
+                    detail: format!(
+                        "form 0 rules points of equal arc length, and the two curves' relative arc lengths differ by up to {off:.3e} at equal parameters: not read exactly"
+                    ),
+                });
+            }
+        }
+        let local = nurbs_core::shapes::ruled_surface(&a, &b).map_err(Self::geometry_err(e))?;
+        self.placed(e, local, scale, [0.0, 1.0, 0.0, 1.0])
+    }
+
     /// Points along a model-space boundary curve: a composite (102) of lines, arcs and
     /// B-splines, each sampled at [`BOUNDARY_SAMPLES`] points; every transformation from the
     /// member up to `e` applied, not the model scale.
@@ -955,6 +1058,47 @@ impl Reader<'_> {
     }
 }
 
+/// Largest difference of relative arc length at equal relative parameters for which a form-0
+/// ruled surface (118) is read as the parametric ruling: 1e-9, a thousandth of the kernel's
+/// model-size tolerance, so that the points it joins are the same to far below any tolerance.
+pub const RULED_ARC_LENGTH_RELATIVE: f64 = 1e-9;
+
+/// Samples of [`relative_arc_lengths`]: 64 spans, each integrated by a 5-point Gauss rule.
+const ARC_LENGTH_SPANS: usize = 64;
+
+/// Arc length from the start at the relative parameters k / [`ARC_LENGTH_SPANS`], divided by
+/// the whole length (Gauss–Legendre on each piece, [AS] 25.4.29).
+fn relative_arc_lengths(c: &BSplineCurve) -> Vec<f64> {
+    let rule = nurbs_core::quadrature::GaussLegendre::new(5);
+    let (t0, t1) = c.knots().domain();
+    let at = |k: usize| t0 + (t1 - t0) * k as f64 / ARC_LENGTH_SPANS as f64;
+    let mut acc = vec![0.0];
+    for k in 0..ARC_LENGTH_SPANS {
+        let piece: f64 = rule
+            .on(at(k), at(k + 1))
+            .map(|(t, w)| w * c.derivatives(t, 1).d[1].norm())
+            .sum();
+        acc.push(acc[k] + piece);
+    }
+    let total = acc[ARC_LENGTH_SPANS].max(f64::MIN_POSITIVE);
+    acc.iter().map(|x| x / total).collect()
+}
+
+/// The curve run backwards, t ↦ a + b − t (knots mirrored, control points and weights
+/// reversed): the same point set.
+fn reverse(c: &BSplineCurve) -> nurbs_core::Result<BSplineCurve> {
+    let (a, b) = c.knots().domain();
+    let knots = c.knots().knots().iter().rev().map(|t| a + b - t).collect();
+    let mut points = c.control_points().to_vec();
+    points.reverse();
+    let weights = c.weights().map(|w| w.iter().rev().copied().collect());
+    BSplineCurve::new(
+        nurbs_core::KnotVector::new(c.degree(), knots)?,
+        points,
+        weights,
+    )
+}
+
 /// Reads an IGES file (CRLF or LF line endings).
 pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
     let sec = split_sections(bytes)?;
@@ -1002,6 +1146,7 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
         curves: vec![],
         trimmed_entities: 0,
         skipped: BTreeMap::new(),
+        refused: Vec::new(),
     };
     let mut trimmed_targets = Vec::new();
     let mut planes_read = Vec::new();
@@ -1010,6 +1155,21 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
         match e.entity_type {
             128 => file.surfaces.push(reader.surface(e, scale)?),
             120 => file.surfaces.push(reader.revolution(e, scale)?),
+            122 | 118 => {
+                let read = if e.entity_type == 122 {
+                    reader.tabulated(e, scale)
+                } else {
+                    reader.ruled(e, scale)
+                };
+                match read {
+                    Ok(s) => file.surfaces.push(s),
+                    // a surface with no exact form is named, the rest of the file is read
+                    Err(err @ (IgesError::Entity { .. } | IgesError::Geometry { .. })) => {
+                        file.refused.push(err.to_string());
+                    }
+                    Err(err) => return Err(err),
+                }
+            }
             126 => file.curves.push(reader.curve(e, scale)?),
             144 => {
                 let params = entity_params(e, &reader.p, &reader.global)?;

@@ -3,7 +3,8 @@
 //! parameter box of its bounds.
 //!
 //! Surfaces: PLANE, CYLINDRICAL_SURFACE, CONICAL_SURFACE, SPHERICAL_SURFACE, TOROIDAL_SURFACE
-//! (rational quadratic arcs in the angular directions, [NB] A7.1 / A8.1), SURFACE_OF_REVOLUTION
+//! (rational quadratic arcs in the angular directions, [NB] A7.1 / A8.1), SURFACE_OF_LINEAR_EXTRUSION
+//! of a B-spline curve (exact, [`nurbs_core::shapes::extrude_curve`]), SURFACE_OF_REVOLUTION
 //! of a B-spline curve, and B_SPLINE_SURFACE_WITH_KNOTS, plain or in the complex instance with
 //! RATIONAL_B_SPLINE_SURFACE.
 //! The parameter box of a face is that of its edges: the vertices and points along every edge
@@ -470,6 +471,10 @@ enum Surface {
     /// generatrix's radial direction at its middle is angle 0 (it lies in a half-plane through
     /// the axis, as every surface of revolution a kernel writes)
     Revolution(BSplineCurve, Point3, Vector3, Vector3),
+    /// a curve moved along a vector (magnitude included): S(u, v) = C(u) + v V; with the curve
+    /// projected along V onto the plane through the origin perpendicular to it (the same
+    /// weights: a linear map of the net), which inverts a point
+    Extrusion(BSplineCurve, Vector3, BSplineCurve),
 }
 
 impl Surface {
@@ -495,6 +500,13 @@ impl Surface {
                 let f = nurbs_core::project_to_surface(s, p, &ProjectionParams::default());
                 (f.u, f.v)
             }
+            Surface::Extrusion(c, vector, flat) => {
+                // the foot on the projected curve gives u; v is the offset along V from C(u)
+                let unit = vector.normalize();
+                let q = p - unit * unit.dot(&p.coords);
+                let u = nurbs_core::project_to_curve(flat, &q, &ProjectionParams::default()).t;
+                (u, (p - c.point(u)).dot(vector) / vector.norm_squared())
+            }
             Surface::Revolution(c, o, z, x) => {
                 let d = p - o;
                 let y = z.cross(x);
@@ -511,7 +523,7 @@ impl Surface {
     }
     fn angular(&self) -> (bool, bool) {
         match self {
-            Surface::Plane(..) | Surface::Spline(_) => (false, false),
+            Surface::Plane(..) | Surface::Spline(_) | Surface::Extrusion(..) => (false, false),
             Surface::Revolution(..) => (true, false),
             Surface::Cone(..) => (true, false),
             // a sphere's latitude never wraps (−π/2 … π/2)
@@ -550,6 +562,9 @@ impl Surface {
             Surface::Revolution(c, o, z, _) => {
                 let part = c.extract(v.0, v.1)?;
                 Ok(revolve_curve(&part, *o, *z, u.0, u.1)?.transposed()?)
+            }
+            Surface::Extrusion(c, vector, _) => {
+                nurbs_core::shapes::extrude_curve(&c.extract(u.0, u.1)?, *vector, v)
             }
         }
     }
@@ -707,6 +722,40 @@ fn surface(m: &Model, sid: u64) -> R<Option<Surface>> {
                 .try_normalize(0.0)
                 .ok_or_else(|| m.bad(sid, "the generatrix lies on the axis"))?;
             Surface::Revolution(curve, o, z, x)
+        }
+        "SURFACE_OF_LINEAR_EXTRUSION" => {
+            // (name, swept curve, extrusion axis: a VECTOR of a direction and a magnitude)
+            let p = m.part(sid, kind)?;
+            let cid = m.reference(sid, p.get(1))?;
+            if !m
+                .get(cid)?
+                .parts
+                .iter()
+                .any(|(k, _)| k == "B_SPLINE_CURVE_WITH_KNOTS")
+            {
+                return Ok(None);
+            }
+            let curve = spline_curve(m, cid)?;
+            let vid = m.reference(sid, p.get(2))?;
+            let v = m.part(vid, "VECTOR")?;
+            let dir = m.direction(m.reference(vid, v.get(1))?)?;
+            let vector = dir * m.num(vid, v.get(2))?;
+            if !(vector.norm() > 0.0) {
+                return Err(m.bad(sid, "the extrusion vector has zero length"));
+            }
+            let unit = vector.normalize();
+            let flat_points = curve
+                .control_points()
+                .iter()
+                .map(|q| q - unit * unit.dot(&q.coords))
+                .collect();
+            let flat = BSplineCurve::new(
+                curve.knots().clone(),
+                flat_points,
+                curve.weights().map(<[f64]>::to_vec),
+            )
+            .map_err(|source| StepError::Geometry { id: sid, source })?;
+            Surface::Extrusion(curve, vector, flat)
         }
         _ if inst
             .parts

@@ -310,3 +310,169 @@ proptest! {
         let _ = check_structure(&bytes);
     }
 }
+
+/// An IGES file of the given entities (type, form, parameters without the type and the final
+/// `;`), the Global section of the writer's: for entity types the writer does not produce.
+fn raw_iges(entities: &[(i64, i64, String)]) -> String {
+    let base = write_iges(&[], &[], &IgesWriteParams::default()).unwrap();
+    let global: Vec<&str> = base.lines().filter(|l| l.as_bytes()[72] == b'G').collect();
+    let mut d = Vec::new();
+    let mut p = Vec::new();
+    for (k, (kind, form, params)) in entities.iter().enumerate() {
+        let de = 2 * k + 1;
+        let text = format!("{kind},{params};");
+        let first = p.len() + 1;
+        // cut at commas so that no number is split across records
+        let mut line = String::new();
+        let mut lines = Vec::new();
+        for token in text.split_inclusive(',') {
+            if line.len() + token.len() > 64 {
+                lines.push(std::mem::take(&mut line));
+            }
+            line.push_str(token);
+        }
+        lines.push(line);
+        for l in &lines {
+            let seq = p.len() + 1;
+            p.push(format!("{l:<64}{de:>8}P{seq:>7}"));
+        }
+        d.push(format!(
+            "{kind:>8}{first:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}D{de:>7}",
+            0, 0, 0, 0, 0, 0, "00000000"
+        ));
+        d.push(format!(
+            "{kind:>8}{:>8}{:>8}{:>8}{form:>8}{:>8}{:>8}{:>8}{:>8}D{:>7}",
+            0,
+            0,
+            lines.len(),
+            "",
+            "",
+            "",
+            0,
+            de + 1
+        ));
+    }
+    let mut out = vec![format!("{:<72}S{:>7}", "raw entities", 1)];
+    out.extend(global.iter().map(|s| s.to_string()));
+    let t = format!(
+        "S{:>7}G{:>7}D{:>7}P{:>7}",
+        1,
+        global.len(),
+        d.len(),
+        p.len()
+    );
+    out.extend(d);
+    out.extend(p);
+    out.push(format!("{t:<72}T{:>7}", 1));
+    out.join("\n") + "\n"
+}
+
+/// A 126 parameter list (without the type) of a polynomial or rational curve.
+fn curve_126(c: &nurbs_core::BSplineCurve) -> String {
+    let n = c.control_points().len();
+    let mut v = vec![
+        (n - 1).to_string(),
+        c.degree().to_string(),
+        "0".into(),
+        "0".into(),
+        if c.is_rational() { "0" } else { "1" }.into(),
+        "0".into(),
+    ];
+    v.extend(c.knots().knots().iter().map(|t| format!("{t:?}")));
+    let w = c.weights().map_or_else(|| vec![1.0; n], <[f64]>::to_vec);
+    v.extend(w.iter().map(|x| format!("{x:?}")));
+    for p in c.control_points() {
+        v.extend([p.x, p.y, p.z].iter().map(|x| format!("{x:?}")));
+    }
+    let (a, b) = c.knots().domain();
+    v.extend([
+        format!("{a:?}"),
+        format!("{b:?}"),
+        "0.".into(),
+        "0.".into(),
+        "1.".into(),
+    ]);
+    v.join(",")
+}
+
+/// Entity 122 (tabulated cylinder) read as the exact extrusion of its directrix: a 126
+/// rational quarter circle and a 110 line, each moved to the terminate point of its generatrix.
+#[test]
+fn tabulated_cylinders_are_exact_extrusions() {
+    use nurbs_core::{Point3, Vector3, shapes::arc};
+    let quarter = arc(Point3::origin(), Vector3::x(), Vector3::y(), 2.0, 0.0, 1.5).unwrap();
+    let text = raw_iges(&[
+        (126, 0, curve_126(&quarter)),
+        (122, 0, "1,2.0,0.0,5.0".into()),
+        (110, 0, "0.,0.,0.,4.,3.,0.".into()),
+        (122, 0, "5,1.,1.,2.".into()),
+    ]);
+    let file = read_iges(text.as_bytes()).unwrap();
+    assert_eq!(file.surfaces.len(), 2, "{:?}", file.refused);
+    let cyl = &file.surfaces[0].surface;
+    let (u0, u1) = cyl.domain_u();
+    for a in 0..=10 {
+        for b in 0..=4 {
+            let (u, v) = (u0 + (u1 - u0) * a as f64 / 10.0, b as f64 / 4.0);
+            let p = cyl.point(u, v);
+            assert!((p.x.hypot(p.y) - 2.0).abs() < 1e-12 && (p.z - 5.0 * v).abs() < 1e-12);
+        }
+    }
+    // the line from (0,0,0) to (4,3,0) moved along (1,1,2): a parallelogram
+    let plane = &file.surfaces[1].surface;
+    let p = plane.point(plane.domain_u().1, 1.0);
+    assert!((p - Point3::new(5.0, 4.0, 2.0)).norm() < 1e-12, "{p:?}");
+}
+
+/// Entity 118 (ruled surface): form 1 between two coaxial arcs is the cone frustum, DIRFLG 1
+/// joins the first end of one curve to the last of the other, and a form-0 ruling between
+/// curves of unlike speed (points of equal arc length are not those of equal parameter) is
+/// named in `refused` while the rest of the file is read.
+#[test]
+fn ruled_surfaces_are_exact_or_named() {
+    use nurbs_core::{BSplineCurve, KnotVector, Point3};
+    // arcs about (0,0) from angle 0 to 90° at z = 0 (radius 1) and z = 4 (radius 3)
+    let slow = BSplineCurve::new(
+        KnotVector::new(2, vec![0.0, 0.0, 0.0, 1.0, 1.0, 1.0]).unwrap(),
+        vec![
+            Point3::new(0.0, 2.0, 0.0),
+            Point3::new(0.1, 2.0, 0.0),
+            Point3::new(6.0, 2.0, 0.0),
+        ],
+        None,
+    )
+    .unwrap();
+    let text = raw_iges(&[
+        (100, 0, "0.,0.,0.,1.,0.,0.,1.".into()),
+        (100, 0, "4.,0.,0.,3.,0.,0.,3.".into()),
+        (118, 1, "1,3,0,1".into()),
+        (118, 1, "1,3,1,1".into()),
+        (110, 0, "0.,0.,0.,6.,0.,0.".into()),
+        (126, 0, curve_126(&slow)),
+        (118, 0, "9,11,0,1".into()),
+        (118, 0, "1,3,0,1".into()),
+    ]);
+    let file = read_iges(text.as_bytes()).unwrap();
+    // three read: the form-1 pair, the reversed pair, and the form-0 arcs of one sweep
+    assert_eq!(file.surfaces.len(), 3, "{:?}", file.refused);
+    assert_eq!(file.refused.len(), 1);
+    assert!(
+        file.refused[0].contains("arc length"),
+        "{}",
+        file.refused[0]
+    );
+    for s in [&file.surfaces[0].surface, &file.surfaces[2].surface] {
+        for a in 0..=10 {
+            for b in 0..=4 {
+                let (u, v) = (a as f64 / 10.0, b as f64 / 4.0);
+                let p = s.point(u, v);
+                assert!((p.x.hypot(p.y) - (1.0 + 2.0 * v)).abs() < 1e-12, "{u} {v}");
+                assert!((p.z - 4.0 * v).abs() < 1e-12);
+            }
+        }
+    }
+    // reversed: u = 0 on the first arc (angle 0) meets the second arc's end (angle 90°)
+    let r = &file.surfaces[1].surface;
+    assert!((r.point(0.0, 1.0) - Point3::new(0.0, 3.0, 4.0)).norm() < 1e-12);
+    assert!((r.point(0.0, 0.0) - Point3::new(1.0, 0.0, 0.0)).norm() < 1e-12);
+}

@@ -142,3 +142,68 @@ fn written_step_reads_back_the_same_surfaces() {
         }
     }
 }
+
+/// SURFACE_OF_LINEAR_EXTRUSION of a rational quarter circle (radius 2) along a vector of
+/// magnitude 1.5, bounded by the circle, its copy 3 higher and two lines: the face is the
+/// exact quarter cylinder of height 3 (v from 0 to 2 in units of the vector).
+#[test]
+fn a_linear_extrusion_face_is_its_exact_cylinder() {
+    let arc = |id: u64, a: u64, b: u64, c: u64| {
+        format!(
+            "#{id} = ( BOUNDED_CURVE() B_SPLINE_CURVE(2,(#{a},#{b},#{c}),.CIRCULAR_ARC.,.F.,.F.) B_SPLINE_CURVE_WITH_KNOTS((3,3),(0.,1.),.UNSPECIFIED.) CURVE() GEOMETRIC_REPRESENTATION_ITEM() RATIONAL_B_SPLINE_CURVE((1.,0.7071067811865476,1.)) REPRESENTATION_ITEM('') );"
+        )
+    };
+    let text = format!(
+        "ISO-10303-21;\nHEADER;\nENDSEC;\nDATA;
+#1 = CARTESIAN_POINT('',(2.,0.,0.));
+#2 = CARTESIAN_POINT('',(2.,2.,0.));
+#3 = CARTESIAN_POINT('',(0.,2.,0.));
+#4 = CARTESIAN_POINT('',(2.,0.,3.));
+#5 = CARTESIAN_POINT('',(2.,2.,3.));
+#6 = CARTESIAN_POINT('',(0.,2.,3.));
+{}
+{}
+#9 = DIRECTION('',(0.,0.,1.));
+#10 = VECTOR('',#9,1.5);
+#11 = SURFACE_OF_LINEAR_EXTRUSION('',#7,#10);
+#20 = VERTEX_POINT('',#1);
+#21 = VERTEX_POINT('',#3);
+#22 = VERTEX_POINT('',#6);
+#23 = VERTEX_POINT('',#4);
+#30 = LINE('',#1,#10);
+#40 = EDGE_CURVE('',#20,#21,#7,.T.);
+#41 = EDGE_CURVE('',#21,#22,#30,.T.);
+#42 = EDGE_CURVE('',#23,#22,#8,.T.);
+#43 = EDGE_CURVE('',#20,#23,#30,.T.);
+#50 = ORIENTED_EDGE('',*,*,#40,.T.);
+#51 = ORIENTED_EDGE('',*,*,#41,.T.);
+#52 = ORIENTED_EDGE('',*,*,#42,.F.);
+#53 = ORIENTED_EDGE('',*,*,#43,.F.);
+#60 = EDGE_LOOP('',(#50,#51,#52,#53));
+#61 = FACE_OUTER_BOUND('',#60,.T.);
+#70 = ADVANCED_FACE('swept',(#61),#11,.T.);
+ENDSEC;
+END-ISO-10303-21;
+",
+        arc(7, 1, 2, 3),
+        arc(8, 4, 5, 6)
+    );
+    let f = read_step(&text).unwrap();
+    assert_eq!(f.faces.len(), 1, "{:?}", f.skipped);
+    assert_eq!(f.faces[0].kind, "SURFACE_OF_LINEAR_EXTRUSION");
+    let s = &f.faces[0].surface;
+    assert!(s.is_rational());
+    let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
+    assert!(u0.abs() < 1e-9 && (u1 - 1.0).abs() < 1e-9, "{u0} {u1}");
+    assert!(v0.abs() < 1e-9 && (v1 - 2.0).abs() < 1e-9, "{v0} {v1}");
+    for a in 0..=10 {
+        for b in 0..=10 {
+            let p = s.point(
+                u0 + (u1 - u0) * a as f64 / 10.0,
+                v0 + (v1 - v0) * b as f64 / 10.0,
+            );
+            assert!((p.x.hypot(p.y) - 2.0).abs() < 1e-12, "{p:?}");
+            assert!((p.z - 3.0 * b as f64 / 10.0).abs() < 1e-9, "{p:?}");
+        }
+    }
+}
