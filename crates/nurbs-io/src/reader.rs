@@ -693,28 +693,8 @@ impl Reader<'_> {
         let curve = self.any_curve(generatrix, 1.0)?;
         let g = Self::geometry_err(e);
         let local = nurbs_core::shapes::revolve_curve(&curve, o, d, sa, ta).map_err(&g)?;
-        let coords: Vec<f64> = local
-            .control_points()
-            .iter()
-            .flat_map(|p| [p.x, p.y, p.z])
-            .collect();
-        let points = self.points(e, &coords, scale)?;
-        let surface = BSplineSurface::new(
-            local.knots_u().clone(),
-            local.knots_v().clone(),
-            points,
-            local.weights().map(<[f64]>::to_vec),
-        )
-        .map_err(&g)?;
         let (t0, t1) = curve.knots().domain();
-        Ok(IgesSurface {
-            de: e.seq,
-            name: Self::name(e),
-            surface,
-            trimmed: false,
-            param_range: [t0, t1, sa, ta],
-            underlying: None,
-        })
+        self.placed(e, local, scale, [t0, t1, sa, ta])
     }
 
     /// A surface built in an entity's definition space, moved into model space by the entity's
