@@ -1354,7 +1354,9 @@ impl Job<'_> {
     }
 
     /// One fairing stage keeping `level` on `s` within `eps`: the stage mask, this surface's
-    /// master frames and interior join points fixed. `None` when nothing is free or `eps` is 0.
+    /// master frames and interior join points fixed. `None` when nothing is free, `eps` is 0, or
+    /// the thin-plate energy of `s` is 0 (a plane: S_uu = S_uv = S_vv = 0 everywhere, no surface
+    /// is fairer, and a method could only add round-off to it).
     fn fair_stage(
         &self,
         s: &BSplineSurface,
@@ -1374,13 +1376,16 @@ impl Job<'_> {
         if mask.free_count() == 0 || eps <= 0.0 {
             return Ok(None);
         }
+        // (the energy of `s` as the caller's stage record has it, when it has)
+        let before = energy_of_s.unwrap_or_else(|| thin_plate_energy(s));
+        if before <= 0.0 {
+            return Ok(None);
+        }
         let (next, fr) = self
             .fairing
             .fair(s, &mask, eps)
             .map_err(|e| e.to_string())?;
         // a fairing stage ends fairer than it started, or is not used
-        // (the energy of `s` as the caller's stage record has it, when it has)
-        let before = energy_of_s.unwrap_or_else(|| thin_plate_energy(s));
         let after = thin_plate_energy(&next);
         if after > before {
             return Err(format!(
