@@ -12,7 +12,7 @@
 //!      and the rows are Hess_R(S_c) = X̃ n_c in the orthonormal frame (three per sample and
 //!      coordinate).
 //! 3. Minimize Σ_s w_s |rows_s(S) − targets_s|² + λ Σ_free |P − O|² over the free control points
-//!    (weights of a rational surface fixed) with a sparse Cholesky ([`crate::normal`]),
+//!    (weights of a rational surface fixed) with a sparse Cholesky (`crate::normal`),
 //!    w_s = √det g × the trapezoid weights: the sum approximates ∬ … dA, an integral over the
 //!    surface. Fixed control points are never written (bit-identical).
 //! 4. While a control point moved farther than the tolerance, λ grows by `weight_growth`
@@ -30,7 +30,7 @@
 //!
 //! By default ([`GreinerParams::normal_rows`]) only the normal component of each row is kept:
 //! n_R · Hess_R(S_c) = target (one scalar row instead of three coordinate rows, coupling x, y, z;
-//! [`crate::coupled`]). The tangential components of Hess_R(S) = S_ab − Γ^c_ab S_c vanish for
+//! `crate::coupled`). The tangential components of Hess_R(S) = S_ab − Γ^c_ab S_c vanish for
 //! S = R, and requiring them to vanish for the faired S ties its parametrization to the noisy
 //! reference's Christoffel terms: on the noisy saddle of the tests the spread of |K − K_exact|
 //! went from 0.109 to 0.090 without those rows; the tangential freedom is held by the pull λ.

@@ -18,7 +18,7 @@
 //!    is how a G2 end condition survives — or, on surfaces, smoothed with their one neighbour.
 //! 3. **Integration.** The samples follow the wanted changes δ_i = k̃_i − k_i by least squares
 //!    from both ends at once, softly pulled to the originals and within D of them
-//!    ([`crate::integrate`]); for a curve the two end samples on each side are kept (ends and
+//!    (`crate::integrate`); for a curve the two end samples on each side are kept (ends and
 //!    end tangents).
 //!
 //! A circle (or a line) sampled at any spacing has curvature vectors of one length that the

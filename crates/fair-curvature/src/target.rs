@@ -7,9 +7,9 @@
 //!    ([`crate::polyline`]; the values next to the ends are smoothed too, since the control
 //!    mask, not the polyline, decides what the boundary keeps). All samples then follow the
 //!    wanted curvature changes of both families in one least-squares integration with a soft
-//!    pull to the originals and within D of them ([`crate::integrate`]); samples that only
+//!    pull to the originals and within D of them (`crate::integrate`); samples that only
 //!    fixed control points reach stay where they are.
-//! 3. Refit: least squares over the free control points only ([`crate::normal`]),
+//! 3. Refit: least squares over the free control points only (`crate::normal`),
 //!    min Σ_ab |S(u_a, v_b) − X_ab|² + λ Σ_free |P − O|², with the weights of a rational surface
 //!    held fixed. Fixed control points are never written, so the frames the mask fixes stay
 //!    bit-identical and the refit cannot harm the continuity already set.

@@ -33,7 +33,7 @@ use crate::stiffness::{MAX_TERMS, SeparableStiffness, kron};
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum SparseSolver {
     /// nalgebra-sparse's left-looking Cholesky after our nested-dissection order
-    /// ([`crate::ordering`])
+    /// (`crate::ordering`)
     NalgebraSparse,
     /// faer's supernodal/simplicial Cholesky with its AMD order (feature `faer`)
     #[cfg(feature = "faer")]

@@ -50,7 +50,7 @@ fn svd_solve(a: DMatrix<f64>, b: &DMatrix<f64>) -> Result<DMatrix<f64>, String> 
 const BANDED_FRACTION: f64 = 0.5;
 
 /// Factors A X = B by the banded Givens QR when every row's nonzeros fit a window of at most
-/// [`BANDED_FRACTION`] of the columns; `None` when A is not banded enough.
+/// `BANDED_FRACTION` of the columns; `None` when A is not banded enough.
 pub fn banded_factor(a: &DMatrixView<f64>, b: &DMatrixView<f64>) -> Option<BandedQr> {
     let (m, n) = a.shape();
     // row r of A is column r of Aᵀ: contiguous, so the scans and the gathers run in order

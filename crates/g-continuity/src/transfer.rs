@@ -9,7 +9,7 @@
 //! and dozens of knots and still leaves a residual next to each master knot. Making the spline
 //! spaces compatible first is what CAD systems do before matching two edges ([NB] §5.3, knot
 //! refinement; [SV] §3.2 step 1): the slave's along degree is raised to the master's (up to
-//! [`LEAD_IN_DEGREE`](crate::lead_in::LEAD_IN_DEGREE)) and every interior master knot inside the
+//! [`LEAD_IN_DEGREE`]) and every interior master knot inside the
 //! join is inserted at the slave parameter whose side point projects onto it.
 //!
 //! Both operations are exact (homogeneous coordinates for rational slaves): the shape does not

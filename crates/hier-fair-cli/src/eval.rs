@@ -127,7 +127,7 @@ pub fn evaluate(surface: &BSplineSurface, params: &Params) -> Result<(Vec<Sample
 }
 
 /// The summary of `--grid NU,NV --summary` without keeping the samples: the grid is
-/// evaluated in blocks of [`SUMMARY_BLOCK_ROWS`] rows by the batched kernels (points, normals
+/// evaluated in blocks of `SUMMARY_BLOCK_ROWS` rows by the batched kernels (points, normals
 /// and principal curvatures, [`BSplineSurface::eval_grid_curvatures_into`]); returns the
 /// count, the evaluation time and the checksum of [`summary_json`].
 pub fn summarize_grid(surface: &BSplineSurface, nu: usize, nv: usize) -> (usize, f64, f64) {

@@ -1501,7 +1501,7 @@ pub(crate) fn growths(
 }
 
 /// How `after` is worse than `before` up to `target` (beyond the tolerance), or `None`: a
-/// [`growths`] factor above 1 — a larger gap, a larger normal angle, or a larger relative
+/// `growths` factor above 1 — a larger gap, a larger normal angle, or a larger relative
 /// curvature difference together with a larger absolute one.
 pub fn worse_than(
     before: &LinkMeasure,
@@ -1566,7 +1566,7 @@ fn knots_between(before: &BSplineSurface, after: &BSplineSurface) -> usize {
 pub const UNCHANGED_RELATIVE: f64 = 1e-12;
 
 /// Samples along a slave side lying inside its master whose knot spans the master keeps
-/// ([`Job::interior_join_points`]): 64 intervals, so a master span is skipped only when the
+/// (`Job::interior_join_points`): 64 intervals, so a master span is skipped only when the
 /// join crosses it in less than 1/64 of the side — and a span crossed that briefly is also
 /// held by its neighbours' supports, which overlap it by p of its control points.
 pub const JOIN_SAMPLES: usize = 64;

@@ -296,7 +296,7 @@ fn draw_boundary(img: &mut RgbImage, depth: &[f64], view: &View, s: &BSplineSurf
     }
 }
 
-/// Samples per boundary curve of [`draw_boundary`].
+/// Samples per boundary curve of `draw_boundary`.
 pub const BOUNDARY_SAMPLES: usize = 200;
 
 /// Depth tolerance of a visible boundary point, in pixels of the view's scale: the rendered

@@ -58,7 +58,7 @@ impl BasisEvaluator {
     /// Derivatives of order 0..=n of the p + 1 non-vanishing functions at `t` ([NB] A2.3).
     ///
     /// `out[k * (p + 1) + r]` = N^{(k)}_{span−p+r}(t); derivatives above the degree are zero.
-    /// Orders up to 2 take a direct route (see [`Self::derivatives_upto2`]); higher orders use A2.3.
+    /// Orders up to 2 take a direct route (`derivatives_upto2`); higher orders use A2.3.
     pub fn derivatives(&mut self, knots: &[f64], span: usize, t: f64, n: usize, out: &mut [f64]) {
         if n <= 2 {
             self.derivatives_upto2(knots, span, t, n, out);
