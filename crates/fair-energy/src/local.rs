@@ -12,7 +12,7 @@
 //! The ranking number is then the constrained decrease −(2 δ·g_r + K_rr |δ|²) ≥ 0.
 //!
 //! Bookkeeping: g is kept up to date (a move of d_s changes g only inside the stencil of s), ranks
-//! live in a `MaxTree` over blocks of `RANK_BLOCK` points, and only the ranks inside the
+//! live in a [`MaxTree`] over blocks of `RANK_BLOCK` points, and only the ranks inside the
 //! stencil of the moved point are recomputed: one iteration costs O(stencil · log n), no full
 //! rescan and no allocation.
 //!

@@ -177,6 +177,34 @@ struct StepOutcome {
     max_move: f64,
 }
 
+/// The row moves of every active side on `surface`, the points whose status passes `movable`
+/// free. The sides' systems are independent (each reads `surface` only): they are solved in
+/// parallel and collected in side order, the first error in side order winning, so the result
+/// does not depend on the thread count.
+fn solve_sides(
+    active: &[&SideLink],
+    statuses: &[Vec<Status>],
+    surface: &BSplineSurface,
+    links: &[SideLink],
+    step: Continuity,
+    params: &SetParams,
+    movable: impl Fn(Status) -> bool + Sync,
+) -> Result<Vec<RowMove>> {
+    let k = row_of(step);
+    active
+        .par_iter()
+        .zip(statuses)
+        .map(|(l, status)| {
+            let free: Vec<bool> = status.iter().map(|&s| movable(s)).collect();
+            let mut mv = solve_row(l.master, surface, l.side, step, &free, params)?;
+            slide(&mut mv, k, status, l.side, links, surface, params);
+            Ok(mv)
+        })
+        .collect::<Vec<Result<RowMove>>>()
+        .into_iter()
+        .collect()
+}
+
 /// One step (row k) on every linked side with target ≥ `step`, with twist averaging.
 fn step_all(
     slave: &mut BSplineSurface,
@@ -239,21 +267,9 @@ fn step_all(
         }
         statuses.push(status);
     }
-    // the sides' row systems are independent (each reads `base` only): solved side by side in
-    // parallel and collected in side order (the first error in side order wins), so the result
-    // does not depend on the thread count
-    let moves: Vec<RowMove> = active
-        .par_iter()
-        .zip(&statuses)
-        .map(|(l, status)| {
-            let movable: Vec<bool> = status.iter().map(|s| *s != Status::Fixed).collect();
-            let mut mv = solve_row(l.master, &base, l.side, step, &movable, params)?;
-            slide(&mut mv, k, status, l.side, links, &base, params);
-            Ok(mv)
-        })
-        .collect::<Vec<Result<RowMove>>>()
-        .into_iter()
-        .collect::<Result<_>>()?;
+    let moves = solve_sides(&active, &statuses, &base, links, step, params, |s| {
+        s != Status::Fixed
+    })?;
     // average the candidates of shared points
     let mut shared: BTreeMap<(usize, usize), (Vector3, usize)> = BTreeMap::new();
     for (l, (status, mv)) in active.iter().zip(statuses.iter().zip(&moves)) {
@@ -289,21 +305,9 @@ fn step_all(
         pinned.control_points_mut()[idx] += d;
         outcome.max_move = outcome.max_move.max(d.norm());
     }
-    let second: Vec<RowMove> = active
-        .par_iter()
-        .zip(&statuses)
-        .map(|(l, status)| {
-            let movable: Vec<bool> = status
-                .iter()
-                .map(|s| matches!(s, Status::Free | Status::Sliding))
-                .collect();
-            let mut mv = solve_row(l.master, &pinned, l.side, step, &movable, params)?;
-            slide(&mut mv, k, status, l.side, links, &pinned, params);
-            Ok(mv)
-        })
-        .collect::<Vec<Result<RowMove>>>()
-        .into_iter()
-        .collect::<Result<_>>()?;
+    let second = solve_sides(&active, &statuses, &pinned, links, step, params, |s| {
+        matches!(s, Status::Free | Status::Sliding)
+    })?;
     for mv in &second {
         mv.apply(&mut pinned);
         outcome.max_move = outcome.max_move.max(mv.max_displacement());

@@ -24,7 +24,24 @@ pub enum Direction {
     V,
 }
 
+/// The knot vector of the reversed parameter t ↦ a + b − t on the domain [a, b]:
+/// k'_i = a + b − k_{m−i}.
+fn reverse_kv(kv: &KnotVector) -> Result<KnotVector> {
+    let (a, b) = kv.domain();
+    let k: Vec<f64> = kv.knots().iter().rev().map(|&x| a + b - x).collect();
+    KnotVector::new(kv.degree(), k)
+}
+
 impl BSplineCurve {
+    /// The same curve run backwards: C'(t) = C(a + b − t) on the domain [a, b] (knots
+    /// mirrored, control points and weights reversed).
+    pub fn reversed(&self) -> Result<Self> {
+        let mut points = self.control_points().to_vec();
+        points.reverse();
+        let weights = self.weights().map(|w| w.iter().rev().copied().collect());
+        Self::new(reverse_kv(self.knots())?, points, weights)
+    }
+
     fn apply(&self, f: impl FnOnce(&KnotVector, &[[f64; 4]]) -> Result<Polygon>) -> Result<Self> {
         let (kv, pw) = f(self.knots(), &self.homogeneous())?;
         Self::from_homogeneous_as(kv, &pw, self.is_rational())
@@ -195,11 +212,6 @@ impl BSplineSurface {
     /// The same surface with direction `dir` reversed: S'(u, v) = S(a + b − u, v) for
     /// `Direction::U` on the domain [a, b] (knots k'_i = a + b − k_{m−i}, control rows reversed).
     pub fn reversed(&self, dir: Direction) -> Result<Self> {
-        let reverse_kv = |kv: &KnotVector| -> Result<KnotVector> {
-            let (a, b) = kv.domain();
-            let k: Vec<f64> = kv.knots().iter().rev().map(|&x| a + b - x).collect();
-            KnotVector::new(kv.degree(), k)
-        };
         let (nu, nv) = (self.num_u(), self.num_v());
         let map = |i: usize, j: usize| match dir {
             Direction::U => (nu - 1 - i) * nv + j,

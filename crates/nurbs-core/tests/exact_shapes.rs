@@ -450,3 +450,35 @@ fn ruled_surfaces_are_exact_where_a_ruling_of_their_degree_exists() {
         assert!((got - want).norm() < TOL, "{u}: {got:?} vs {want:?}");
     }
 }
+
+/// A curve run backwards passes the same points in the opposite order, C'(t) = C(a + b − t),
+/// and reversed twice is the curve again (rational circle on a non-uniform domain).
+#[test]
+fn a_reversed_curve_runs_backwards() {
+    let c = nurbs_core::shapes::arc(
+        Point3::new(1.0, 2.0, 0.0),
+        Vector3::x(),
+        Vector3::y(),
+        3.0,
+        0.3,
+        4.0,
+    )
+    .unwrap();
+    let r = c.reversed().unwrap();
+    let (a, b) = c.knots().domain();
+    // a + b − k is rounded once per knot: the domain is the same to an ulp of b
+    let ulp = f64::EPSILON * b.abs();
+    let (ra, rb) = r.knots().domain();
+    assert!((ra - a).abs() <= ulp && (rb - b).abs() <= ulp, "{ra} {rb}");
+    for k in 0..=40 {
+        let t = a + (b - a) * k as f64 / 40.0;
+        assert!((r.point(t) - c.point(a + b - t)).norm() < TOL, "{t}");
+    }
+    // twice: the control points and weights come back exactly, the knots to an ulp
+    let back = r.reversed().unwrap();
+    assert_eq!(back.control_points(), c.control_points());
+    assert_eq!(back.weights(), c.weights());
+    for (x, y) in back.knots().knots().iter().zip(c.knots().knots()) {
+        assert!((x - y).abs() <= 2.0 * ulp, "{x} {y}");
+    }
+}

@@ -770,7 +770,7 @@ impl Reader<'_> {
         let a = self.any_curve(first, 1.0)?;
         let mut b = self.any_curve(second, 1.0)?;
         if reversed {
-            b = reverse(&b).map_err(Self::geometry_err(e))?;
+            b = b.reversed().map_err(Self::geometry_err(e))?;
         }
         if e.form == 0 {
             let (fa, fb) = (relative_arc_lengths(&a), relative_arc_lengths(&b));
@@ -1062,21 +1062,6 @@ fn relative_arc_lengths(c: &BSplineCurve) -> Vec<f64> {
     }
     let total = acc[ARC_LENGTH_SPANS].max(f64::MIN_POSITIVE);
     acc.iter().map(|x| x / total).collect()
-}
-
-/// The curve run backwards, t ↦ a + b − t (knots mirrored, control points and weights
-/// reversed): the same point set.
-fn reverse(c: &BSplineCurve) -> nurbs_core::Result<BSplineCurve> {
-    let (a, b) = c.knots().domain();
-    let knots = c.knots().knots().iter().rev().map(|t| a + b - t).collect();
-    let mut points = c.control_points().to_vec();
-    points.reverse();
-    let weights = c.weights().map(|w| w.iter().rev().copied().collect());
-    BSplineCurve::new(
-        nurbs_core::KnotVector::new(c.degree(), knots)?,
-        points,
-        weights,
-    )
 }
 
 /// Reads an IGES file (CRLF or LF line endings).
