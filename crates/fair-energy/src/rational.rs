@@ -41,7 +41,56 @@ use nurbs_core::energy::RATIONAL_EXTRA_POINTS;
 use nurbs_core::quadrature::GaussLegendre;
 use nurbs_core::{BSplineSurface, Point3, SurfaceBasis, SurfaceBasisEvaluator, Vector3};
 
+use std::cell::RefCell;
+use std::sync::Arc;
+
+use rayon::prelude::*;
+
 use crate::local::LocalStiffness;
+
+/// Stiffnesses kept per thread by [`RationalStiffness::thin_plate_shared`]: two, so that a
+/// surface whose job is interleaved with another's on the same worker thread (work stealing
+/// while it waits in a parallel solve) still finds its own.
+pub const MEMO_ENTRIES: usize = 2;
+
+/// Largest stiffness [`RationalStiffness::thin_plate_shared`] keeps, in values (8 MB): a net of
+/// about 20,000 bicubic control points (49 couplings each); larger ones are rebuilt per call, so
+/// that the memo never holds more than a few tens of MB after a run.
+pub const MEMO_MAX_VALUES: usize = 1 << 20;
+
+/// What K depends on: degrees, quadrature and the bits of every knot and weight.
+#[derive(PartialEq)]
+struct MemoKey {
+    degrees: (usize, usize),
+    bits: Vec<u64>,
+}
+
+impl MemoKey {
+    fn of(surface: &BSplineSurface) -> Self {
+        let (ku, kv) = (surface.knots_u().knots(), surface.knots_v().knots());
+        let w = surface.weights().unwrap_or(&[]);
+        let mut bits = Vec::with_capacity(ku.len() + kv.len() + w.len() + 3);
+        bits.push(ku.len() as u64);
+        bits.push(kv.len() as u64);
+        bits.push(w.len() as u64);
+        bits.extend(ku.iter().chain(kv).chain(w).map(|x| x.to_bits()));
+        Self {
+            degrees: (surface.degree_u(), surface.degree_v()),
+            bits,
+        }
+    }
+}
+
+thread_local! {
+    static MEMO: RefCell<Vec<(MemoKey, Arc<RationalStiffness>)>> = const { RefCell::new(Vec::new()) };
+}
+
+/// One span's (p + 1)(q + 1) × (p + 1)(q + 1) block of K and the index of its first
+/// non-vanishing function.
+struct SpanBlock {
+    first: (usize, usize),
+    block: DMatrix<f64>,
+}
 
 /// K_{(i,j),(k,l)} = ∬ R_ij,uu R_kl,uu + 2 R_ij,uv R_kl,uv + R_ij,vv R_kl,vv over an n_u × n_v
 /// control net (flat index i·n_v + j), weights held fixed.
@@ -68,6 +117,35 @@ impl RationalStiffness {
         Self::thin_plate_with_extra_points(surface, extra)
     }
 
+    /// [`RationalStiffness::thin_plate`], shared with the last calls on this thread: K depends
+    /// only on the degrees, the knots and the weights, which the stages of one surface keep
+    /// (only control points move), so consecutive fairing runs of a surface build it once. The
+    /// memo is exact (keyed on the bits of every knot and weight), holds the last
+    /// [`MEMO_ENTRIES`] stiffnesses of at most [`MEMO_MAX_VALUES`] values each per thread, and
+    /// gives the same K as a fresh build.
+    pub fn thin_plate_shared(surface: &BSplineSurface) -> Arc<Self> {
+        let key = MemoKey::of(surface);
+        if let Some(k) = MEMO.with(|m| {
+            m.borrow()
+                .iter()
+                .find(|(k, _)| *k == key)
+                .map(|(_, v)| Arc::clone(v))
+        }) {
+            return k;
+        }
+        let k = Arc::new(Self::thin_plate(surface));
+        if k.data.len() <= MEMO_MAX_VALUES {
+            MEMO.with(|m| {
+                let mut m = m.borrow_mut();
+                if m.len() == MEMO_ENTRIES {
+                    m.remove(0);
+                }
+                m.push((key, Arc::clone(&k)));
+            });
+        }
+        k
+    }
+
     /// The same with (p + 1 + `extra`) × (q + 1 + `extra`) Gauss–Legendre points per span.
     pub fn thin_plate_with_extra_points(surface: &BSplineSurface, extra: usize) -> Self {
         let (nu, nv) = (surface.num_u(), surface.num_v());
@@ -77,44 +155,68 @@ impl RationalStiffness {
         let rule_u = GaussLegendre::new(p + 1 + extra);
         let rule_v = GaussLegendre::new(q + 1 + extra);
         let (ku, kv) = (surface.knots_u().knots(), surface.knots_v().knots());
-        let mut basis = SurfaceBasis::new(surface);
-        let mut eval = SurfaceBasisEvaluator::new(surface);
-        let mut data = vec![0.0; nu * nv * width];
-        // per span D (m × 3 n_g, column-major): the columns √w R_uu, √(2w) R_uv, √w R_vv of each
-        // Gauss point, so that the span's block of K is D Dᵀ (one matrix product)
+        let spans_v: Vec<usize> = surface.knots_v().spans().collect();
+        // the spans' blocks are independent: one row of spans (fixed u-span) per task, each
+        // with its own evaluator; they are added into K below in the sequential order, so the
+        // sums are the same whatever the number of threads
         let points = rule_u.nodes.len() * rule_v.nodes.len();
-        let mut d = DMatrix::<f64>::zeros(m, 3 * points);
-        let mut block = DMatrix::<f64>::zeros(m, m);
-        for su in surface.knots_u().spans() {
-            for sv in surface.knots_v().spans() {
-                let mut columns = d.as_mut_slice().chunks_exact_mut(3 * m);
-                for (u, wu) in rule_u.on(ku[su], ku[su + 1]) {
-                    for (v, wv) in rule_v.on(kv[sv], kv[sv + 1]) {
-                        eval.eval(u, v, &mut basis);
-                        let (s1, s2) = ((wu * wv).sqrt(), (2.0 * wu * wv).sqrt());
-                        let c = columns.next().expect("one column triple per Gauss point");
-                        let (cuu, rest) = c.split_at_mut(m);
-                        let (cuv, cvv) = rest.split_at_mut(m);
-                        for a in 0..m {
-                            cuu[a] = s1 * basis.duu[a];
-                            cuv[a] = s2 * basis.duv[a];
-                            cvv[a] = s1 * basis.dvv[a];
+        let rows: Vec<Vec<SpanBlock>> = surface
+            .knots_u()
+            .spans()
+            .collect::<Vec<_>>()
+            .into_par_iter()
+            .map(|su| {
+                let mut basis = SurfaceBasis::new(surface);
+                let mut eval = SurfaceBasisEvaluator::new(surface);
+                // per span D (m × 3 n_g, column-major): the columns √w R_uu, √(2w) R_uv,
+                // √w R_vv of each Gauss point, so that the span's block of K is D Dᵀ (one
+                // matrix product)
+                let mut d = DMatrix::<f64>::zeros(m, 3 * points);
+                spans_v
+                    .iter()
+                    .map(|&sv| {
+                        let mut columns = d.as_mut_slice().chunks_exact_mut(3 * m);
+                        for (u, wu) in rule_u.on(ku[su], ku[su + 1]) {
+                            for (v, wv) in rule_v.on(kv[sv], kv[sv + 1]) {
+                                eval.eval(u, v, &mut basis);
+                                let (s1, s2) = ((wu * wv).sqrt(), (2.0 * wu * wv).sqrt());
+                                let c = columns.next().expect("one column triple per Gauss point");
+                                let (cuu, rest) = c.split_at_mut(m);
+                                let (cuv, cvv) = rest.split_at_mut(m);
+                                for a in 0..m {
+                                    cuu[a] = s1 * basis.duu[a];
+                                    cuv[a] = s2 * basis.duv[a];
+                                    cvv[a] = s1 * basis.dvv[a];
+                                }
+                            }
                         }
-                    }
-                }
-                let dt = DMatrixView::from_slice_with_strides(d.as_slice(), 3 * points, m, m, 1);
-                block.gemm(1.0, &d, &dt, 0.0);
-                // every Gauss point of a span has the same non-vanishing functions
-                let (fu, fv) = (basis.first_u, basis.first_v);
-                for a in 0..m {
-                    let (i, j) = (fu + a / (q + 1), fv + a % (q + 1));
-                    let point = &mut data[(i * nv + j) * width..(i * nv + j + 1) * width];
-                    for b in 0..m {
-                        let (k, l) = (fu + b / (q + 1), fv + b % (q + 1));
-                        // one triangle for both halves: K stays exactly symmetric
-                        let kab = block[(a.min(b), a.max(b))];
-                        point[(p + k - i) * cols + q + l - j] += kab;
-                    }
+                        let dt =
+                            DMatrixView::from_slice_with_strides(d.as_slice(), 3 * points, m, m, 1);
+                        let mut block = DMatrix::<f64>::zeros(m, m);
+                        block.gemm(1.0, &d, &dt, 0.0);
+                        // every Gauss point of a span has the same non-vanishing functions
+                        SpanBlock {
+                            first: (basis.first_u, basis.first_v),
+                            block,
+                        }
+                    })
+                    .collect()
+            })
+            .collect();
+        let mut data = vec![0.0; nu * nv * width];
+        for SpanBlock {
+            first: (fu, fv),
+            block,
+        } in rows.iter().flatten()
+        {
+            for a in 0..m {
+                let (i, j) = (fu + a / (q + 1), fv + a % (q + 1));
+                let point = &mut data[(i * nv + j) * width..(i * nv + j + 1) * width];
+                for b in 0..m {
+                    let (k, l) = (fu + b / (q + 1), fv + b % (q + 1));
+                    // one triangle for both halves: K stays exactly symmetric
+                    let kab = block[(a.min(b), a.max(b))];
+                    point[(p + k - i) * cols + q + l - j] += kab;
                 }
             }
         }
@@ -279,5 +381,43 @@ mod tests {
                 "row {r}"
             );
         }
+    }
+
+    #[test]
+    fn shared_stiffness_is_the_fresh_one_and_keyed_on_knots_and_weights() {
+        let a = random_surface(3, 2..=3, 8, true);
+        let ka = RationalStiffness::thin_plate_shared(&a);
+        assert_eq!(
+            *ka,
+            RationalStiffness::thin_plate(&a),
+            "same K as a fresh build"
+        );
+        // moving control points keeps K (and the memo gives it back)
+        let mut moved = a.clone();
+        moved.control_points_mut()[0].x += 1.0;
+        assert!(Arc::ptr_eq(
+            &ka,
+            &RationalStiffness::thin_plate_shared(&moved)
+        ));
+        // other weights or other knots: another K, never the memo's
+        let mut other = a.weights().expect("rational").to_vec();
+        other[0] *= 2.0;
+        let b = BSplineSurface::new(
+            a.knots_u().clone(),
+            a.knots_v().clone(),
+            a.control_points().to_vec(),
+            Some(other),
+        )
+        .expect("valid");
+        let kb = RationalStiffness::thin_plate_shared(&b);
+        assert!(!Arc::ptr_eq(&ka, &kb));
+        assert_eq!(*kb, RationalStiffness::thin_plate(&b));
+        let ku = a.knots_u().knots();
+        let mid = 0.5 * (ku[0] + ku[ku.len() - 1]);
+        let refined = a.refine(nurbs_core::Direction::U, &[mid]).expect("refine");
+        assert_eq!(
+            *RationalStiffness::thin_plate_shared(&refined),
+            RationalStiffness::thin_plate(&refined)
+        );
     }
 }

@@ -106,8 +106,8 @@ pub fn fair_surface(
                 expected: "0 for a rational surface (the joint terms need polynomial geometry)",
             });
         }
-        let k = RationalStiffness::thin_plate(surface);
-        run_local(&k, origin, out.control_points_mut(), free, settings)
+        let k = RationalStiffness::thin_plate_shared(surface);
+        run_local(&*k, origin, out.control_points_mut(), free, settings)
     } else {
         let k = SeparableStiffness::with_joints(
             surface.knots_u(),

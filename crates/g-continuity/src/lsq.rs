@@ -112,12 +112,19 @@ pub fn solve_least_squares(a: DMatrix<f64>, b: &DMatrix<f64>) -> Result<DMatrix<
         let diag: Vec<f64> = (0..n).map(|i| r[(i, i)].abs()).collect();
         let largest = diag.iter().copied().fold(0.0, f64::max);
         let smallest = diag.iter().copied().fold(f64::INFINITY, f64::min);
-        if largest > 0.0 && smallest > largest * SINGULAR_RELATIVE.sqrt() {
-            let mut qtb = b.clone();
-            qr.q_tr_mul(&mut qtb);
-            if let Some(x) = r.solve_upper_triangular(&qtb.rows(0, n).into_owned()) {
-                return Ok(x);
-            }
+        let mut qtb = b.clone();
+        qr.q_tr_mul(&mut qtb);
+        let qtb = qtb.rows(0, n).into_owned();
+        if largest > 0.0
+            && smallest > largest * SINGULAR_RELATIVE.sqrt()
+            && let Some(x) = r.solve_upper_triangular(&qtb)
+        {
+            return Ok(x);
+        }
+        // rank-deficient: the minimum-norm solution from the same factor (what
+        // `solve_min_norm` computes for a tall A, without factoring A a second time)
+        if a.nrows() > n {
+            return svd_solve(r, &qtb);
         }
     }
     solve_min_norm(a, b)

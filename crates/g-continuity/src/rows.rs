@@ -82,6 +82,11 @@ pub struct RowMove {
     /// G1: the largest correction the condition asks for, max_k |n_k · e_k| / |a_1| (model
     /// units); 0 for the other steps
     pub needed: f64,
+    /// G2 with tangential moves ([`solve_g2_ladder`]): the smallest ratio, to the weight-1
+    /// solution's largest move, of a lighter-weighted solution the weight search rejected;
+    /// ∞ when it rejected none and on the other steps. A move factor below this value picks
+    /// the same solution.
+    pub g2_slack: f64,
 }
 
 impl RowMove {
@@ -200,6 +205,7 @@ fn solve_row_once(
             indices,
             displacements: Vec::new(),
             needed: 0.0,
+            g2_slack: f64::INFINITY,
         });
     }
     let mut basis = SideBasis::new(slave, side);
@@ -363,12 +369,13 @@ fn solve_row_once(
             indices: Vec::new(),
             displacements: Vec::new(),
             needed: 0.0,
+            g2_slack: f64::INFINITY,
         });
     }
-    let x = if g2_tangential {
+    let (x, g2_slack) = if g2_tangential {
         solve_g2_ladder(a, &b, rows, params.g2_move_factor)
     } else {
-        solve_least_squares(a, &b)
+        solve_least_squares(a, &b).map(|x| (x, f64::INFINITY))
     }
     .map_err(singular)?;
     let displacements: Vec<Vector3> = (0..free)
@@ -392,6 +399,7 @@ fn solve_row_once(
         indices,
         displacements,
         needed,
+        g2_slack,
     })
 }
 
@@ -438,7 +446,7 @@ fn solve_g2_ladder(
     b: &DMatrix<f64>,
     rows: usize,
     move_factor: f64,
-) -> std::result::Result<DMatrix<f64>, String> {
+) -> std::result::Result<(DMatrix<f64>, f64), String> {
     let n = a.ncols();
     let tangential = a.rows(rows, a.nrows() - rows);
     let scalar = a.rows(0, rows);
@@ -484,20 +492,28 @@ fn solve_g2_ladder(
     })
 }
 
-/// The weight search of [`solve_g2_ladder`] over a solve for a given tangential weight.
+/// The weight search of [`solve_g2_ladder`] over a solve for a given tangential weight; with
+/// the solution, the smallest move ratio of a rejected weight ([`RowMove::g2_slack`]).
 fn ladder(
     move_factor: f64,
     mut solve: impl FnMut(f64) -> std::result::Result<DMatrix<f64>, String>,
-) -> std::result::Result<DMatrix<f64>, String> {
+) -> std::result::Result<(DMatrix<f64>, f64), String> {
     let first = solve(1.0)?;
-    let limit = move_factor * largest_point_move(&first);
+    let reference = largest_point_move(&first);
+    let limit = move_factor * reference;
+    let mut slack = f64::INFINITY;
     for &w in G2_WEIGHT_LADDER.iter().rev() {
         let x = solve(w)?;
-        if largest_point_move(&x) <= limit {
-            return Ok(x);
+        let moved = largest_point_move(&x);
+        if moved <= limit {
+            return Ok((x, slack));
+        }
+        // (a zero reference rejects every move whatever the factor)
+        if reference > 0.0 {
+            slack = slack.min(moved / reference);
         }
     }
-    Ok(first)
+    Ok((first, slack))
 }
 
 /// R of a banded factor as a dense n × n matrix (rows never filled are zero).
@@ -519,4 +535,38 @@ fn dense_qtb(f: &BandedQr) -> DMatrix<f64> {
         c[(i, 0)] = rhs[0];
     }
     c
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A stand-in solve: weight w gives one point moved by `moves(w)` along x.
+    fn solve_with(moves: impl Fn(f64) -> f64) -> impl FnMut(f64) -> Result<DMatrix<f64>, String> {
+        move |w| Ok(DMatrix::from_column_slice(3, 1, &[moves(w), 0.0, 0.0]))
+    }
+
+    #[test]
+    fn ladder_slack_is_the_least_rejected_ratio_and_a_factor_below_it_changes_nothing() {
+        // lighter weights move more: 1e-8 → 9, 1e-6 → 5, 1e-4 → 3, 1e-3 → 1.5 (× the
+        // weight-1 move of 1)
+        let moves = |w: f64| match w {
+            w if w < 1e-7 => 9.0,
+            w if w < 1e-5 => 5.0,
+            w if w < 1e-3 * 0.5 => 3.0,
+            w if w < 1e-2 * 0.5 => 1.5,
+            _ => 1.0,
+        };
+        let (x, slack) = ladder(2.0, solve_with(moves)).expect("solves");
+        assert_eq!(x[(0, 0)], 1.5, "the lightest weight within 2×");
+        assert_eq!(slack, 3.0, "the least ratio the search rejected");
+        // any factor in [1.5, 3): the same pick; at 3 the search takes the lighter one
+        for f in [1.5, 2.5, 2.999] {
+            assert_eq!(ladder(f, solve_with(moves)).expect("solves").0, x);
+        }
+        assert_eq!(ladder(3.0, solve_with(moves)).expect("solves").0[(0, 0)], 3.0);
+        // nothing rejected: no bound
+        let (_, none) = ladder(10.0, solve_with(moves)).expect("solves");
+        assert_eq!(none, f64::INFINITY);
+    }
 }

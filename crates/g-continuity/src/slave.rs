@@ -171,10 +171,29 @@ fn levels_of(links: &[SideLink]) -> [Option<usize>; 4] {
 }
 
 /// Outcome of one step over all sides.
-#[derive(Debug, Clone, Copy, Default)]
+#[derive(Debug, Clone, Copy)]
 struct StepOutcome {
     twists: usize,
     max_move: f64,
+    /// the least [`RowMove::g2_slack`] of the rows solved
+    g2_slack: f64,
+}
+
+impl Default for StepOutcome {
+    fn default() -> Self {
+        Self {
+            twists: 0,
+            max_move: 0.0,
+            g2_slack: f64::INFINITY,
+        }
+    }
+}
+
+fn least_slack(moves: &[RowMove]) -> f64 {
+    moves
+        .iter()
+        .map(|m| m.g2_slack)
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// The row moves of every active side on `surface`, the points whose status passes `movable`
@@ -286,6 +305,7 @@ fn step_all(
     let mut outcome = StepOutcome {
         twists: shared.len(),
         max_move: 0.0,
+        g2_slack: least_slack(&moves),
     };
     if shared.is_empty() {
         for mv in &moves {
@@ -308,6 +328,7 @@ fn step_all(
     let second = solve_sides(&active, &statuses, &pinned, links, step, params, |s| {
         matches!(s, Status::Free | Status::Sliding)
     })?;
+    outcome.g2_slack = outcome.g2_slack.min(least_slack(&second));
     for mv in &second {
         mv.apply(&mut pinned);
         outcome.max_move = outcome.max_move.max(mv.max_displacement());
@@ -628,6 +649,10 @@ pub struct StepReport {
     pub max_move: f64,
     /// per link (in the order given), measured after the step up to `min(target, step)`
     pub after: Vec<LinkMeasure>,
+    /// the least [`RowMove::g2_slack`] over every row the step solved, in every round: a run
+    /// with a G2 move factor ([`SetParams::g2_move_factor`]) below it gives the same result
+    /// (0 when not measured)
+    pub g2_slack: f64,
 }
 
 /// Makes a slave ready for the staged framework ([SV] §3.2 step 1): clamped, of sufficient
@@ -662,6 +687,7 @@ pub fn set_step(
     check_links(links)?;
     let mut report = StepReport {
         step: Some(step),
+        g2_slack: f64::INFINITY,
         ..StepReport::default()
     };
     let mut work = slave.clone();
@@ -698,6 +724,7 @@ pub fn set_step(
             for _ in 0..passes {
                 let o = step_all(&mut s, links, level, &params.set)?;
                 report.twists_averaged = report.twists_averaged.max(o.twists);
+                report.g2_slack = report.g2_slack.min(o.g2_slack);
                 moved = moved.max(o.max_move);
                 if o.max_move <= C0_CONVERGED * s.size() {
                     break;

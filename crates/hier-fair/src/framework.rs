@@ -818,7 +818,7 @@ impl Job<'_> {
                 met: true,
                 met_steps: Vec::new(),
                 prepared: prepared.clone(),
-                tangent_corners: false,
+                set: params.set,
             });
         };
         let mut s = prepared.clone();
@@ -870,11 +870,26 @@ impl Job<'_> {
                     });
                 }
             }
+            // the G2 slack of the runs with the step's move bound, per corner setting: a variant
+            // that only raises the bound to below it would repeat that run bit for bit
+            let mut slack = vec![(set.tangent_corners, report.g2_slack)];
             for variant in variants {
                 if met {
                     break;
                 }
+                let same = slack
+                    .iter()
+                    .find(|(turned, _)| *turned == variant.tangent_corners)
+                    .map(|&(_, sl)| sl);
+                if variant.g2_move_factor > set.g2_move_factor
+                    && same.is_some_and(|sl| sl > variant.g2_move_factor)
+                {
+                    continue;
+                }
                 let (other, again) = run(variant)?;
+                if variant.g2_move_factor == set.g2_move_factor {
+                    slack.push((variant.tangent_corners, again.g2_slack));
+                }
                 if meets(&again.after) {
                     next = other;
                     met = true;
@@ -891,7 +906,7 @@ impl Job<'_> {
             met,
             met_steps,
             prepared: prepared.clone(),
-            tangent_corners: set.tangent_corners,
+            set,
         })
     }
 
@@ -1110,7 +1125,7 @@ impl Job<'_> {
         };
         let master_sides = self.master_sides();
         let mut set_params = self.set_params();
-        set_params.set.tangent_corners = dry.tangent_corners;
+        set_params.set = dry.set;
         let prepared_for_once = prepared.clone();
         let budget = if self.is_master() {
             MASTER_SHARE * self.tolerance
@@ -1605,9 +1620,10 @@ struct DryRun {
     met_steps: Vec<bool>,
     /// the prepared surface the steps started from
     prepared: BSplineSurface,
-    /// whether a step met only with turned corner tangents (`SetParams::tangent_corners`);
-    /// the stages then turn them too, or their C0 rows undo the corners the dry run made
-    tangent_corners: bool,
+    /// the step settings of the variant that met (`SetParams::tangent_corners`, the G2 move
+    /// bound); the stages use them too, or their C0 rows undo the corners the dry run made and
+    /// their G2 row misses what the dry run met
+    set: g_continuity::SetParams,
 }
 
 impl DryRun {
