@@ -34,7 +34,7 @@ fn masked_rows_are_bit_identical_and_moves_within_tolerance() {
         let s = noisy(&exact, &ControlMask::for_surface(&exact), 0.05, 3);
         for m in methods() {
             let (out, _) = run(m.as_ref(), &s, &mask, 0.1);
-            let moved = assert_mask_and_tolerance(&s, &out, &mask, 0.1);
+            let moved = assert_contract(&s, &out, &mask, 0.1);
             assert!(moved > 0, "{} moved nothing", m.name());
         }
     }

@@ -29,7 +29,7 @@ fn check(method: &dyn SurfaceFairing, frame: Option<Frame>) -> f64 {
         report.max_deviation,
         report.max_control_move
     );
-    assert_mask_and_tolerance(&noisy_surface, &faired, &mask, TOLERANCE);
+    assert_contract(&noisy_surface, &faired, &mask, TOLERANCE);
     assert!(report.max_deviation <= TOLERANCE);
     reduction
 }

@@ -3,7 +3,7 @@
 
 mod common;
 
-use common::{assert_mask_and_tolerance, c0_joined, joined_bicubic};
+use common::{assert_contract, c0_joined, joined_bicubic};
 use fair_energy::{
     BezierSplineParams, BezierSplineReport, KnotRemoval, fair_bezier_spline, fair_surface,
 };
@@ -106,7 +106,7 @@ fn c0_joined_surface_becomes_c1() {
     );
     assert!(report.max_jump_after <= 1e-9 * scale);
     assert_eq!(out_mask, mask, "no knot removed: the mask is unchanged");
-    assert_mask_and_tolerance(&s, &out, &mask, eps);
+    assert_contract(&s, &out, &mask, eps);
     let (e0, e1) = (thin_plate_energy(&s), thin_plate_energy(&out));
     assert!(e1 <= e0, "energy {e0} -> {e1}");
     assert!((report.energy_after - e1).abs() <= 1e-12 * e1);
@@ -195,7 +195,7 @@ fn joints_that_epsilon_cannot_close_are_reported() {
     let (out, _, report) =
         fair_bezier_spline(&s, &mask, eps, &BezierSplineParams::default()).expect("fairs");
     eprintln!("{report:#?}");
-    assert_mask_and_tolerance(&s, &out, &mask, eps);
+    assert_contract(&s, &out, &mask, eps);
     assert!(
         !report.open_joints.is_empty(),
         "ε = {eps} cannot close a 0.03 kink"

@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{assert_mask_and_tolerance, smooth_and_noisy};
+use common::{assert_contract, smooth_and_noisy};
 use fair_energy::{
     EnergyError, GlobalEnergyFairing, GlobalParams, SeparableStiffness, SparseSolver,
     fair_surface_global,
@@ -92,7 +92,7 @@ fn noisy_surface_loses_ninety_percent_of_its_excess_energy() {
     let eps = 0.02;
     let (out, report) =
         fair_surface_global(&noisy, &mask, eps, &GlobalParams::default()).expect("fairs");
-    assert_mask_and_tolerance(&noisy, &out, &mask, eps);
+    assert_contract(&noisy, &out, &mask, eps);
     let (e_smooth, e_noisy, e_out) = (
         thin_plate_energy(&smooth),
         thin_plate_energy(&noisy),
@@ -116,7 +116,7 @@ fn clamping_never_increases_the_energy() {
                     ..GlobalParams::default()
                 };
                 let (out, report) = fair_surface_global(&s, &mask, eps, &params).expect("fairs");
-                assert_mask_and_tolerance(&s, &out, &mask, eps);
+                assert_contract(&s, &out, &mask, eps);
                 assert!(
                     report.energy_after <= report.energy_before * (1.0 + 1e-12),
                     "seed {seed} ε {eps}: {report:?}"

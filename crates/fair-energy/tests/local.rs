@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{assert_mask_and_tolerance, smooth_and_noisy};
+use common::{assert_contract, smooth_and_noisy};
 use fair_energy::{
     EnergyError, EnergyParams, LocalEnergyFairing, SeparableStiffness, StopReason, fair_surface,
 };
@@ -93,7 +93,7 @@ fn masked_points_stay_bit_identical_and_moves_stay_within_tolerance() {
             let mask = ControlMask::with_boundary_frame(&s, frame);
             let eps = 0.01;
             let (out, report) = fair_surface(&s, &mask, eps, &params(3000)).expect("fairs");
-            assert_mask_and_tolerance(&s, &out, &mask, eps);
+            assert_contract(&s, &out, &mask, eps);
             assert!(report.energy_after <= report.energy_before);
             assert!(report.max_control_move <= eps);
         }
@@ -167,7 +167,7 @@ fn noisy_surface_loses_ninety_percent_of_its_excess_energy() {
     let mask = ControlMask::with_boundary_frame(&noisy, Frame::Positional);
     let eps = 0.02;
     let (out, report) = fair_surface(&noisy, &mask, eps, &params(20_000)).expect("fairs");
-    assert_mask_and_tolerance(&noisy, &out, &mask, eps);
+    assert_contract(&noisy, &out, &mask, eps);
     let (e_smooth, e_noisy, e_out) = (
         thin_plate_energy(&smooth),
         thin_plate_energy(&noisy),

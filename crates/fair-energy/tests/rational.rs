@@ -4,7 +4,7 @@
 
 mod common;
 
-use common::assert_mask_and_tolerance;
+use common::assert_contract;
 use fair_energy::{
     EnergyParams, LocalEnergyFairing, RationalStiffness, SeparableStiffness, fair_surface,
 };
@@ -236,7 +236,7 @@ fn noisy_rational_cylinder_is_faired_within_tolerance() {
         let noisy = with_interior_noise(&exact, seed, 0.01);
         let mask = ControlMask::with_boundary_frame(&noisy, Frame::Positional);
         let (out, report) = fair_surface(&noisy, &mask, eps, &params(5000)).expect("fairs");
-        assert_mask_and_tolerance(&noisy, &out, &mask, eps);
+        assert_contract(&noisy, &out, &mask, eps);
         assert_weights_identical(&noisy, &out);
         assert!(report.max_control_move <= eps);
         let (e_exact, e_noisy, e_out) = (
@@ -286,7 +286,7 @@ fn exact_rational_cylinder_with_fixed_frames_gains_no_energy() {
         let mask = ControlMask::with_boundary_frame(&s, frame);
         assert!(mask.free_count() > 0, "{frame:?} leaves points free");
         let (out, report) = fair_surface(&s, &mask, eps, &params(3000)).expect("fairs");
-        assert_mask_and_tolerance(&s, &out, &mask, eps);
+        assert_contract(&s, &out, &mask, eps);
         assert_weights_identical(&s, &out);
         let e_out = thin_plate_energy(&out);
         assert!(

@@ -564,7 +564,10 @@ mod tests {
         for f in [1.5, 2.5, 2.999] {
             assert_eq!(ladder(f, solve_with(moves)).expect("solves").0, x);
         }
-        assert_eq!(ladder(3.0, solve_with(moves)).expect("solves").0[(0, 0)], 3.0);
+        assert_eq!(
+            ladder(3.0, solve_with(moves)).expect("solves").0[(0, 0)],
+            3.0
+        );
         // nothing rejected: no bound
         let (_, none) = ladder(10.0, solve_with(moves)).expect("solves");
         assert_eq!(none, f64::INFINITY);

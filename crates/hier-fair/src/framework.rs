@@ -1396,10 +1396,14 @@ impl Job<'_> {
         if before <= 0.0 {
             return Ok(None);
         }
-        let (next, fr) = self
-            .fairing
-            .fair(s, &mask, eps)
-            .map_err(|e| e.to_string())?;
+        // checked: a method that moves a fixed point or leaves ε is not used
+        let (next, fr) = nurbs_core::FairingProblem {
+            surface: s,
+            mask: &mask,
+            tolerance: eps,
+        }
+        .solve(self.fairing)
+        .map_err(|e| e.to_string())?;
         // a fairing stage ends fairer than it started, or is not used
         let after = thin_plate_energy(&next);
         if after > before {

@@ -445,3 +445,61 @@ fn markdown_report_has_units_and_scientific_figures() {
     }
     assert_eq!(model.links.len(), report.links.len());
 }
+
+/// A method that breaks its contract: it moves every control point, fixed or not, by twice the
+/// tolerance.
+struct Cheater;
+
+impl SurfaceFairing for Cheater {
+    fn name(&self) -> &str {
+        "cheater"
+    }
+    fn fair(
+        &self,
+        surface: &BSplineSurface,
+        _: &ControlMask,
+        tolerance: f64,
+    ) -> nurbs_core::Result<(BSplineSurface, FairingReport)> {
+        let mut out = surface.clone();
+        for p in out.control_points_mut() {
+            p.z -= 2.0 * tolerance;
+        }
+        let r = FairingReport::measure("cheater", surface, &out, 1, 0.0);
+        Ok((out, r))
+    }
+}
+
+/// The framework checks what a method returns (`FairingProblem::solve`): a result that moves a
+/// fixed point or leaves ε is never used, and the report names the method and the violation.
+#[test]
+fn a_method_that_breaks_its_contract_is_not_used() {
+    let model = fixture("fillet_freeform");
+    let (out, report) = fair_model_with(
+        &model,
+        Fairers::all(&Cheater),
+        &FairParams::default(),
+        &|_| {},
+    )
+    .unwrap();
+    assert!(
+        report
+            .problems
+            .iter()
+            .any(|p| p.message.contains("cheater broke its contract")),
+        "{:#?}",
+        report.problems
+    );
+    // the primaries had only a fairing stage: they come back bit-identical
+    for (k, s) in model.surfaces.iter().enumerate() {
+        if model.links.iter().all(|l| l.slave != k) {
+            assert_eq!(out.surfaces[k].surface, s.surface, "{}", s.name);
+        }
+        let t = report.surfaces[k].tolerance;
+        assert!(
+            report.surfaces[k].max_deviation <= t,
+            "{}: {} > {t}",
+            s.name,
+            report.surfaces[k].max_deviation
+        );
+    }
+}

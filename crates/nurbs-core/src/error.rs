@@ -196,6 +196,16 @@ pub enum Error {
         /// what went wrong
         message: String,
     },
+    /// A fairing method returned a result that breaks the contract of
+    /// [`crate::SurfaceFairing`] (a fixed control point moved, a point beyond the tolerance,
+    /// another net or other weights).
+    #[error("fairing method {method} broke its contract: {detail}")]
+    ContractBroken {
+        /// the method's name
+        method: String,
+        /// the first violation found
+        detail: String,
+    },
     /// An error with the place it happened (a surface, a field).
     #[error("{context}: {source}")]
     Context {

@@ -3,11 +3,50 @@
 //! A method receives a surface, a [`ControlMask`] (only free control points may move: the fixed
 //! frames of [SV] §3.1 must come back bit-identical) and the deviation tolerance, and returns
 //! the faired surface with a [`FairingReport`]. [`FairingReport::measure`] fills the figures
-//! every method reports the same way.
+//! every method reports the same way. [`FairingProblem::solve`] runs a method and checks its
+//! result against that contract ([`check_contract`]), so that a caller (the framework, a test)
+//! never takes a result that moved a fixed point or left the tolerance.
+//!
+//! ```
+//! use nurbs_core::{BSplineSurface, ControlMask, FairingProblem, FairingReport, KnotVector,
+//!     Point3, SurfaceFairing};
+//!
+//! /// A method that moves every free point halfway to the centroid of the net, clamped to ε.
+//! struct Shrink;
+//! impl SurfaceFairing for Shrink {
+//!     fn name(&self) -> &str { "shrink" }
+//!     fn fair(&self, s: &BSplineSurface, mask: &ControlMask, eps: f64)
+//!         -> nurbs_core::Result<(BSplineSurface, FairingReport)> {
+//!         let n = s.control_points().len() as f64;
+//!         let c = s.control_points().iter().fold(Point3::origin(), |a, p| a + p.coords / n);
+//!         let mut out = s.clone();
+//!         let nv = s.num_v();
+//!         for (k, p) in out.control_points_mut().iter_mut().enumerate() {
+//!             if mask.is_free(k / nv, k % nv) {
+//!                 let d = (c - *p) * 0.5;
+//!                 *p += d * (eps * 0.999 / d.norm().max(eps));
+//!             }
+//!         }
+//!         let report = FairingReport::measure("shrink", s, &out, 1, 0.0);
+//!         Ok((out, report))
+//!     }
+//! }
+//!
+//! let k = KnotVector::clamped_uniform(3, 6).unwrap();
+//! let pts = (0..36).map(|r| Point3::new((r / 6) as f64, (r % 6) as f64, ((r * 7) % 5) as f64)).collect();
+//! let s = BSplineSurface::new(k.clone(), k, pts, None).unwrap();
+//! let mut mask = ControlMask::all_free(6, 6);
+//! mask.set_free(0, 0, false);
+//! let (faired, report) = FairingProblem { surface: &s, mask: &mask, tolerance: 0.1 }
+//!     .solve(&Shrink)
+//!     .unwrap();
+//! assert_eq!(faired.control_points()[0], s.control_points()[0]);
+//! assert!(report.max_control_move <= 0.1);
+//! ```
 
 use crate::Point3;
 use crate::energy::{max_deviation, thin_plate_energy};
-use crate::error::Result;
+use crate::error::{Error, Result};
 use crate::frames::ControlMask;
 use crate::surface::BSplineSurface;
 
@@ -90,4 +129,197 @@ pub trait SurfaceFairing: Send + Sync {
         mask: &ControlMask,
         tolerance: f64,
     ) -> Result<(BSplineSurface, FairingReport)>;
+}
+
+/// Rounding allowance of [`check_contract`]'s tolerance test, in units of ε_mach × the largest
+/// coordinate: the three coordinates of a stored point round by half an ulp each, and |a − b|
+/// adds its own rounding, together below 2√3 + 1 < 8 ulps.
+pub const CONTRACT_ROUNDING_ULPS: f64 = 8.0;
+
+/// One fairing run as the framework poses it: the surface, the control points that may move
+/// and the tolerance ε (model units) every moved point must stay within.
+#[derive(Debug, Clone, Copy)]
+pub struct FairingProblem<'a> {
+    /// the surface to fair
+    pub surface: &'a BSplineSurface,
+    /// which control points may move (the frames of [SV] §3.1 are fixed)
+    pub mask: &'a ControlMask,
+    /// the largest move of a control point (model units)
+    pub tolerance: f64,
+}
+
+impl FairingProblem<'_> {
+    /// Runs `method` on the problem and checks the result ([`check_contract`]); the report's
+    /// `seconds` is the wall-clock time of the call. A method that breaks the contract gives
+    /// [`Error::ContractBroken`], never its result.
+    pub fn solve(&self, method: &dyn SurfaceFairing) -> Result<(BSplineSurface, FairingReport)> {
+        let start = std::time::Instant::now();
+        let (out, mut report) = method.fair(self.surface, self.mask, self.tolerance)?;
+        report.seconds = start.elapsed().as_secs_f64();
+        check_contract(method.name(), self.surface, &out, self.mask, self.tolerance)?;
+        Ok((out, report))
+    }
+}
+
+/// Checks a fairing result against the contract of [`SurfaceFairing`]: the same degrees, knots
+/// and weights (bit for bit) as `original`, every control point `mask` fixes bit-identical, and
+/// every point within `tolerance` of its original (up to the rounding of its coordinates,
+/// [`CONTRACT_ROUNDING_ULPS`]). Returns the number of points that moved;
+/// the first violation as [`Error::ContractBroken`].
+pub fn check_contract(
+    method: &str,
+    original: &BSplineSurface,
+    faired: &BSplineSurface,
+    mask: &ControlMask,
+    tolerance: f64,
+) -> Result<usize> {
+    let broken = |detail: String| Error::ContractBroken {
+        method: method.to_string(),
+        detail,
+    };
+    let bits = |xs: &[f64]| xs.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    if (faired.degree_u(), faired.degree_v()) != (original.degree_u(), original.degree_v())
+        || bits(faired.knots_u().knots()) != bits(original.knots_u().knots())
+        || bits(faired.knots_v().knots()) != bits(original.knots_v().knots())
+    {
+        return Err(broken(format!(
+            "it returned a {}×{} net of degree ({}, {}) for a {}×{} net of degree ({}, {}), or other knots",
+            faired.num_u(),
+            faired.num_v(),
+            faired.degree_u(),
+            faired.degree_v(),
+            original.num_u(),
+            original.num_v(),
+            original.degree_u(),
+            original.degree_v()
+        )));
+    }
+    if faired.weights().map(bits) != original.weights().map(bits) {
+        return Err(broken("it changed the weights".to_string()));
+    }
+    let nv = original.num_v();
+    let mut moved = 0;
+    for (r, (a, b)) in original
+        .control_points()
+        .iter()
+        .zip(faired.control_points())
+        .enumerate()
+    {
+        let (i, j) = (r / nv, r % nv);
+        let same = (0..3).all(|c| a[c].to_bits() == b[c].to_bits());
+        if !mask.is_free(i, j) && !same {
+            return Err(broken(format!(
+                "fixed control point ({i}, {j}) moved by {:.3e}",
+                (a - b).norm()
+            )));
+        }
+        let d = (a - b).norm();
+        // a point put onto its tolerance sphere is stored rounded: each coordinate within half
+        // an ulp of its magnitude, which |a − b| cannot resolve below ~ε_mach·|a|
+        let rounding = CONTRACT_ROUNDING_ULPS * f64::EPSILON * a.coords.amax().max(b.coords.amax());
+        if !(d <= tolerance + rounding) {
+            return Err(broken(format!(
+                "control point ({i}, {j}) moved {d:.6e}, beyond the tolerance {tolerance:.6e}"
+            )));
+        }
+        if !same {
+            moved += 1;
+        }
+    }
+    Ok(moved)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::KnotVector;
+    use crate::Vector3;
+
+    fn net() -> BSplineSurface {
+        let k = KnotVector::clamped_uniform(3, 5).expect("knots");
+        let pts = (0..25)
+            .map(|r| Point3::new((r / 5) as f64 * 100.0, (r % 5) as f64 * 100.0, 3.0))
+            .collect();
+        BSplineSurface::new(k.clone(), k, pts, None).expect("surface")
+    }
+
+    /// A "method" that adds a fixed displacement to one control point.
+    struct Nudge(usize, Vector3);
+    impl SurfaceFairing for Nudge {
+        fn name(&self) -> &str {
+            "nudge"
+        }
+        fn fair(
+            &self,
+            s: &BSplineSurface,
+            _: &ControlMask,
+            _: f64,
+        ) -> Result<(BSplineSurface, FairingReport)> {
+            let mut out = s.clone();
+            out.control_points_mut()[self.0] += self.1;
+            let report = FairingReport::measure("nudge", s, &out, 1, 0.0);
+            Ok((out, report))
+        }
+    }
+
+    #[test]
+    fn a_result_within_the_contract_is_taken_and_counted() {
+        let s = net();
+        let mut mask = ControlMask::all_free(5, 5);
+        mask.set_free(0, 0, false);
+        let problem = FairingProblem {
+            surface: &s,
+            mask: &mask,
+            tolerance: 0.5,
+        };
+        let (out, report) = problem
+            .solve(&Nudge(12, Vector3::new(0.0, 0.0, 0.4)))
+            .expect("kept");
+        assert_eq!(check_contract("t", &s, &out, &mask, 0.5).expect("ok"), 1);
+        assert!((report.max_control_move - 0.4).abs() < 1e-12);
+        // exactly on the tolerance sphere, stored with rounding: still within
+        let d = Vector3::new(0.3, 0.4, 0.0) * (0.5 / 0.5);
+        assert!(problem.solve(&Nudge(24, d)).is_ok());
+    }
+
+    #[test]
+    fn a_moved_fixed_point_or_a_move_beyond_epsilon_is_refused() {
+        let s = net();
+        let mut mask = ControlMask::all_free(5, 5);
+        mask.set_free(2, 2, false);
+        let problem = FairingProblem {
+            surface: &s,
+            mask: &mask,
+            tolerance: 0.5,
+        };
+        let fixed = problem.solve(&Nudge(12, Vector3::new(1e-13, 0.0, 0.0)));
+        let e = fixed.expect_err("a fixed point moved by 1e-13").to_string();
+        assert!(
+            e.contains("nudge") && e.contains("fixed control point (2, 2)"),
+            "{e}"
+        );
+        let far = problem.solve(&Nudge(6, Vector3::new(0.0, 0.0, 0.5 + 1e-9)));
+        let e = far.expect_err("beyond ε").to_string();
+        assert!(
+            e.contains("(1, 1)") && e.contains("beyond the tolerance"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn another_net_or_other_weights_is_refused() {
+        let s = net();
+        let mask = ControlMask::all_free(5, 5);
+        let refined = s.refine(crate::Direction::U, &[0.3]).expect("refine");
+        assert!(check_contract("t", &s, &refined, &mask, 1.0).is_err());
+        let weighted = BSplineSurface::new(
+            s.knots_u().clone(),
+            s.knots_v().clone(),
+            s.control_points().to_vec(),
+            Some(vec![1.0; 25]),
+        )
+        .expect("rational");
+        let e = check_contract("t", &s, &weighted, &mask, 1.0).expect_err("weights");
+        assert!(e.to_string().contains("weights"), "{e}");
+    }
 }

@@ -54,7 +54,9 @@ pub use basis::BasisEvaluator;
 pub use curve::{BSplineCurve, CurveDerivatives};
 pub use diffgeom::{CurvatureValues, FundamentalForms, PrincipalCurvatures};
 pub use error::{Error, Result};
-pub use fairing::{FairingReport, SurfaceFairing, max_displacement};
+pub use fairing::{
+    FairingProblem, FairingReport, SurfaceFairing, check_contract, max_displacement,
+};
 pub use fit::{FitParams, FitReport, fit_curve, fit_surface};
 pub use frames::{Continuity, ControlMask, Frame, Side};
 pub use gram::{BandedMatrix, ThinPlateGram, gram_matrix};

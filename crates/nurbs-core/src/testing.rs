@@ -128,3 +128,17 @@ pub fn assert_points_close(a: &Point3, b: &Point3, tol: f64, what: &str) {
         "{what}: {a:?} vs {b:?} (distance {d:e} > {tol:e})"
     );
 }
+
+/// Asserts that `faired` keeps the contract of [`crate::SurfaceFairing`] against `original`
+/// ([`crate::check_contract`]: fixed points bit-identical, every point within `tolerance`, the
+/// same knots and weights); returns the number of points that moved.
+#[track_caller]
+pub fn assert_contract(
+    original: &BSplineSurface,
+    faired: &BSplineSurface,
+    mask: &crate::ControlMask,
+    tolerance: f64,
+) -> usize {
+    crate::check_contract("under test", original, faired, mask, tolerance)
+        .unwrap_or_else(|e| panic!("{e}"))
+}

@@ -147,48 +147,20 @@ pub fn variance(xs: &[f64]) -> f64 {
     xs.iter().map(|x| (x - m).powi(2)).sum::<f64>() / xs.len() as f64
 }
 
-/// Asserts that fixed points are bit-identical and every point moved at most `tolerance`;
-/// returns the number of points that moved.
-#[track_caller]
-pub fn assert_mask_and_tolerance(
-    original: &BSplineSurface,
-    faired: &BSplineSurface,
-    mask: &ControlMask,
-    tolerance: f64,
-) -> usize {
-    let mut moved = 0;
-    for (k, (a, b)) in original
-        .control_points()
-        .iter()
-        .zip(faired.control_points())
-        .enumerate()
-    {
-        if !mask.as_slice()[k] {
-            assert_eq!(
-                [a.x.to_bits(), a.y.to_bits(), a.z.to_bits()],
-                [b.x.to_bits(), b.y.to_bits(), b.z.to_bits()],
-                "fixed point {k} changed"
-            );
-        } else {
-            assert!(
-                (a - b).norm() <= tolerance,
-                "point {k} moved {}",
-                (a - b).norm()
-            );
-            if a != b {
-                moved += 1;
-            }
-        }
-    }
-    moved
-}
+pub use nurbs_core::testing::assert_contract;
 
-/// Runs a method through the trait.
+/// Runs a method through the trait, its result checked against the contract.
 pub fn run(
     method: &dyn SurfaceFairing,
     s: &BSplineSurface,
     mask: &ControlMask,
     tolerance: f64,
 ) -> (BSplineSurface, FairingReport) {
-    method.fair(s, mask, tolerance).expect("fairing")
+    nurbs_core::FairingProblem {
+        surface: s,
+        mask,
+        tolerance,
+    }
+    .solve(method)
+    .expect("fairing")
 }

@@ -43,43 +43,7 @@ pub fn smooth_and_noisy(
     (s, t)
 }
 
-/// Asserts that fixed points are bit-identical and every point stays within `tolerance` of its
-/// original; returns the number of points that moved.
-#[track_caller]
-pub fn assert_mask_and_tolerance(
-    original: &BSplineSurface,
-    faired: &BSplineSurface,
-    mask: &ControlMask,
-    tolerance: f64,
-) -> usize {
-    let mut moved = 0;
-    for (r, (a, b)) in original
-        .control_points()
-        .iter()
-        .zip(faired.control_points())
-        .enumerate()
-    {
-        let (i, j) = (r / original.num_v(), r % original.num_v());
-        if !mask.is_free(i, j) {
-            for c in 0..3 {
-                assert_eq!(
-                    a[c].to_bits(),
-                    b[c].to_bits(),
-                    "fixed point ({i}, {j}) changed"
-                );
-            }
-        }
-        let d = (a - b).norm();
-        assert!(
-            d <= tolerance,
-            "point ({i}, {j}) moved {d} > tolerance {tolerance}"
-        );
-        if d > 0.0 {
-            moved += 1;
-        }
-    }
-    moved
-}
+pub use nurbs_core::testing::assert_contract;
 
 /// A bicubic made of C0-joined Bézier patches: a smooth surface with the knots 1/3 and 2/3 raised
 /// to full multiplicity in both directions, then the joint rows displaced so that the cross
