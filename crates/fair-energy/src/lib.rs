@@ -3,6 +3,26 @@
 //! Hadenfeld's local energy fairing of B-spline curves and surfaces ([H]), frame-preserving
 //! ([SV] §3.1, §5.2), and a global variant that solves for all free points at once.
 //!
+//! ```
+//! use fair_energy::{EnergyParams, fair_surface};
+//! use nurbs_core::{BSplineSurface, ControlMask, KnotVector, Point3};
+//! // a bicubic 8 × 8 net on a plane with a zig-zag of ±0.05 inside its boundary ring, which is kept
+//! let k = KnotVector::clamped_uniform(3, 8).unwrap();
+//! let inside = |i: usize, j: usize| (1..7).contains(&i) && (1..7).contains(&j);
+//! let bump = |i, j| if !inside(i, j) { 0.0 } else if (i + j) % 2 == 0 { 0.05 } else { -0.05 };
+//! let pts = (0..64).map(|r| Point3::new((r / 8) as f64, (r % 8) as f64, bump(r / 8, r % 8)));
+//! let s = BSplineSurface::new(k.clone(), k, pts.collect(), None).unwrap();
+//! let mut mask = ControlMask::all_free(8, 8);
+//! for t in 0..8 {
+//!     for (i, j) in [(0, t), (7, t), (t, 0), (t, 7)] {
+//!         mask.set_free(i, j, false);
+//!     }
+//! }
+//! let (faired, report) = fair_surface(&s, &mask, 0.1, &EnergyParams::default()).unwrap();
+//! assert!(report.energy_after < report.energy_before);
+//! nurbs_core::check_contract("energy", &s, &faired, &mask, 0.1).unwrap();
+//! ```
+//!
 //! The functional is the linearized thin-plate energy Π = ∬ |X_uu|² + 2|X_uv|² + |X_vv|² du dv
 //! (curves ∫ |x''|² + β |x'''|²), a quadratic form in the control points built from nurbs-core's
 //! Gram integrals ([`stiffness`]). The local scheme ([`local`]) repeatedly moves the free control

@@ -7,6 +7,25 @@
 //! ([SV] §4.2) — with consistent twists ([SV] §3.3) and knot insertion for more freedom
 //! ([`connect_slave`]). Masters are found by projection, so they may be trimmed.
 //!
+//! ```
+//! use g_continuity::{ConnectParams, MeasureParams, SideLink, connect_slave, measure_link};
+//! use nurbs_core::{Continuity, Point3, Side, Vector3, shapes::plane_patch};
+//! // a slave plane that starts on the master's edge x = 1 but is bent up by 10°
+//! let master = plane_patch(Point3::origin(), Vector3::x(), Vector3::y(), (0.0, 1.0), (0.0, 1.0))
+//!     .unwrap();
+//! let (c, s) = (10f64.to_radians().cos(), 10f64.to_radians().sin());
+//! let slave = plane_patch(Point3::new(1.0, 0.0, 0.0), Vector3::new(c, 0.0, s), Vector3::y(),
+//!     (0.0, 1.0), (0.0, 1.0)).unwrap();
+//! let before = measure_link(&master, &slave, Side::U0, &MeasureParams::default()).unwrap();
+//! assert!(before.g0 < 1e-12 && before.g1_deg.unwrap() > 9.9);
+//! // set G1 along the slave's side u = 0: only its first two control rows move
+//! let link = SideLink { side: Side::U0, master: &master, target: Continuity::G1 };
+//! let (set, report) = connect_slave(&slave, &[link], &ConnectParams::default()).unwrap();
+//! assert!(report.sides[0].met);
+//! let after = measure_link(&master, &set, Side::U0, &MeasureParams::default()).unwrap();
+//! assert!(after.g1_deg.unwrap() < 0.01);
+//! ```
+//!
 //! The crate depends on nurbs-core only; it knows nothing of models or hierarchy order (that is
 //! hier-fair's job). References (keys in brackets) are listed in `docs/references.md`.
 

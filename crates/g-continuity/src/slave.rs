@@ -244,6 +244,8 @@ fn step_all(
     let base = slave.clone();
     let degenerate = degenerate_corner_blocks(&base);
     let mut statuses: Vec<Vec<Status>> = Vec::with_capacity(active.len());
+    // the weight searches of the corner samples decide statuses: their slack counts too
+    let mut end_slack = f64::INFINITY;
     for l in &active {
         let m = l.side.row(k, nu, nv).len();
         let mut status = classify(l.side, k, m, &levels, params.move_unlinked_boundaries);
@@ -278,6 +280,7 @@ fn step_all(
             let mut only = vec![false; m];
             only[j] = true;
             let corner = solve_row_at(l.master, &base, l.side, step, &only, &[t], params)?;
+            end_slack = end_slack.min(corner.g2_slack);
             status[j] = if corner.max_displacement() <= END_CONTINUOUS * slave.size() {
                 Status::Fixed
             } else {
@@ -305,7 +308,7 @@ fn step_all(
     let mut outcome = StepOutcome {
         twists: shared.len(),
         max_move: 0.0,
-        g2_slack: least_slack(&moves),
+        g2_slack: least_slack(&moves).min(end_slack),
     };
     if shared.is_empty() {
         for mv in &moves {

@@ -1,6 +1,21 @@
 //! The `hier-fair` command line as a library: every subcommand is a function from parsed
 //! arguments to output, so that tests and `xtask` drive it without spawning processes.
 //! This crate (with `xtask`) is the only place with argument parsing, files and `anyhow`.
+//!
+//! ```
+//! use hier_fair_cli::eval::{evaluate, parse_grid};
+//! use nurbs_core::shapes::cylinder;
+//! // `hier-fair eval SURFACE --grid 5,3` without the files: a 5 × 3 grid on an exact quarter
+//! // cylinder of radius 2, every sample on the cylinder
+//! let s = cylinder(2.0, 10.0).unwrap();
+//! let (samples, _seconds) = evaluate(&s, &parse_grid("5,3").unwrap()).unwrap();
+//! assert_eq!(samples.len(), 15);
+//! for p in &samples {
+//!     let x = s.point(p.u, p.v);
+//!     assert!((x.x.hypot(x.y) - 2.0).abs() < 1e-12);
+//! }
+//! assert!(parse_grid("0,3").is_err());
+//! ```
 
 pub mod check;
 pub mod connect;

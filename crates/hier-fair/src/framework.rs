@@ -818,7 +818,7 @@ impl Job<'_> {
                 met: true,
                 met_steps: Vec::new(),
                 prepared: prepared.clone(),
-                set: params.set,
+                tangent_corners: false,
             });
         };
         let mut s = prepared.clone();
@@ -906,7 +906,7 @@ impl Job<'_> {
             met,
             met_steps,
             prepared: prepared.clone(),
-            set,
+            tangent_corners: set.tangent_corners,
         })
     }
 
@@ -1125,7 +1125,7 @@ impl Job<'_> {
         };
         let master_sides = self.master_sides();
         let mut set_params = self.set_params();
-        set_params.set = dry.set;
+        set_params.set.tangent_corners = dry.tangent_corners;
         let prepared_for_once = prepared.clone();
         let budget = if self.is_master() {
             MASTER_SHARE * self.tolerance
@@ -1624,10 +1624,9 @@ struct DryRun {
     met_steps: Vec<bool>,
     /// the prepared surface the steps started from
     prepared: BSplineSurface,
-    /// the step settings of the variant that met (`SetParams::tangent_corners`, the G2 move
-    /// bound); the stages use them too, or their C0 rows undo the corners the dry run made and
-    /// their G2 row misses what the dry run met
-    set: g_continuity::SetParams,
+    /// whether a step met only with turned corner tangents (`SetParams::tangent_corners`);
+    /// the stages then turn them too, or their C0 rows undo the corners the dry run made
+    tangent_corners: bool,
 }
 
 impl DryRun {

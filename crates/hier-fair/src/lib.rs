@@ -5,6 +5,22 @@
 //! masters before slaves, primaries first. [`check_model`] measures every link;
 //! [`connect`] sets continuity slave by slave (no fairing) with g-continuity.
 //!
+//! ```
+//! use hier_fair::{FairParams, RoleMethods, check_model, fair_model, synthetic::block_grid};
+//! // two filleted blocks: two primaries and the fillet between them (a connecting surface
+//! // whose masters they are), faired in the framework order with the default energy method
+//! let model = block_grid(2, 1).unwrap();
+//! let (faired, report) =
+//!     fair_model(&model, &RoleMethods::default(), None, &FairParams::default()).unwrap();
+//! assert_eq!(faired.surfaces.len(), model.surfaces.len());
+//! for s in &report.surfaces {
+//!     assert!(s.max_deviation <= s.tolerance, "{}", s.name);
+//! }
+//! assert!(report.links.iter().all(|l| l.met));
+//! let checks = check_model(&faired, &g_continuity::MeasureParams::default()).unwrap();
+//! assert_eq!(checks.len(), model.links.len());
+//! ```
+//!
 //! This crate alone knows the hierarchy order and the model format; it takes and returns values
 //! (JSON text, models, reports), never paths. References (keys in brackets) are listed in
 //! `docs/references.md`.

@@ -7,6 +7,23 @@
 //! split of an n-sided hole into n bicubic quads ([`split`]), their sampling into one welded mesh
 //! with the neighbours' wings ([`sampling`]), the refit with shared internal curves ([`refit`])
 //! and the whole stage in one call ([`corner`]).
+//!
+//! ```
+//! use nside_discrete::{CentralSplitParams, central_split};
+//! use nurbs_core::{BSplineCurve, KnotVector, Point3};
+//! // a three-sided hole bounded by cubic Bézier curves (a curved triangle, one closed loop)
+//! let corners = [Point3::new(0.0, 0.0, 0.0), Point3::new(4.0, 0.0, 0.0), Point3::new(2.0, 3.5, 0.0)];
+//! let side = |a: Point3, b: Point3| {
+//!     let lift = |t: f64| a + (b - a) * t + nurbs_core::Vector3::z() * 0.5;
+//!     BSplineCurve::new(KnotVector::bezier(3).unwrap(), vec![a, lift(1.0 / 3.0), lift(2.0 / 3.0), b], None)
+//!         .unwrap()
+//! };
+//! let sides = [side(corners[0], corners[1]), side(corners[1], corners[2]), side(corners[2], corners[0])];
+//! // the central split ([SV] §3.4): one quad per side, meeting at a centre point
+//! let (quads, report) = central_split(&sides, None, &CentralSplitParams::default()).unwrap();
+//! assert_eq!(quads.len(), 3);
+//! assert!(report.closure_gap < 1e-12);
+//! ```
 
 pub mod corner;
 pub mod error;

@@ -8,6 +8,17 @@
 //! skipped. The reader checks the fixed 80-column layout and reports errors by line;
 //! the writer produces files that pass the same checks ([`check_structure`]).
 //!
+//! ```
+//! use nurbs_io::{IgesWriteParams, read_iges, write_iges};
+//! use nurbs_core::shapes::cylinder;
+//! // an exact rational quarter cylinder written as IGES entity 128 and read back
+//! let s = cylinder(5.0, 20.0).unwrap();
+//! let text = write_iges(&[("CYL", &s)], &[], &IgesWriteParams::default()).unwrap();
+//! let file = read_iges(text.as_bytes()).unwrap();
+//! let back = &file.surfaces[0].surface;
+//! assert!((back.point(0.4, 0.6) - s.point(0.4, 0.6)).norm() < 1e-9);
+//! ```
+//!
 //! STEP (ISO 10303-21) faces are read by [`read_step`]: elementary and B-spline surfaces over
 //! their faces' parameter boxes (module [`step`]).
 

@@ -5,6 +5,18 @@
 //! parameterization and least-squares fit the labels feed (\[VV17\]: *Parameterizing and
 //! extending trimmed regions for tensor-product surface fitting*, CAD 2017).
 //!
+//! ```
+//! use nurbs_core::{Point3, TriMesh, Vector3, shapes::plane_patch};
+//! use trim_label::{LabelParams, label_region};
+//! // a square region meshed as a 9 × 9 grid of a plane: four straight sides meeting at four
+//! // real corners, so four labels
+//! let plane = plane_patch(Point3::origin(), Vector3::x(), Vector3::y(), (0.0, 4.0), (0.0, 4.0))
+//!     .unwrap();
+//! let mesh = TriMesh::from_surface(&plane, 9, 9);
+//! let labeling = label_region(&mesh, None, &LabelParams::default()).unwrap();
+//! assert_eq!((labeling.labels, labeling.corner_count), (4, 4));
+//! ```
+//!
 //! Pipeline: [`region`] (mesh checks, outer loop, geodesic turning) → [`segments`] (given or
 //! automatic) → [`candidates`] (drop concave and complex segments) → [`junction`] (concatenate,
 //! real / virtual / no corner, strength) → [`reduce`] (to one of the six admissible (L, C)

@@ -1,7 +1,7 @@
 //! Narrow helpers shared by the integration tests.
 #![allow(dead_code)]
 
-use nurbs_core::{BSplineSurface, ControlMask, Direction, KnotVector, Point3};
+use nurbs_core::{BSplineSurface, Direction, KnotVector, Point3};
 use rand::Rng;
 
 /// A smooth n×n surface of degree p with uniform knots (control points sampled from a smooth
@@ -43,6 +43,8 @@ pub fn smooth_and_noisy(
     (s, t)
 }
 
+// (not every test crate that includes this module asserts the contract)
+#[allow(unused_imports)]
 pub use nurbs_core::testing::assert_contract;
 
 /// A bicubic made of C0-joined Bézier patches: a smooth surface with the knots 1/3 and 2/3 raised
