@@ -881,8 +881,10 @@ impl Job<'_> {
                     .iter()
                     .find(|(turned, _)| *turned == variant.tangent_corners)
                     .map(|&(_, sl)| sl);
+                // (the slack is a quotient of moves, the search compares a product: the margin
+                // keeps a ratio one rounding above the bound from counting as beyond it)
                 if variant.g2_move_factor > set.g2_move_factor
-                    && same.is_some_and(|sl| sl > variant.g2_move_factor)
+                    && same.is_some_and(|sl| sl > variant.g2_move_factor * (1.0 + SLACK_ROUNDING))
                 {
                     continue;
                 }
@@ -1589,6 +1591,11 @@ pub const UNCHANGED_RELATIVE: f64 = 1e-12;
 /// join crosses it in less than 1/64 of the side — and a span crossed that briefly is also
 /// held by its neighbours' supports, which overlap it by p of its control points.
 pub const JOIN_SAMPLES: usize = 64;
+
+/// Relative margin of the dry run's slack test: a variant's larger G2 move bound is skipped
+/// only when every weight the previous run rejected moved more than the bound by more than
+/// this (a few roundings of the move quotient, so the skip stays exact).
+pub const SLACK_ROUNDING: f64 = 1e-12;
 
 /// Share of the deviation tolerance the continuity steps alone may use when the framework
 /// chooses the width of a G2 lead-in: the rest is left to the fairing stages. The lead-in's
