@@ -82,10 +82,10 @@ pub struct RowMove {
     /// G1: the largest correction the condition asks for, max_k |n_k · e_k| / |a_1| (model
     /// units); 0 for the other steps
     pub needed: f64,
-    /// G2 with tangential moves ([`solve_g2_ladder`]): the smallest ratio, to the weight-1
-    /// solution's largest move, of a lighter-weighted solution the weight search rejected;
-    /// ∞ when it rejected none and on the other steps. A move factor below this value picks
-    /// the same solution.
+    /// G2 with tangential moves (the weight search over [`G2_WEIGHT_LADDER`]): the smallest
+    /// ratio, to the weight-1 solution's largest move, of a lighter-weighted solution the
+    /// search rejected; ∞ when it rejected none and on the other steps. A move factor below
+    /// this value picks the same solution.
     pub g2_slack: f64,
 }
 
