@@ -5,7 +5,9 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use fair_curvature::{
     GreinerFairing, GreinerParams, Sampling, TargetCurvatureFairing, TargetCurvatureParams,
 };
-use nurbs_core::{BSplineSurface, ControlMask, Frame, KnotVector, Point3, SurfaceFairing};
+use nurbs_core::{
+    BSplineSurface, ControlMask, FairingProblem, Frame, KnotVector, Point3, SurfaceFairing,
+};
 use rand::Rng;
 
 fn wavy(n: usize) -> BSplineSurface {
@@ -38,10 +40,10 @@ fn bench(c: &mut Criterion) {
         },
     };
     c.bench_function("greiner 30x30 on 60x60", |b| {
-        b.iter(|| greiner.fair(&s, &mask, 0.01).unwrap())
+        b.iter(|| greiner.fair(&FairingProblem::new(&s, &mask, 0.01)).unwrap())
     });
     c.bench_function("target curvature 30x30 on 60x60", |b| {
-        b.iter(|| target.fair(&s, &mask, 0.01).unwrap())
+        b.iter(|| target.fair(&FairingProblem::new(&s, &mask, 0.01)).unwrap())
     });
 }
 

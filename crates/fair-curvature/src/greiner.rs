@@ -53,10 +53,9 @@
 //! λ = `deviation_weight` × the mean diagonal of the normal matrix (unit-free); the control
 //! displacements end ≤ the tolerance (model units), which bounds the surface deviation.
 
-use std::time::Instant;
-
 use nurbs_core::{
-    BSplineSurface, ControlMask, FairingReport, SurfaceBasis, SurfaceBasisEvaluator, SurfaceFairing,
+    BSplineSurface, ControlMask, Faired, FairingProblem, SurfaceBasis, SurfaceBasisEvaluator,
+    SurfaceFairing,
 };
 
 use crate::coupled::CoupledSystem;
@@ -401,18 +400,15 @@ impl SurfaceFairing for GreinerFairing {
         GREINER_METHOD
     }
 
-    fn fair(
-        &self,
-        surface: &BSplineSurface,
-        mask: &ControlMask,
-        tolerance: f64,
-    ) -> nurbs_core::Result<(BSplineSurface, FairingReport)> {
-        let start = Instant::now();
-        let (out, report) = fair_surface_greiner(surface, mask, tolerance, &self.params)
-            .map_err(|e| e.into_core(GREINER_METHOD))?;
-        let seconds = start.elapsed().as_secs_f64();
-        let measured =
-            FairingReport::measure(GREINER_METHOD, surface, &out, report.solves, seconds);
-        Ok((out, measured))
+    /// A direct solve: `max_iterations` does not apply.
+    fn fair(&self, problem: &FairingProblem<'_>) -> nurbs_core::Result<Faired> {
+        let (out, report) = fair_surface_greiner(
+            problem.surface,
+            problem.mask,
+            problem.tolerance,
+            &self.params,
+        )
+        .map_err(|e| e.into_core(GREINER_METHOD))?;
+        Ok(Faired::new(out, report.solves))
     }
 }

@@ -14,7 +14,7 @@
 //! let pts = (0..64).map(|r| Point3::new((r / 8) as f64, (r % 8) as f64, bump(r / 8, r % 8)));
 //! let s = BSplineSurface::new(k.clone(), k, pts.collect(), None).unwrap();
 //! let mask = ControlMask::all_free(8, 8);
-//! let problem = FairingProblem { surface: &s, mask: &mask, tolerance: 0.05 };
+//! let problem = FairingProblem::new(&s, &mask, 0.05);
 //! let (_faired, report) = problem.solve(&TargetCurvatureFairing::default()).unwrap();
 //! assert!(report.energy_after < report.energy_before);
 //! ```

@@ -31,11 +31,9 @@
 //! D = `pull_tolerance_fraction` × the tolerance (model units) bounds each sample's move; the
 //! final control displacements are bounded by the tolerance itself.
 
-use std::time::Instant;
-
 use nurbs_core::{
-    BSplineSurface, ControlMask, FairingReport, Point3, SurfaceBasis, SurfaceBasisEvaluator,
-    SurfaceFairing,
+    BSplineSurface, ControlMask, Faired, FairingProblem, Point3, SurfaceBasis,
+    SurfaceBasisEvaluator, SurfaceFairing,
 };
 
 use crate::error::{Result, check_fraction, check_param, check_tolerance};
@@ -262,19 +260,15 @@ impl SurfaceFairing for TargetCurvatureFairing {
         TARGET_METHOD
     }
 
-    fn fair(
-        &self,
-        surface: &BSplineSurface,
-        mask: &ControlMask,
-        tolerance: f64,
-    ) -> nurbs_core::Result<(BSplineSurface, FairingReport)> {
-        let start = Instant::now();
-        let (out, _) = fair_surface_target(surface, mask, tolerance, &self.params)
-            .map_err(|e| e.into_core(TARGET_METHOD))?;
-        let seconds = start.elapsed().as_secs_f64();
-        Ok((
-            out.clone(),
-            FairingReport::measure(TARGET_METHOD, surface, &out, 1, seconds),
-        ))
+    /// A direct solve: `max_iterations` does not apply.
+    fn fair(&self, problem: &FairingProblem<'_>) -> nurbs_core::Result<Faired> {
+        let (out, _) = fair_surface_target(
+            problem.surface,
+            problem.mask,
+            problem.tolerance,
+            &self.params,
+        )
+        .map_err(|e| e.into_core(TARGET_METHOD))?;
+        Ok(Faired::new(out, 1))
     }
 }

@@ -8,7 +8,7 @@ use fair_curvature::{
     CurveParams, GREINER_METHOD, GreinerFairing, GreinerParams, TARGET_METHOD,
     TargetCurvatureFairing, TargetCurvatureParams, fair_curve, fair_surface_target,
 };
-use nurbs_core::{ControlMask, Error, Frame, SurfaceFairing};
+use nurbs_core::{ControlMask, Error, FairingProblem, Frame, SurfaceFairing};
 
 fn methods() -> Vec<Box<dyn SurfaceFairing>> {
     vec![
@@ -78,12 +78,12 @@ fn bad_input_is_a_fairing_error() {
     let mask = ControlMask::for_surface(&s);
     for m in methods() {
         for tol in [0.0, -1.0, f64::NAN, f64::INFINITY] {
-            let e = m.fair(&s, &mask, tol).unwrap_err();
+            let e = m.fair(&FairingProblem::new(&s, &mask, tol)).unwrap_err();
             assert!(matches!(e, Error::FairingFailed { .. }), "{e}");
         }
         let wrong = ControlMask::all_free(3, 3);
         assert!(matches!(
-            m.fair(&s, &wrong, 0.1),
+            m.fair(&FairingProblem::new(&s, &wrong, 0.1)),
             Err(Error::FairingFailed { .. })
         ));
     }
@@ -93,7 +93,7 @@ fn bad_input_is_a_fairing_error() {
             ..GreinerParams::default()
         },
     };
-    let e = bad.fair(&s, &mask, 0.1).unwrap_err();
+    let e = bad.fair(&FairingProblem::new(&s, &mask, 0.1)).unwrap_err();
     assert!(e.to_string().contains("deviation_weight"), "{e}");
     let bad = TargetCurvatureFairing {
         params: TargetCurvatureParams {
@@ -101,11 +101,14 @@ fn bad_input_is_a_fairing_error() {
             ..TargetCurvatureParams::default()
         },
     };
-    assert!(bad.fair(&s, &mask, 0.1).is_err());
+    assert!(bad.fair(&FairingProblem::new(&s, &mask, 0.1)).is_err());
     // nothing free: returned unchanged
     for m in methods() {
         let fixed = ControlMask::all_fixed(s.num_u(), s.num_v());
-        let (out, _) = m.fair(&s, &fixed, 0.1).unwrap();
+        let out = m
+            .fair(&FairingProblem::new(&s, &fixed, 0.1))
+            .unwrap()
+            .surface;
         assert_eq!(out, s);
     }
     // curves: wrong flag count, rational curve

@@ -32,11 +32,9 @@
 //! within [`EXACT_REMOVAL_REL_TOL`] × the net's size (a round-off-level bound on the surface
 //! change).
 
-use std::time::Instant;
-
 use nurbs_core::energy::thin_plate_energy;
 use nurbs_core::knot_ops::EXACT_REMOVAL_REL_TOL;
-use nurbs_core::{BSplineSurface, ControlMask, Direction, FairingReport, SurfaceFairing};
+use nurbs_core::{BSplineSurface, ControlMask, Direction, Faired, FairingProblem, SurfaceFairing};
 
 use crate::c1_finish::project_to_c1;
 use crate::error::{EnergyError, Result, check_tolerance};
@@ -347,9 +345,10 @@ pub fn fair_bezier_spline(
     Ok((net.surface, net.mask, report))
 }
 
-/// The Bézier-spline flow as a framework method (`energy-bezier`). With a removal policy other
-/// than [`KnotRemoval::Keep`] the returned net may be smaller than the input; the report's
-/// `max_control_move` is then measured over the kept points.
+/// The Bézier-spline flow as a framework method (`energy-bezier`). The fairing contract keeps
+/// the net ([`nurbs_core::check_contract`]): with a removal policy other than
+/// [`KnotRemoval::Keep`] the returned net may be smaller than the input, which the runner
+/// refuses; call [`fair_bezier_spline`] directly for that flow.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct BezierSplineFairing {
     /// its settings
@@ -364,19 +363,16 @@ impl SurfaceFairing for BezierSplineFairing {
         BEZIER_METHOD
     }
 
-    fn fair(
-        &self,
-        surface: &BSplineSurface,
-        mask: &ControlMask,
-        tolerance: f64,
-    ) -> nurbs_core::Result<(BSplineSurface, FairingReport)> {
-        let start = Instant::now();
-        let (out, _, r) = fair_bezier_spline(surface, mask, tolerance, &self.params)
-            .map_err(|e| e.into_core(BEZIER_METHOD))?;
-        let seconds = start.elapsed().as_secs_f64();
-        let mut report =
-            FairingReport::measure(BEZIER_METHOD, surface, &out, r.fairing.iterations, seconds);
-        report.max_control_move = r.max_control_move;
-        Ok((out, report))
+    /// `max_iterations` limits the local moves (the per-free-point floor then does not apply).
+    fn fair(&self, problem: &FairingProblem<'_>) -> nurbs_core::Result<Faired> {
+        let mut params = self.params;
+        if let Some(n) = problem.max_iterations {
+            params.energy.max_iterations = n;
+            params.energy.min_iterations_per_free_point = 0;
+        }
+        let (out, _, r) =
+            fair_bezier_spline(problem.surface, problem.mask, problem.tolerance, &params)
+                .map_err(|e| e.into_core(BEZIER_METHOD))?;
+        Ok(Faired::new(out, r.fairing.iterations))
     }
 }

@@ -19,10 +19,10 @@
 //! # Tolerance
 //! w = `deviation_weight` × the mean diagonal entry of K_ff: a relative, unit-free weight.
 
-use std::time::Instant;
-
 use nalgebra::DMatrix;
-use nurbs_core::{BSplineSurface, ControlMask, FairingReport, Point3, SurfaceFairing, Vector3};
+use nurbs_core::{
+    BSplineSurface, ControlMask, Faired, FairingProblem, Point3, SurfaceFairing, Vector3,
+};
 
 use crate::error::{EnergyError, Result, check_tolerance};
 use crate::local::{BALL_SHRINK, LocalSettings, NULL_DIAGONAL_REL, StopReason, run_local};
@@ -307,23 +307,21 @@ impl SurfaceFairing for GlobalEnergyFairing {
         GLOBAL_METHOD
     }
 
-    fn fair(
-        &self,
-        surface: &BSplineSurface,
-        mask: &ControlMask,
-        tolerance: f64,
-    ) -> nurbs_core::Result<(BSplineSurface, FairingReport)> {
-        let start = Instant::now();
-        let (out, r) = fair_surface_global(surface, mask, tolerance, &self.params)
-            .map_err(|e| e.into_core(GLOBAL_METHOD))?;
-        let seconds = start.elapsed().as_secs_f64();
+    /// `max_iterations` limits the polishing moves after the solve.
+    fn fair(&self, problem: &FairingProblem<'_>) -> nurbs_core::Result<Faired> {
+        let mut params = self.params;
+        if let Some(n) = problem.max_iterations {
+            params.polish_iterations = n;
+        }
+        let (out, r) =
+            fair_surface_global(problem.surface, problem.mask, problem.tolerance, &params)
+                .map_err(|e| e.into_core(GLOBAL_METHOD))?;
         // one solve plus the polishing moves; nothing free means nothing was done
         let iterations = if r.free_points == 0 {
             0
         } else {
             1 + r.polish_iterations
         };
-        let report = FairingReport::measure(GLOBAL_METHOD, surface, &out, iterations, seconds);
-        Ok((out, report))
+        Ok(Faired::new(out, iterations))
     }
 }

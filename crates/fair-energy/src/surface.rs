@@ -12,9 +12,7 @@
 //! moves by at most ε. The Bézier-spline extension (`joint_weight` > 0) needs a polynomial
 //! surface.
 
-use std::time::Instant;
-
-use nurbs_core::{BSplineSurface, ControlMask, FairingReport, SurfaceFairing};
+use nurbs_core::{BSplineSurface, ControlMask, Faired, FairingProblem, SurfaceFairing};
 
 use crate::error::{EnergyError, Result, check_tolerance};
 use crate::local::{LocalOutcome, LocalSettings, run_local};
@@ -138,18 +136,17 @@ impl SurfaceFairing for LocalEnergyFairing {
         LOCAL_METHOD
     }
 
-    fn fair(
-        &self,
-        surface: &BSplineSurface,
-        mask: &ControlMask,
-        tolerance: f64,
-    ) -> nurbs_core::Result<(BSplineSurface, FairingReport)> {
-        let start = Instant::now();
-        let (out, outcome) = fair_surface(surface, mask, tolerance, &self.params)
-            .map_err(|e| e.into_core(LOCAL_METHOD))?;
-        let seconds = start.elapsed().as_secs_f64();
-        let report =
-            FairingReport::measure(LOCAL_METHOD, surface, &out, outcome.iterations, seconds);
-        Ok((out, report))
+    /// `max_iterations` is the limit of single-point moves (the per-free-point floor then does
+    /// not apply).
+    fn fair(&self, problem: &FairingProblem<'_>) -> nurbs_core::Result<Faired> {
+        let mut params = self.params;
+        if let Some(n) = problem.max_iterations {
+            params.max_iterations = n;
+            params.min_iterations_per_free_point = 0;
+        }
+        let (out, outcome) =
+            fair_surface(problem.surface, problem.mask, problem.tolerance, &params)
+                .map_err(|e| e.into_core(LOCAL_METHOD))?;
+        Ok(Faired::new(out, outcome.iterations))
     }
 }

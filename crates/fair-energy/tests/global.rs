@@ -9,7 +9,7 @@ use fair_energy::{
 };
 use nurbs_core::energy::thin_plate_energy;
 use nurbs_core::testing::random_surface;
-use nurbs_core::{ControlMask, Frame, SurfaceFairing, Vector3};
+use nurbs_core::{ControlMask, FairingProblem, Frame, SurfaceFairing, Vector3};
 
 fn solvers() -> Vec<SparseSolver> {
     #[allow(unused_mut)]
@@ -151,7 +151,7 @@ fn bad_input_is_an_error_or_a_report_that_nothing_moved() {
     let method = GlobalEnergyFairing::default();
     assert_eq!(method.name(), "energy-global");
     assert!(matches!(
-        method.fair(&s, &mask, -1.0),
+        method.fair(&FairingProblem::new(&s, &mask, -1.0)),
         Err(nurbs_core::Error::FairingFailed { .. })
     ));
 }

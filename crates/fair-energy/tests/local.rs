@@ -8,7 +8,7 @@ use fair_energy::{
 };
 use nurbs_core::energy::thin_plate_energy;
 use nurbs_core::testing::{assert_close, random_surface};
-use nurbs_core::{ControlMask, Frame, Point3, SurfaceFairing, Vector3};
+use nurbs_core::{ControlMask, FairingProblem, Frame, Point3, SurfaceFairing, Vector3};
 
 fn params(iterations: usize) -> EnergyParams {
     EnergyParams {
@@ -233,10 +233,19 @@ fn bad_input_is_an_error_or_a_report_that_nothing_moved() {
     // the trait maps our errors into the kernel's FairingFailed
     let method = LocalEnergyFairing::default();
     assert!(matches!(
-        method.fair(&s, &mask, -1.0),
+        method.fair(&FairingProblem::new(&s, &mask, -1.0)),
         Err(nurbs_core::Error::FairingFailed { .. })
     ));
-    let (_, report) = method.fair(&s, &mask, 0.01).expect("fairs");
+    let (_, report) = FairingProblem::new(&s, &mask, 0.01)
+        .solve(&method)
+        .expect("fairs");
     assert_eq!(report.method, "energy");
     assert!(report.energy_after <= report.energy_before && report.max_deviation <= 0.01);
+    // the problem's iteration limit is the limit: 7 moves, not the method's 10,000
+    let (_, limited) = FairingProblem::new(&s, &mask, 0.01)
+        .with_max_iterations(7)
+        .solve(&method)
+        .expect("fairs");
+    assert_eq!(limited.iterations, 7);
+    assert!(report.iterations > 7 && limited.energy_after > report.energy_after);
 }

@@ -11,7 +11,7 @@ use fair_energy::{
 use nurbs_core::energy::{max_deviation, thin_plate_energy};
 use nurbs_core::shapes::{cylinder, sphere_patch, torus};
 use nurbs_core::testing::{assert_close, random_surface, rng};
-use nurbs_core::{BSplineSurface, ControlMask, Direction, Frame, SurfaceFairing, Vector3};
+use nurbs_core::{BSplineSurface, ControlMask, Direction, FairingProblem, Frame, Vector3};
 use rand::Rng;
 
 /// Relative agreement of xᵀ K x with the quadrature energy: both sum the same Gauss points, so
@@ -269,8 +269,8 @@ fn noisy_rational_cylinder_is_faired_within_tolerance() {
     // the same through the framework's trait
     let noisy = with_interior_noise(&exact, 4, 0.01);
     let mask = ControlMask::with_boundary_frame(&noisy, Frame::Positional);
-    let (out, report) = LocalEnergyFairing::default()
-        .fair(&noisy, &mask, eps)
+    let (out, report) = FairingProblem::new(&noisy, &mask, eps)
+        .solve(&LocalEnergyFairing::default())
         .expect("fairs");
     assert_weights_identical(&noisy, &out);
     assert!(report.energy_after < report.energy_before);

@@ -7,10 +7,8 @@
 //! column and q + 1 columns in its row, so only those ranks are recomputed (a [`MaxTree`] holds
 //! them). Only points the [`ControlMask`] frees move: the frames of [SV] §3.1 stay bit-identical.
 
-use std::time::Instant;
-
 use nurbs_core::max_tree::{MaxTree, NEVER};
-use nurbs_core::{BSplineSurface, ControlMask, FairingReport, Point3, SurfaceFairing};
+use nurbs_core::{BSplineSurface, ControlMask, Faired, FairingProblem, Point3, SurfaceFairing};
 
 use crate::curve::{KrrReport, KrrStop, MIN_MOVE_REL, check_params, clamp_to_ball};
 use crate::error::{KrrError, Result, check_tolerance};
@@ -239,17 +237,14 @@ impl SurfaceFairing for KrrFairing {
         KRR_METHOD
     }
 
-    fn fair(
-        &self,
-        surface: &BSplineSurface,
-        mask: &ControlMask,
-        tolerance: f64,
-    ) -> nurbs_core::Result<(BSplineSurface, FairingReport)> {
-        let start = Instant::now();
-        let (out, r) = fair_surface(surface, mask, tolerance, &self.params)
+    /// `max_iterations` limits the removal–reinsertion steps.
+    fn fair(&self, problem: &FairingProblem<'_>) -> nurbs_core::Result<Faired> {
+        let mut params = self.params;
+        if let Some(n) = problem.max_iterations {
+            params.max_iterations = n;
+        }
+        let (out, r) = fair_surface(problem.surface, problem.mask, problem.tolerance, &params)
             .map_err(|e| e.into_core(KRR_METHOD))?;
-        let seconds = start.elapsed().as_secs_f64();
-        let report = FairingReport::measure(KRR_METHOD, surface, &out, r.iterations, seconds);
-        Ok((out, report))
+        Ok(Faired::new(out, r.iterations))
     }
 }

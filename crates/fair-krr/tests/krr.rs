@@ -7,7 +7,8 @@ use fair_krr::{
 use nurbs_core::energy::thin_plate_energy;
 use nurbs_core::testing::{assert_close, rng};
 use nurbs_core::{
-    BSplineCurve, BSplineSurface, ControlMask, Frame, KnotVector, Point3, SurfaceFairing, Vector3,
+    BSplineCurve, BSplineSurface, ControlMask, FairingProblem, Frame, KnotVector, Point3,
+    SurfaceFairing, Vector3,
 };
 use rand::Rng;
 
@@ -263,10 +264,12 @@ fn bad_input_is_an_error_or_a_report_that_nothing_moved() {
     ));
     let method = KrrFairing::default();
     assert!(matches!(
-        method.fair(&s, &mask, 0.0),
+        method.fair(&FairingProblem::new(&s, &mask, 0.0)),
         Err(nurbs_core::Error::FairingFailed { .. })
     ));
-    let (_, r) = method.fair(&s, &mask, 0.01).expect("fairs");
+    let (_, r) = FairingProblem::new(&s, &mask, 0.01)
+        .solve(&method)
+        .expect("fairs");
     assert_eq!(r.method, "krr");
     assert_close(
         r.max_control_move.min(0.01),

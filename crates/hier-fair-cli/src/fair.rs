@@ -159,13 +159,10 @@ pub fn fair_surfaces(
         let s = &s;
         // checked against the contract: a result that moves a fixed point or leaves the
         // tolerance is an error, never an output
-        let (faired, r): (BSplineSurface, FairingReport) = nurbs_core::FairingProblem {
-            surface: s,
-            mask: &mask,
-            tolerance: options.tolerance,
-        }
-        .solve(method.as_ref())
-        .map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+        let (faired, r): (BSplineSurface, FairingReport) =
+            nurbs_core::FairingProblem::new(s, &mask, options.tolerance)
+                .solve(method.as_ref())
+                .map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
         // a fairing that ends fairer than it started, or the surface as it was
         let raised = r.energy_after > r.energy_before;
         lines.push(SurfaceLine {

@@ -1398,22 +1398,20 @@ impl Job<'_> {
         if before <= 0.0 {
             return Ok(None);
         }
-        // checked: a method that moves a fixed point or leaves ε is not used
-        let (next, fr) = nurbs_core::FairingProblem {
-            surface: s,
-            mask: &mask,
-            tolerance: eps,
-        }
-        .solve(self.fairing)
-        .map_err(|e| e.to_string())?;
+        // checked: a method that moves a fixed point or leaves ε is not used; the stage measures
+        // what it needs itself (the energy here, the deviation from the original in its record)
+        let out = nurbs_core::FairingProblem::new(s, &mask, eps)
+            .keeping(level)
+            .run(self.fairing)
+            .map_err(|e| e.to_string())?;
         // a fairing stage ends fairer than it started, or is not used
-        let after = thin_plate_energy(&next);
+        let after = thin_plate_energy(&out.surface);
         if after > before {
             return Err(format!(
                 "it raised the thin-plate energy from {before:.4e} to {after:.4e}"
             ));
         }
-        Ok(Some((next, fr.iterations, after)))
+        Ok(Some((out.surface, out.iterations, after)))
     }
 
     /// The largest [`growths`] factors of `result` over this surface's links against the input,

@@ -162,16 +162,12 @@ impl SurfaceFairing for EnergyFairing {
 
     fn fair(
         &self,
-        surface: &nurbs_core::BSplineSurface,
-        mask: &nurbs_core::ControlMask,
-        tolerance: f64,
-    ) -> nurbs_core::Result<(nurbs_core::BSplineSurface, nurbs_core::FairingReport)> {
-        if has_full_multiplicity_joint(surface) && !surface.is_rational() {
-            let (out, mut report) = self.bezier.fair(surface, mask, tolerance)?;
-            report.method = "energy".to_string();
-            Ok((out, report))
+        problem: &nurbs_core::FairingProblem<'_>,
+    ) -> nurbs_core::Result<nurbs_core::Faired> {
+        if has_full_multiplicity_joint(problem.surface) && !problem.surface.is_rational() {
+            self.bezier.fair(problem)
         } else {
-            self.plain.fair(surface, mask, tolerance)
+            self.plain.fair(problem)
         }
     }
 }

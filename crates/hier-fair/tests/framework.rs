@@ -6,7 +6,7 @@ use hier_fair::{
     FairModelReport, FairParams, Fairers, Model, ProblemKind, RoleMethods, fair_model,
     fair_model_with,
 };
-use nurbs_core::{BSplineSurface, Continuity, ControlMask, FairingReport, SurfaceFairing};
+use nurbs_core::{BSplineSurface, Continuity, Faired, FairingProblem, SurfaceFairing};
 
 fn fixture(name: &str) -> Model {
     let path = format!(
@@ -181,30 +181,32 @@ fn results_do_not_depend_on_the_thread_count() {
     assert_eq!(a.to_json(), b.to_json());
 }
 
-/// A method from outside the workspace: moves nothing, counts its calls.
-struct Still(std::sync::atomic::AtomicUsize);
+/// A method from outside the workspace: moves nothing, counts its calls and records the stage
+/// and free-point count each call was told.
+#[derive(Default)]
+struct Still(
+    std::sync::atomic::AtomicUsize,
+    std::sync::Mutex<Vec<(Option<nurbs_core::Continuity>, usize)>>,
+);
 
 impl SurfaceFairing for Still {
     fn name(&self) -> &str {
         "still"
     }
-    fn fair(
-        &self,
-        surface: &BSplineSurface,
-        mask: &ControlMask,
-        _tolerance: f64,
-    ) -> nurbs_core::Result<(BSplineSurface, FairingReport)> {
-        mask.check_shape(surface)?;
+    fn fair(&self, problem: &FairingProblem<'_>) -> nurbs_core::Result<Faired> {
         self.0.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
-        let r = FairingReport::measure("still", surface, surface, 0, 0.0);
-        Ok((surface.clone(), r))
+        self.1
+            .lock()
+            .expect("lock")
+            .push((problem.keeps, problem.free_count()));
+        Ok(Faired::new(problem.surface.clone(), 0))
     }
 }
 
 #[test]
 fn any_surface_fairing_plugs_in() {
     let model = fixture("fillet_freeform");
-    let still = Still(Default::default());
+    let still = Still::default();
     let (_, report) = fair_model_with(
         &model,
         Fairers::all(&still),
@@ -215,6 +217,19 @@ fn any_surface_fairing_plugs_in() {
     // primaries: one stage each; the fillet: C0, G1, G2 stages
     assert_eq!(still.0.load(std::sync::atomic::Ordering::Relaxed), 2 + 3);
     assert!(report.surfaces.iter().all(|s| s.method == "still"));
+    // every call was told its stage and had free points; the fillet's three stages keep C0,
+    // G1, G2 in that order (the primaries run first, in the earlier wave)
+    let calls = still.1.lock().expect("lock").clone();
+    assert!(
+        calls.iter().all(|(k, n)| k.is_some() && *n > 0),
+        "{calls:?}"
+    );
+    let fillet: Vec<_> = calls[2..].iter().map(|(k, _)| *k).collect();
+    assert_eq!(
+        fillet,
+        [Continuity::G0, Continuity::G1, Continuity::G2].map(Some),
+        "{calls:?}"
+    );
 }
 
 #[test]
@@ -359,23 +374,16 @@ impl SurfaceFairing for Rougher {
     fn name(&self) -> &str {
         "rougher"
     }
-    fn fair(
-        &self,
-        surface: &BSplineSurface,
-        mask: &ControlMask,
-        tolerance: f64,
-    ) -> nurbs_core::Result<(BSplineSurface, FairingReport)> {
-        mask.check_shape(surface)?;
-        let mut out = surface.clone();
-        let nv = surface.num_v();
+    fn fair(&self, problem: &FairingProblem<'_>) -> nurbs_core::Result<Faired> {
+        let mut out = problem.surface.clone();
+        let nv = out.num_v();
         for (k, p) in out.control_points_mut().iter_mut().enumerate() {
             let (i, j) = (k / nv, k % nv);
-            if mask.is_free(i, j) {
-                p.z += if (i + j) % 2 == 0 { 0.5 } else { -0.5 } * tolerance;
+            if problem.mask.is_free(i, j) {
+                p.z += if (i + j) % 2 == 0 { 0.5 } else { -0.5 } * problem.tolerance;
             }
         }
-        let r = FairingReport::measure("rougher", surface, &out, 1, 0.0);
-        Ok((out, r))
+        Ok(Faired::new(out, 1))
     }
 }
 
@@ -454,18 +462,12 @@ impl SurfaceFairing for Cheater {
     fn name(&self) -> &str {
         "cheater"
     }
-    fn fair(
-        &self,
-        surface: &BSplineSurface,
-        _: &ControlMask,
-        tolerance: f64,
-    ) -> nurbs_core::Result<(BSplineSurface, FairingReport)> {
-        let mut out = surface.clone();
+    fn fair(&self, problem: &FairingProblem<'_>) -> nurbs_core::Result<Faired> {
+        let mut out = problem.surface.clone();
         for p in out.control_points_mut() {
-            p.z -= 2.0 * tolerance;
+            p.z -= 2.0 * problem.tolerance;
         }
-        let r = FairingReport::measure("cheater", surface, &out, 1, 0.0);
-        Ok((out, r))
+        Ok(Faired::new(out, 1))
     }
 }
 

@@ -1,34 +1,36 @@
-//! The interface every fairing method implements, and the report it returns.
+//! The interface every fairing method implements, and the one runner that measures it.
 //!
-//! A method receives a surface, a [`ControlMask`] (only free control points may move: the fixed
-//! frames of [SV] §3.1 must come back bit-identical) and the deviation tolerance, and returns
-//! the faired surface with a [`FairingReport`]. [`FairingReport::measure`] fills the figures
-//! every method reports the same way. [`FairingProblem::solve`] runs a method and checks its
-//! result against that contract ([`check_contract`]), so that a caller (the framework, a test)
-//! never takes a result that moved a fixed point or left the tolerance.
+//! A method receives a [`FairingProblem`]: a surface, a [`ControlMask`] (only free control
+//! points may move: the fixed frames of [SV] §3.1 must come back bit-identical), the deviation
+//! tolerance ε, the continuity the calling stage keeps and an optional iteration limit. It
+//! returns the faired surface and its iteration count ([`Faired`]), nothing else: the runner
+//! [`FairingProblem::solve`] times the call, checks the result against the contract
+//! ([`check_contract`]) and measures the [`FairingReport`] the same way for every method, so
+//! that a caller (the framework, the CLI, a test) never takes a result that moved a fixed point
+//! or left the tolerance. [`FairingProblem::run`] does the same without the measurements, for a
+//! caller that measures what it needs itself.
 //!
 //! ```
-//! use nurbs_core::{BSplineSurface, ControlMask, FairingProblem, FairingReport, KnotVector,
-//!     Point3, SurfaceFairing};
+//! use nurbs_core::{BSplineSurface, ControlMask, Faired, FairingProblem, KnotVector, Point3,
+//!     SurfaceFairing};
 //!
 //! /// A method that moves every free point halfway to the centroid of the net, clamped to ε.
 //! struct Shrink;
 //! impl SurfaceFairing for Shrink {
 //!     fn name(&self) -> &str { "shrink" }
-//!     fn fair(&self, s: &BSplineSurface, mask: &ControlMask, eps: f64)
-//!         -> nurbs_core::Result<(BSplineSurface, FairingReport)> {
+//!     fn fair(&self, problem: &FairingProblem<'_>) -> nurbs_core::Result<Faired> {
+//!         let (s, eps) = (problem.surface, problem.tolerance);
 //!         let n = s.control_points().len() as f64;
 //!         let c = s.control_points().iter().fold(Point3::origin(), |a, p| a + p.coords / n);
 //!         let mut out = s.clone();
 //!         let nv = s.num_v();
 //!         for (k, p) in out.control_points_mut().iter_mut().enumerate() {
-//!             if mask.is_free(k / nv, k % nv) {
+//!             if problem.mask.is_free(k / nv, k % nv) {
 //!                 let d = (c - *p) * 0.5;
 //!                 *p += d * (eps * 0.999 / d.norm().max(eps));
 //!             }
 //!         }
-//!         let report = FairingReport::measure("shrink", s, &out, 1, 0.0);
-//!         Ok((out, report))
+//!         Ok(Faired::new(out, 1))
 //!     }
 //! }
 //!
@@ -37,17 +39,16 @@
 //! let s = BSplineSurface::new(k.clone(), k, pts, None).unwrap();
 //! let mut mask = ControlMask::all_free(6, 6);
 //! mask.set_free(0, 0, false);
-//! let (faired, report) = FairingProblem { surface: &s, mask: &mask, tolerance: 0.1 }
-//!     .solve(&Shrink)
-//!     .unwrap();
+//! let (faired, report) = FairingProblem::new(&s, &mask, 0.1).solve(&Shrink).unwrap();
 //! assert_eq!(faired.control_points()[0], s.control_points()[0]);
 //! assert!(report.max_control_move <= 0.1);
+//! assert!(report.energy_after < report.energy_before);
 //! ```
 
 use crate::Point3;
 use crate::energy::{max_deviation, thin_plate_energy};
 use crate::error::{Error, Result};
-use crate::frames::ControlMask;
+use crate::frames::{Continuity, ControlMask};
 use crate::surface::BSplineSurface;
 
 /// Samples per direction of the sampled deviation in reports.
@@ -115,20 +116,40 @@ impl FairingReport {
     }
 }
 
-/// A surface fairing method, pluggable into the framework.
+/// What a fairing method returns: the faired surface (same degrees, knots and weights) and the
+/// iterations (moves, sweeps or solves) it made. The runner adds the wall-clock time.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Faired {
+    /// the faired surface
+    pub surface: BSplineSurface,
+    /// iterations performed
+    pub iterations: usize,
+    /// wall-clock seconds of the call, set by [`FairingProblem::run`] (0 as a method returns it)
+    pub seconds: f64,
+}
+
+impl Faired {
+    /// A method's result: `surface` after `iterations` iterations.
+    pub fn new(surface: BSplineSurface, iterations: usize) -> Self {
+        Self {
+            surface,
+            iterations,
+            seconds: 0.0,
+        }
+    }
+}
+
+/// A surface fairing method, pluggable into the framework: only its own algorithm. Timing,
+/// the contract check and the report are the runner's ([`FairingProblem::solve`]).
 pub trait SurfaceFairing: Send + Sync {
     /// Short name, e.g. "energy".
     fn name(&self) -> &str;
 
-    /// Fairs `surface` moving only the control points `mask` frees, keeping the result within
-    /// `tolerance` (model units) of the original. Method failures are returned as
+    /// Fairs `problem.surface` moving only the control points `problem.mask` frees, keeping
+    /// every control point within `problem.tolerance` (model units) of its original, in at most
+    /// `problem.max_iterations` iterations when that is given. Method failures are returned as
     /// [`crate::Error::FairingFailed`].
-    fn fair(
-        &self,
-        surface: &BSplineSurface,
-        mask: &ControlMask,
-        tolerance: f64,
-    ) -> Result<(BSplineSurface, FairingReport)>;
+    fn fair(&self, problem: &FairingProblem<'_>) -> Result<Faired>;
 }
 
 /// Rounding allowance of [`check_contract`]'s tolerance test, in units of ε_mach × the largest
@@ -136,8 +157,9 @@ pub trait SurfaceFairing: Send + Sync {
 /// adds its own rounding, together below 2√3 + 1 < 8 ulps.
 pub const CONTRACT_ROUNDING_ULPS: f64 = 8.0;
 
-/// One fairing run as the framework poses it: the surface, the control points that may move
-/// and the tolerance ε (model units) every moved point must stay within.
+/// One fairing run as the framework poses it: the surface, the control points that may move,
+/// the tolerance ε (model units) every moved point must stay within, the stage and the limit
+/// of iterations.
 #[derive(Debug, Clone, Copy)]
 pub struct FairingProblem<'a> {
     /// the surface to fair
@@ -146,18 +168,78 @@ pub struct FairingProblem<'a> {
     pub mask: &'a ControlMask,
     /// the largest move of a control point (model units)
     pub tolerance: f64,
+    /// the continuity the calling stage keeps along the linked sides ([SV] §3.2: fair keeping
+    /// C0, G1 or G2; its frames are the fixed rows of `mask`); `None` for a surface faired on
+    /// its own
+    pub keeps: Option<Continuity>,
+    /// the most iterations the caller allows; `None`: the method's own limit. A direct solve
+    /// (the curvature methods) has none and ignores it.
+    pub max_iterations: Option<usize>,
 }
 
-impl FairingProblem<'_> {
-    /// Runs `method` on the problem and checks the result ([`check_contract`]); the report's
-    /// `seconds` is the wall-clock time of the call. A method that breaks the contract gives
+impl<'a> FairingProblem<'a> {
+    /// A surface faired on its own with the method's iteration limit.
+    pub fn new(surface: &'a BSplineSurface, mask: &'a ControlMask, tolerance: f64) -> Self {
+        Self {
+            surface,
+            mask,
+            tolerance,
+            keeps: None,
+            max_iterations: None,
+        }
+    }
+
+    /// The problem as the stage that keeps `level` poses it.
+    pub fn keeping(self, level: Continuity) -> Self {
+        Self {
+            keeps: Some(level),
+            ..self
+        }
+    }
+
+    /// The problem with at most `n` iterations.
+    pub fn with_max_iterations(self, n: usize) -> Self {
+        Self {
+            max_iterations: Some(n),
+            ..self
+        }
+    }
+
+    /// The number of control points the mask frees.
+    pub fn free_count(&self) -> usize {
+        self.mask.free_count()
+    }
+
+    /// Runs `method` on the problem, times it and checks the result ([`check_contract`]),
+    /// measuring nothing else. A method that breaks the contract gives
     /// [`Error::ContractBroken`], never its result.
-    pub fn solve(&self, method: &dyn SurfaceFairing) -> Result<(BSplineSurface, FairingReport)> {
+    pub fn run(&self, method: &dyn SurfaceFairing) -> Result<Faired> {
+        self.mask.check_shape(self.surface)?;
         let start = std::time::Instant::now();
-        let (out, mut report) = method.fair(self.surface, self.mask, self.tolerance)?;
-        report.seconds = start.elapsed().as_secs_f64();
-        check_contract(method.name(), self.surface, &out, self.mask, self.tolerance)?;
-        Ok((out, report))
+        let mut out = method.fair(self)?;
+        out.seconds = start.elapsed().as_secs_f64();
+        check_contract(
+            method.name(),
+            self.surface,
+            &out.surface,
+            self.mask,
+            self.tolerance,
+        )?;
+        Ok(out)
+    }
+
+    /// [`FairingProblem::run`], then the report measured the one way every method is measured
+    /// ([`FairingReport::measure`]).
+    pub fn solve(&self, method: &dyn SurfaceFairing) -> Result<(BSplineSurface, FairingReport)> {
+        let out = self.run(method)?;
+        let report = FairingReport::measure(
+            method.name(),
+            self.surface,
+            &out.surface,
+            out.iterations,
+            out.seconds,
+        );
+        Ok((out.surface, report))
     }
 }
 
@@ -249,16 +331,10 @@ mod tests {
         fn name(&self) -> &str {
             "nudge"
         }
-        fn fair(
-            &self,
-            s: &BSplineSurface,
-            _: &ControlMask,
-            _: f64,
-        ) -> Result<(BSplineSurface, FairingReport)> {
-            let mut out = s.clone();
+        fn fair(&self, problem: &FairingProblem<'_>) -> Result<Faired> {
+            let mut out = problem.surface.clone();
             out.control_points_mut()[self.0] += self.1;
-            let report = FairingReport::measure("nudge", s, &out, 1, 0.0);
-            Ok((out, report))
+            Ok(Faired::new(out, 1))
         }
     }
 
@@ -267,11 +343,7 @@ mod tests {
         let s = net();
         let mut mask = ControlMask::all_free(5, 5);
         mask.set_free(0, 0, false);
-        let problem = FairingProblem {
-            surface: &s,
-            mask: &mask,
-            tolerance: 0.5,
-        };
+        let problem = FairingProblem::new(&s, &mask, 0.5);
         let (out, report) = problem
             .solve(&Nudge(12, Vector3::new(0.0, 0.0, 0.4)))
             .expect("kept");
@@ -283,15 +355,53 @@ mod tests {
     }
 
     #[test]
+    fn the_runner_measures_the_report_and_passes_the_stage_on() {
+        /// Nudges point 12 by 0.1 per iteration it is allowed, and says which stage it was in.
+        struct Steps;
+        impl SurfaceFairing for Steps {
+            fn name(&self) -> &str {
+                "steps"
+            }
+            fn fair(&self, problem: &FairingProblem<'_>) -> Result<Faired> {
+                let n = problem.max_iterations.unwrap_or(1);
+                let mut out = problem.surface.clone();
+                out.control_points_mut()[12].z += 0.1 * n as f64;
+                if problem.keeps != Some(Continuity::G1) {
+                    return Err(Error::FairingFailed {
+                        method: "steps".into(),
+                        message: format!("told {:?}", problem.keeps),
+                    });
+                }
+                Ok(Faired::new(out, n))
+            }
+        }
+        let s = net();
+        let mask = ControlMask::all_free(5, 5);
+        let problem = FairingProblem::new(&s, &mask, 0.5)
+            .keeping(Continuity::G1)
+            .with_max_iterations(3);
+        assert_eq!(problem.free_count(), 25);
+        let (out, report) = problem.solve(&Steps).expect("within ε");
+        assert_eq!(report.method, "steps");
+        assert_eq!(report.iterations, 3);
+        assert!((report.max_control_move - 0.3).abs() < 1e-12);
+        assert_eq!(report.energy_before, thin_plate_energy(&s));
+        assert_eq!(report.energy_after, thin_plate_energy(&out));
+        assert!(report.max_deviation > 0.0 && report.max_deviation <= 0.3 + 1e-12);
+        assert!(report.seconds >= 0.0);
+        let e = FairingProblem::new(&s, &mask, 0.5).run(&Steps);
+        assert!(e.expect_err("no stage").to_string().contains("told None"));
+        // a mask of another shape is refused before the method runs
+        let wrong = ControlMask::all_free(4, 5);
+        assert!(FairingProblem::new(&s, &wrong, 0.5).run(&Steps).is_err());
+    }
+
+    #[test]
     fn a_moved_fixed_point_or_a_move_beyond_epsilon_is_refused() {
         let s = net();
         let mut mask = ControlMask::all_free(5, 5);
         mask.set_free(2, 2, false);
-        let problem = FairingProblem {
-            surface: &s,
-            mask: &mask,
-            tolerance: 0.5,
-        };
+        let problem = FairingProblem::new(&s, &mask, 0.5);
         let fixed = problem.solve(&Nudge(12, Vector3::new(1e-13, 0.0, 0.0)));
         let e = fixed.expect_err("a fixed point moved by 1e-13").to_string();
         assert!(

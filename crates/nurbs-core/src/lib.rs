@@ -69,7 +69,7 @@ pub use curve::{BSplineCurve, CurveDerivatives};
 pub use diffgeom::{CurvatureValues, FundamentalForms, PrincipalCurvatures};
 pub use error::{Error, Result};
 pub use fairing::{
-    FairingProblem, FairingReport, SurfaceFairing, check_contract, max_displacement,
+    Faired, FairingProblem, FairingReport, SurfaceFairing, check_contract, max_displacement,
 };
 pub use fit::{FitParams, FitReport, fit_curve, fit_surface};
 pub use frames::{Continuity, ControlMask, Frame, Side};

@@ -158,11 +158,7 @@ pub fn run(
     mask: &ControlMask,
     tolerance: f64,
 ) -> (BSplineSurface, FairingReport) {
-    nurbs_core::FairingProblem {
-        surface: s,
-        mask,
-        tolerance,
-    }
-    .solve(method)
-    .expect("fairing")
+    nurbs_core::FairingProblem::new(s, mask, tolerance)
+        .solve(method)
+        .expect("fairing")
 }
