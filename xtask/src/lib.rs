@@ -204,15 +204,23 @@ pub fn regress_line(name: &str, report: &hier_fair::FairModelReport) -> String {
 /// Header of [`regress_line`].
 pub const REGRESS_HEADER: &str = "model                        surf  met/links        gap     angle°   curv.rel  deviation   energy  seconds  probl";
 
-/// The six models made by Open CASCADE for this project, in `fixtures/occt/` (see its README).
-pub const OCCT_MODELS: [&str; 6] = [
-    "occt_corner3_radii",
-    "occt_box12_r5",
-    "occt_box12_variable",
-    "occt_plate_boss",
-    "occt_pipe_tee",
-    "occt_loft_block",
-];
+/// The models made by Open CASCADE for this project, in the order of `fixtures/occt/index.json`
+/// (see the directory's README): the one list the tests and the regression run share.
+pub fn occt_models() -> Result<Vec<String>> {
+    let path = root().join("fixtures/occt/index.json");
+    let text = std::fs::read_to_string(&path).with_context(|| path.display().to_string())?;
+    let index: Vec<serde_json::Value> =
+        serde_json::from_str(&text).with_context(|| path.display().to_string())?;
+    index
+        .iter()
+        .map(|m| {
+            m["name"]
+                .as_str()
+                .map(str::to_string)
+                .with_context(|| format!("{}: a model without a name", path.display()))
+        })
+        .collect()
+}
 
 /// The fixture models, the third-party models of `external` (car_shell1.model.json,
 /// submarine_body.model.json, teapot.json; each skipped with a note when absent) and the six
@@ -233,7 +241,7 @@ pub fn regress_paths(external: &Path) -> Result<(Vec<PathBuf>, Vec<String>)> {
         }
     }
     // the kernel models are the project's own and live in the repository: never skipped
-    for name in OCCT_MODELS {
+    for name in occt_models()? {
         paths.push(root().join("fixtures/occt").join(format!("{name}.json")));
     }
     Ok((paths, notes))

@@ -7,14 +7,20 @@ use hier_fair::framework::{MAX_NET, worse_than};
 use hier_fair::{FairParams, Model, ProblemKind, Role, RoleMethods, fair_model};
 use nurbs_core::Continuity;
 
-const MODELS: [&str; 6] = [
-    "occt_corner3_radii",
-    "occt_box12_r5",
-    "occt_box12_variable",
-    "occt_plate_boss",
-    "occt_pipe_tee",
-    "occt_loft_block",
-];
+/// The kernel models, as the directory's `index.json` lists them (one list for every test and
+/// `cargo xtask regress`).
+fn models() -> Vec<String> {
+    let path =
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/occt/index.json");
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let index: Vec<serde_json::Value> = serde_json::from_str(&text).unwrap();
+    let names: Vec<String> = index
+        .iter()
+        .map(|m| m["name"].as_str().expect("a name per model").to_string())
+        .collect();
+    assert!(names.len() >= 6, "{names:?}");
+    names
+}
 
 fn model(name: &str) -> Option<Model> {
     // the models are part of the repository: a missing one is a failure, never a skip
@@ -40,7 +46,8 @@ fn tolerances(model: &Model) -> Tolerances {
 /// primaries) worse than in the input in any figure.
 #[test]
 fn kernel_models_keep_their_surfaces_and_fillets_never_get_worse() {
-    for name in MODELS {
+    for name in models() {
+        let name = name.as_str();
         let Some(m) = model(name) else { return };
         let (out, report) =
             fair_model(&m, &RoleMethods::default(), None, &FairParams::default()).unwrap();
@@ -249,7 +256,8 @@ fn a_vertex_conflict_between_masters_is_named_with_its_figure() {
 /// worse says what was kept instead.
 #[test]
 fn connect_never_leaves_a_link_worse_than_the_input() {
-    for name in MODELS {
+    for name in models() {
+        let name = name.as_str();
         let Some(m) = model(name) else { return };
         let (_, report) = hier_fair::connect(&m, &hier_fair::ConnectOptions::default()).unwrap();
         let t = tolerances(&m);
@@ -275,7 +283,8 @@ fn connect_never_leaves_a_link_worse_than_the_input() {
 #[test]
 fn the_hierarchy_is_found_from_the_geometry() {
     let (mut found, mut total, mut roles_ok, mut surfaces) = (0, 0, 0, 0);
-    for name in MODELS {
+    for name in models() {
+        let name = name.as_str();
         let Some(m) = model(name) else { return };
         let mut bare = m.clone();
         bare.links.clear();
