@@ -206,7 +206,7 @@ fn kernel_step_imports_with_its_hierarchy() {
 fn kernel_imports(ext: &str) -> (usize, usize) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/occt");
     let params = nurbs_core::ProjectionParams::default();
-    let (mut links_hit, mut links_all) = (0, 0);
+    let (mut links_hit, mut links_all, mut roles_hit, mut surfaces_all) = (0, 0, 0, 0);
     let index: Vec<serde_json::Value> =
         serde_json::from_str(&std::fs::read_to_string(dir.join("index.json")).unwrap()).unwrap();
     assert!(index.len() >= 6);
@@ -278,16 +278,58 @@ fn kernel_imports(ext: &str) -> (usize, usize) {
             .zip(&matched)
             .filter(|(t, m)| m.is_some_and(|m| ours.surfaces[m].role == t.role))
             .count();
+        // the same slave side: interior points of the JSON link's side lie on the imported
+        // link's side (the two surfaces may be parametrized differently, so side names differ)
+        let same_side = |l: &hier_fair::model::Link, o: &hier_fair::model::Link| {
+            let (st, so) = (
+                &theirs.surfaces[l.slave].surface,
+                &ours.surfaces[o.slave].surface,
+            );
+            let (a, b) = l.side.along_domain(st);
+            let (c0, c1) = match o.side.cross_direction() {
+                nurbs_core::Direction::U => so.domain_u(),
+                nurbs_core::Direction::V => so.domain_v(),
+            };
+            let edge = o.side.boundary_param(so);
+            [0.3, 0.5, 0.7].iter().all(|f| {
+                let (u, v) = l.side.params(st, a + f * (b - a));
+                let pr = nurbs_core::project_to_surface(so, &st.point(u, v), &params);
+                let cross = match o.side.cross_direction() {
+                    nurbs_core::Direction::U => pr.u,
+                    nurbs_core::Direction::V => pr.v,
+                };
+                pr.distance <= 1e-9 * size && (cross - edge).abs() <= 1e-6 * (c1 - c0)
+            })
+        };
         let hit = theirs
             .links
             .iter()
             .filter(|l| {
                 let (s, m) = (matched[l.slave].unwrap(), matched[l.master].unwrap());
-                ours.links
-                    .iter()
-                    .any(|o| o.slave == s && o.master == m && o.continuity == l.continuity)
+                ours.links.iter().any(|o| {
+                    o.slave == s && o.master == m && o.continuity == l.continuity && same_side(l, o)
+                })
             })
             .count();
+        // no link that is not geometrically there: every imported link's side lies on its
+        // master within the model's G0 tolerance
+        for o in &ours.links {
+            let m = g_continuity::measure_link(
+                &ours.surfaces[o.master].surface,
+                &ours.surfaces[o.slave].surface,
+                o.side,
+                &g_continuity::MeasureParams::default(),
+            )
+            .unwrap();
+            assert!(
+                m.g0 <= ours.tolerances.g0,
+                "{name}: imported link {} {:?} -> {} has a gap of {:.3e}",
+                ours.surfaces[o.slave].name,
+                o.side,
+                ours.surfaces[o.master].name,
+                m.g0
+            );
+        }
         eprintln!(
             "{name}: surfaces {}/{} matched, links {hit}/{}, roles {roles}/{}",
             theirs.surfaces.len(),
@@ -297,8 +339,15 @@ fn kernel_imports(ext: &str) -> (usize, usize) {
         );
         links_hit += hit;
         links_all += theirs.links.len();
+        roles_hit += roles;
+        surfaces_all += theirs.surfaces.len();
     }
-    eprintln!("{ext}: links {links_hit}/{links_all}");
+    eprintln!("{ext}: links {links_hit}/{links_all}, roles {roles_hit}/{surfaces_all}");
+    // the roles of the JSON for at least 90 % of the surfaces
+    assert!(
+        roles_hit * 100 >= 90 * surfaces_all,
+        "{ext}: roles {roles_hit}/{surfaces_all}"
+    );
     (links_hit, links_all)
 }
 
