@@ -837,8 +837,9 @@ pub fn new_breakpoints(s: &BSplineSurface, dir: Direction, xs: &[f64]) -> Vec<f6
     insertable(s, dir, xs, false)
 }
 
-/// Knots closer than this fraction of the domain are one knot (rounding of span midpoints).
-pub const KNOT_MERGE_RELATIVE: f64 = 1e-9;
+/// Knots closer than this fraction of the domain are one knot (rounding of span midpoints; the
+/// kernel's value).
+pub use nurbs_core::knots::KNOT_MERGE_RELATIVE;
 
 /// Share of the G0 tolerance that [`set_step`]'s C0 step aims at (knots inserted until reached)
 /// when a link of the slave targets G1 or G2: a boundary off its master by a gap g that varies

@@ -192,8 +192,11 @@ pub(crate) fn remove(
     Ok(((KnotVector::new(p, new_knots)?, pw), t))
 }
 
-/// The part of the curve over [a, b] as a clamped polygon.
+/// The part of the curve over [a, b] as a clamped polygon. A bound within
+/// [`crate::knots::KNOT_MERGE_RELATIVE`] of a knot or an end of the domain is taken as that knot
+/// ([`KnotVector::snap`]): no sliver span is made next to it.
 pub(crate) fn extract(kv: &KnotVector, pw: &[[f64; 4]], a: f64, b: f64) -> Result<Polygon> {
+    let (a, b) = (kv.snap(a), kv.snap(b));
     kv.check_param(a)?;
     kv.check_param(b)?;
     if !(a < b) {

@@ -6,6 +6,13 @@
 
 use crate::error::{Error, Result};
 
+/// Knots closer than this fraction of the domain are one knot. A parameter from a file is
+/// written with 12–15 significant digits, and a span midpoint is rounded: a span of a 10⁻⁹th of
+/// the domain carries no geometry of its own, but a knot of high multiplicity bounding it makes
+/// the derivatives there those of a sliver (a CAD face bounded 2·10⁻¹³ from a knot of its
+/// surface came out with a 10° wrong normal at its corner).
+pub const KNOT_MERGE_RELATIVE: f64 = 1e-9;
+
 /// A validated, non-decreasing knot vector together with its degree.
 #[derive(Debug, Clone, PartialEq)]
 pub struct KnotVector {
@@ -194,6 +201,22 @@ impl KnotVector {
     pub fn clamp_param(&self, t: f64) -> f64 {
         let (a, b) = self.domain();
         if t.is_nan() { a } else { t.clamp(a, b) }
+    }
+
+    /// `t` snapped onto the nearest knot (an end of the domain included) when it lies within
+    /// [`KNOT_MERGE_RELATIVE`] of the domain length from it, `t` otherwise.
+    pub fn snap(&self, t: f64) -> f64 {
+        let (a, b) = self.domain();
+        let close = KNOT_MERGE_RELATIVE * (b - a);
+        let k = &self.knots[self.degree..self.knots.len() - self.degree];
+        let i = k.partition_point(|&x| x < t);
+        [i.checked_sub(1), Some(i)]
+            .into_iter()
+            .flatten()
+            .filter_map(|j| k.get(j).copied())
+            .filter(|x| (x - t).abs() <= close)
+            .min_by(|x, y| (x - t).abs().total_cmp(&(y - t).abs()))
+            .unwrap_or(t)
     }
 
     /// Checks that `t` is finite and inside the domain.

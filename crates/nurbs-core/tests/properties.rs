@@ -200,6 +200,35 @@ proptest! {
         }
     }
 
+    /// A bound a rounding away from a knot (a CAD face's box read from a file, 2·10⁻¹³ off a knot
+    /// of multiplicity p − 1 of its surface) is that knot: the part has no sliver span, is the
+    /// same surface, and its derivatives at the bound are the original's (a sliver's are not).
+    #[test]
+    fn extracting_next_to_a_knot_makes_no_sliver(seed in 0u64..10_000, rational in any::<bool>(), off in -1e-12f64..1e-12, pick in 0usize..16) {
+        let s = random_surface(seed, 2..=5, 9, rational);
+        let p = s.degree_v();
+        let inner: Vec<f64> = s.knots_v().interior_knots().iter().map(|&(x, _)| x).collect();
+        prop_assume!(!inner.is_empty());
+        let k = inner[pick % inner.len()];
+        let m = s.knots_v().multiplicity(k);
+        let s = if m < p - 1 { s.insert_knot(Direction::V, k, p - 1 - m).unwrap() } else { s };
+        let (v0, v1) = s.domain_v();
+        let a = k + off * (v1 - v0);
+        let part = s.extract(s.domain_u(), (a, v1)).unwrap();
+        let kv = part.knots_v().knots();
+        let (d0, d1) = part.domain_v();
+        prop_assert_eq!(d0, k);
+        prop_assert!(kv.windows(2).all(|w| w[1] == w[0] || w[1] - w[0] > 1e-6 * (d1 - d0)), "{:?}", kv);
+        let (u0, u1) = s.domain_u();
+        for f in [0.0, 0.37, 1.0] {
+            let u = u0 + f * (u1 - u0);
+            let (x, y) = (part.evaluator().derivatives(u, d0), s.evaluator().derivatives(u, k));
+            let scale = 1.0 + y.dv.norm();
+            prop_assert!((x.point - y.point).norm() < 1e-10 * scale);
+            prop_assert!((x.dv - y.dv).norm() < 1e-8 * scale, "{:?} vs {:?}", x.dv, y.dv);
+        }
+    }
+
     #[test]
     fn extraction_and_isocurves_are_exact(seed in 0u64..10_000, rational in any::<bool>(), a in 0.05f64..0.45, b in 0.55f64..0.95) {
         let s = random_surface(seed, 1..=5, 9, rational);
