@@ -271,6 +271,16 @@ fn kernel_imports(ext: &str) -> (usize, usize) {
                 "{name}: {} lies on no imported surface",
                 t.name
             );
+            // a curved face is the same surface over the same box both ways (a plane is the
+            // import's rectangle around its trim, the JSON's is the UV box of its face)
+            let o = &ours.surfaces[m.unwrap()].surface;
+            if t.surface.degree_u().max(t.surface.degree_v()) > 1 {
+                assert!(
+                    on(&grid(o), &t.surface) && on(&grid(&t.surface), o),
+                    "{name}: {} and its import are not the same surface over the same box",
+                    t.name
+                );
+            }
         }
         let roles = theirs
             .surfaces

@@ -26,6 +26,16 @@ const BOX_RELATIVE: f64 = 1e-9;
 /// A surface boundary lies in a plane when its control row does within this fraction of the
 /// model size: 1e-9 holds the round-off of exact kernel geometry written with 10–16 digits.
 const IN_PLANE_RELATIVE: f64 = 1e-9;
+/// A point of a face's model-space trim curve counts as on its surface within this fraction of
+/// the surface size: the trim is written within the writer's tolerance (Open CASCADE: 10⁻⁷ of
+/// a 100 mm part), and 10⁻⁵ leaves room for that while refusing a curve of another face.
+const ON_SURFACE_RELATIVE: f64 = 1e-5;
+/// Points sampled along each member of a face's boundary for its parameter box. The largest
+/// parameter of a smooth boundary falls between samples and is missed by about |v''| h²/8 (h the
+/// spacing): at 17 samples a lofted face of Open CASCADE's came out 2.6·10⁻⁵ of its domain short
+/// of the fillet that bounds it (a 2 µm gap along the fillet's contact line); 257 samples make
+/// that (16/256)² smaller, 10⁻⁷ of the domain (10 nm).
+const FACE_BOX_SAMPLES: usize = 257;
 /// Points sampled along each member of a plane's boundary curve.
 const BOUNDARY_SAMPLES: usize = 17;
 /// Nesting limit of transformation matrices that reference further matrices.
@@ -797,6 +807,16 @@ impl Reader<'_> {
     /// B-splines, each sampled at [`BOUNDARY_SAMPLES`] points; every transformation from the
     /// member up to `e` applied, not the model scale.
     fn boundary_points(&self, e: &DirEntry, depth: usize) -> Result<Vec<Point3>, IgesError> {
+        self.boundary_samples(e, depth, BOUNDARY_SAMPLES)
+    }
+
+    /// [`Self::boundary_points`] with `samples` points per member.
+    fn boundary_samples(
+        &self,
+        e: &DirEntry,
+        depth: usize,
+        samples: usize,
+    ) -> Result<Vec<Point3>, IgesError> {
         if depth > MAX_TRANSFORM_CHAIN {
             return Err(IgesError::Entity {
                 de: e.seq,
@@ -816,7 +836,7 @@ impl Reader<'_> {
                 let mut out = Vec::new();
                 for _ in 0..n {
                     let member = self.entry(c.int()?, e)?;
-                    out.extend(self.boundary_points(member, depth + 1)?);
+                    out.extend(self.boundary_samples(member, depth + 1, samples)?);
                 }
                 // the members carry their own transformations; the composite's applies on top
                 return Ok(match self.transform(e)? {
@@ -827,8 +847,8 @@ impl Reader<'_> {
             _ => self.any_curve(e, 1.0)?,
         };
         let (t0, t1) = local.knots().domain();
-        Ok((0..BOUNDARY_SAMPLES)
-            .map(|k| local.point(t0 + (t1 - t0) * k as f64 / (BOUNDARY_SAMPLES - 1) as f64))
+        Ok((0..samples)
+            .map(|k| local.point(t0 + (t1 - t0) * k as f64 / (samples - 1) as f64))
             .collect())
     }
 
@@ -846,23 +866,24 @@ impl Reader<'_> {
     }
 
     /// `surface` cut to the parameter box of the outer boundary `boundary` (142) of the trimmed
-    /// surface `face`: the box of its parameter-space curve, clamped to the surface's domain
-    /// (`None` where the 142 has no parameter curve, or the box is the whole domain to
-    /// [`BOX_RELATIVE`]). A kernel trims a face on its underlying surface, which may run far
-    /// beyond it (a fillet past the faces it ends on); the face's box is the surface the face
-    /// uses, as the kernel's own UV bounds give it.
+    /// surface `face`: the box of its parameter-space curve, or where the 142 has none, of its
+    /// model-space curve projected onto the surface; clamped to the surface's domain (`None`
+    /// where the 142 has neither curve, or the box is the whole domain to [`BOX_RELATIVE`]). A
+    /// kernel trims a face on its underlying surface, which may run far beyond it (a fillet past
+    /// the faces it ends on); the face's box is the surface the face uses, as the kernel's own
+    /// UV bounds give it. The curves are sampled densely ([`FACE_BOX_SAMPLES`]): a box short of
+    /// the trim leaves the fillet that bounds the face off its master.
     fn face_box(
         &self,
         surface: &BSplineSurface,
         boundary: &DirEntry,
         face: &DirEntry,
+        scale: f64,
     ) -> Result<Option<BSplineSurface>, IgesError> {
-        let (parametric, _) = self.curve_on_surface(boundary)?;
-        if parametric == 0 {
+        let (parametric, model) = self.curve_on_surface(boundary)?;
+        if parametric == 0 && model == 0 {
             return Ok(None);
         }
-        let curve = self.entry(parametric, boundary)?;
-        let pts = self.boundary_points(curve, 0)?;
         let (du, dv) = (surface.domain_u(), surface.domain_v());
         let mut b = [
             f64::INFINITY,
@@ -870,8 +891,50 @@ impl Reader<'_> {
             f64::INFINITY,
             f64::NEG_INFINITY,
         ];
-        for p in &pts {
-            b = [b[0].min(p.x), b[1].max(p.x), b[2].min(p.y), b[3].max(p.y)];
+        if parametric != 0 {
+            let curve = self.entry(parametric, boundary)?;
+            for p in &self.boundary_samples(curve, 0, FACE_BOX_SAMPLES)? {
+                b = [b[0].min(p.x), b[1].max(p.x), b[2].min(p.y), b[3].max(p.y)];
+            }
+        }
+        if parametric == 0 {
+            let curve = self.entry(model, boundary)?;
+            let mut pts = self.boundary_samples(curve, 0, FACE_BOX_SAMPLES)?;
+            if let Some(a) = self.transform(boundary)? {
+                pts = pts.iter().map(|p| a.apply(p)).collect();
+            }
+            // a point of the trim lies on the surface: one that projects farther than the
+            // rounding of the file is no point of this face (a broken curve) and is left out
+            let near = ON_SURFACE_RELATIVE * surface.size();
+            let mut projector =
+                nurbs_core::SurfaceProjector::new(surface, nurbs_core::ProjectionParams::default());
+            // consecutive samples are close: each starts from the last one's parameters, and
+            // from the sampled starts where that does not land on the surface
+            let mut last: Option<(f64, f64)> = None;
+            for p in &pts {
+                let p = Point3::from(p.coords / scale);
+                let mut pr = match last {
+                    Some(uv) => projector.project_from(&p, uv),
+                    None => projector.project(&p),
+                };
+                if pr.distance > near {
+                    pr = projector.project(&p);
+                }
+                if pr.distance <= near {
+                    b = [
+                        b[0].min(pr.u),
+                        b[1].max(pr.u),
+                        b[2].min(pr.v),
+                        b[3].max(pr.v),
+                    ];
+                    last = Some((pr.u, pr.v));
+                } else {
+                    last = None;
+                }
+            }
+        }
+        if !b.iter().all(|x| x.is_finite()) {
+            return Ok(None);
         }
         let (u0, u1) = (b[0].max(du.0), b[1].min(du.1));
         let (v0, v1) = (b[2].max(dv.0), b[3].min(dv.1));
@@ -1116,6 +1179,9 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
     let mut trimmed_targets = Vec::new();
     let mut planes_read = Vec::new();
     let mut boxed = Vec::new();
+    // the B-spline faces (144 over a 128): the entry, its surface's directory number, the
+    // outer boundary
+    let mut faces = Vec::new();
     for e in &reader.dir {
         match e.entity_type {
             128 => file.surfaces.push(reader.surface(e, scale)?),
@@ -1148,21 +1214,13 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
                 trimmed_targets.push(target.seq);
                 file.trimmed_entities += 1;
                 if target.entity_type == 128 {
-                    // a B-spline face is its surface over the face's parameter box
+                    // a B-spline face is its surface over the face's parameter box, cut once
+                    // every surface is read (a writer may put the 144 before its 128: Open
+                    // CASCADE does)
                     let (_n1, _n2) = (c.int()?, c.int()?);
                     let outer = c.int()?;
-                    if outer != 0
-                        && let Some(k) = file.surfaces.iter().position(|s| s.de == target.seq)
-                        && !boxed.contains(&target.seq)
-                    {
-                        let boundary = reader.entry(outer, e)?;
-                        if let Some(cut) =
-                            reader.face_box(&file.surfaces[k].surface, boundary, e)?
-                        {
-                            let whole = std::mem::replace(&mut file.surfaces[k].surface, cut);
-                            file.surfaces[k].underlying = Some(whole);
-                            boxed.push(target.seq);
-                        }
+                    if outer != 0 {
+                        faces.push((e, target.seq, reader.entry(outer, e)?));
                     }
                 } else if target.entity_type == 108 {
                     // a plane is as large as its face: bounded by the outer boundary
@@ -1179,6 +1237,16 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
             // planes are read through the trimmed surfaces that bound them
             124 | 108 => {}
             other => *file.skipped.entry(other).or_default() += 1,
+        }
+    }
+    for (e, target, boundary) in faces {
+        if let Some(k) = file.surfaces.iter().position(|s| s.de == target)
+            && !boxed.contains(&target)
+            && let Some(cut) = reader.face_box(&file.surfaces[k].surface, boundary, e, scale)?
+        {
+            let whole = std::mem::replace(&mut file.surfaces[k].surface, cut);
+            file.surfaces[k].underlying = Some(whole);
+            boxed.push(target);
         }
     }
     grow_planes(&mut file.surfaces, &planes_read);
