@@ -236,16 +236,15 @@ fn kernel_imports(ext: &str) -> (usize, usize) {
             .fold(0.0, f64::max);
         // each JSON surface: the imported surface it lies on, or that lies on it (a trimmed
         // plane: the JSON has it over its UV box, the import over the face's own rectangle)
-        let grid = |s: &nurbs_core::BSplineSurface| -> Vec<nurbs_core::Point3> {
+        // points at the fractions `f` of both domains
+        let at = |s: &nurbs_core::BSplineSurface, f: [f64; 3]| -> Vec<nurbs_core::Point3> {
             let (u0, u1) = s.domain_u();
             let (v0, v1) = s.domain_v();
-            [0.2, 0.5, 0.8]
-                .iter()
-                .flat_map(|a| {
-                    [0.2, 0.5, 0.8].map(|b| s.point(u0 + a * (u1 - u0), v0 + b * (v1 - v0)))
-                })
+            f.iter()
+                .flat_map(|a| f.map(|b| s.point(u0 + a * (u1 - u0), v0 + b * (v1 - v0))))
                 .collect()
         };
+        let grid = |s: &nurbs_core::BSplineSurface| at(s, [0.2, 0.5, 0.8]);
         let on = |pts: &[nurbs_core::Point3], s: &nurbs_core::BSplineSurface| {
             pts.iter()
                 .all(|p| nurbs_core::project_to_surface(s, p, &params).distance <= 1e-9 * size)
@@ -274,16 +273,7 @@ fn kernel_imports(ext: &str) -> (usize, usize) {
             // a curved face is the same surface over the same box both ways (a plane is the
             // import's rectangle around its trim, the JSON's is the UV box of its face)
             let o = &ours.surfaces[m.unwrap()].surface;
-            let whole = |s: &nurbs_core::BSplineSurface| -> Vec<nurbs_core::Point3> {
-                let (u0, u1) = s.domain_u();
-                let (v0, v1) = s.domain_v();
-                [0.0, 0.5, 1.0]
-                    .iter()
-                    .flat_map(|a| {
-                        [0.0, 0.5, 1.0].map(|b| s.point(u0 + a * (u1 - u0), v0 + b * (v1 - v0)))
-                    })
-                    .collect()
-            };
+            let whole = |s: &nurbs_core::BSplineSurface| at(s, [0.0, 0.5, 1.0]);
             // a fillet or corner blend is its whole face: the same surface over the same box
             // both ways, corners and side midpoints included (a box wider on one side shows
             // there). A trimmed primary's box in the JSON is the kernel's UV bound of its trim,
