@@ -403,3 +403,65 @@ fn fair_round_trips_iges() {
     let back = nurbs_io::read_iges(&std::fs::read(&out).unwrap()).unwrap();
     assert_eq!(back.surfaces.len(), 10);
 }
+
+/// A writer that gives a trimmed face's boundary (142) only its model-space curve: the face is
+/// cut to the box of that curve projected onto its surface. The lofted block's IGES with every
+/// parameter-space curve removed imports with all 25 links of its JSON, each within the G0
+/// tolerance of its master (an uncut fillet runs millimetres past its master's end).
+#[test]
+fn iges_faces_without_parameter_curves_are_cut_by_projection() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/occt");
+    let text = std::fs::read_to_string(dir.join("occt_loft_block.igs")).unwrap();
+    let mut rewritten = 0;
+    let lines: Vec<String> = text
+        .lines()
+        .map(|l| {
+            // "142,0,SURFACE,PARAMETRIC,MODEL,PREF;" in the parameter columns 1–64
+            let fields: Vec<&str> = l
+                .get(..64)
+                .unwrap_or("")
+                .trim_end()
+                .trim_end_matches(';')
+                .split(',')
+                .collect();
+            if l.len() >= 72 && fields.len() == 6 && fields[0] == "142" {
+                rewritten += 1;
+                let p = format!("142,0,{},0,{},1;", fields[2], fields[4]);
+                format!("{p:<64}{}", &l[64..])
+            } else {
+                l.to_string()
+            }
+        })
+        .collect();
+    assert_eq!(rewritten, 18);
+    let tmp = tempfile::tempdir().unwrap();
+    let (input, out) = (tmp.path().join("m.igs"), tmp.path().join("m.json"));
+    std::fs::write(&input, lines.join("\n") + "\n").unwrap();
+    let o = bin()
+        .args([
+            "import",
+            input.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let model = hier_fair::Model::from_json(&std::fs::read_to_string(&out).unwrap()).unwrap();
+    assert_eq!(model.links.len(), 25);
+    for l in &model.links {
+        let m = g_continuity::measure_link(
+            &model.surfaces[l.master].surface,
+            &model.surfaces[l.slave].surface,
+            l.side,
+            &g_continuity::MeasureParams::default(),
+        )
+        .unwrap();
+        assert!(
+            m.g0 <= model.tolerances.g0,
+            "{}: gap {:.3e}",
+            model.surfaces[l.slave].name,
+            m.g0
+        );
+    }
+}
