@@ -132,11 +132,13 @@ mod tests {
                 side: Side::U0,
                 master: &plane,
                 target: Continuity::G2,
+                range: None,
             },
             SideLink {
                 side: Side::U1,
                 master: &plane,
                 target: Continuity::G2,
+                range: None,
             },
         ];
         let (s, r) = with_lead_in(&cyl, &links, 0.2).unwrap();

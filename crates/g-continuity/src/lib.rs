@@ -19,7 +19,7 @@
 //! let before = measure_link(&master, &slave, Side::U0, &MeasureParams::default()).unwrap();
 //! assert!(before.g0 < 1e-12 && before.g1_deg.unwrap() > 9.9);
 //! // set G1 along the slave's side u = 0: only its first two control rows move
-//! let link = SideLink { side: Side::U0, master: &master, target: Continuity::G1 };
+//! let link = SideLink { side: Side::U0, master: &master, target: Continuity::G1, range: None };
 //! let (set, report) = connect_slave(&slave, &[link], &ConnectParams::default()).unwrap();
 //! assert!(report.sides[0].met);
 //! let after = measure_link(&master, &set, Side::U0, &MeasureParams::default()).unwrap();

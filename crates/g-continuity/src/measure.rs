@@ -156,7 +156,27 @@ pub fn measure_link(
     side: Side,
     params: &MeasureParams,
 ) -> Result<LinkMeasure> {
-    let ts = uniform_side_params(slave, side, params.samples)?;
+    measure_link_on(master, slave, side, None, params)
+}
+
+/// [`measure_link`] over the part `range` of the side (an along-side parameter interval,
+/// clipped to the side's domain; `None`: the whole side).
+pub fn measure_link_on(
+    master: &BSplineSurface,
+    slave: &BSplineSurface,
+    side: Side,
+    range: Option<(f64, f64)>,
+    params: &MeasureParams,
+) -> Result<LinkMeasure> {
+    let mut ts = uniform_side_params(slave, side, params.samples)?;
+    if let Some((x, y)) = range {
+        let (a, b) = side.along_domain(slave);
+        let (x, y) = (x.max(a).min(b), y.min(b).max(a));
+        let n = ts.len();
+        ts = (0..n)
+            .map(|i| x + (y - x) * i as f64 / (n - 1) as f64)
+            .collect();
+    }
     let flat = params
         .flat_curvature
         .unwrap_or(1.0 / (FLAT_RADIUS_FACTOR * slave.size().max(f64::MIN_POSITIVE)));

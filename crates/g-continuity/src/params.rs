@@ -56,6 +56,11 @@ pub struct SetParams {
     /// a point the boundary fit chose, which costs curvature accuracy at the corner; callers
     /// turn it on where a corner's normal misses, see `slave::tangent_corners`).
     pub tangent_corners: bool,
+    /// Unlinked sides whose tangential frame (boundary row and the row next to it) no step
+    /// moves, in the order u0, u1, v0, v1 (default none): a side the slave shares with another
+    /// surface that no link covers keeps its join as it came. The rows of the linked sides end
+    /// on it there, so their end points stay too.
+    pub kept_sides: [bool; 4],
 }
 
 impl Default for SetParams {
@@ -72,6 +77,7 @@ impl Default for SetParams {
             c0_iterations: 4,
             projection: ProjectionParams::default(),
             tangent_corners: false,
+            kept_sides: [false; 4],
         }
     }
 }

@@ -140,7 +140,35 @@ pub fn solve_row(
     movable: &[bool],
     params: &SetParams,
 ) -> Result<RowMove> {
-    let mut total = solve_row_once(master, slave, side, step, movable, None, params)?;
+    solve_row_in(master, slave, side, None, step, movable, params)
+}
+
+/// [`solve_row`] with the equations at the samples of the part `range` of the side only (an
+/// along-side parameter interval, `None`: the whole side): the solve samples that fall inside
+/// it, and its two ends.
+pub fn solve_row_in(
+    master: &BSplineSurface,
+    slave: &BSplineSurface,
+    side: Side,
+    range: Option<(f64, f64)>,
+    step: Continuity,
+    movable: &[bool],
+    params: &SetParams,
+) -> Result<RowMove> {
+    let ranged: Option<Vec<f64>> = range.map(|(x, y)| {
+        let (a, b) = side.along_domain(slave);
+        let (x, y) = (x.max(a).min(b), y.min(b).max(a));
+        let mut ts: Vec<f64> = vec![x];
+        ts.extend(
+            solve_side_params(slave, side, params.samples_per_span, params.min_samples)
+                .into_iter()
+                .filter(|&t| t > x && t < y),
+        );
+        ts.push(y);
+        ts
+    });
+    let samples = ranged.as_deref();
+    let mut total = solve_row_once(master, slave, side, step, movable, samples, params)?;
     if step != Continuity::G1 || total.indices.is_empty() {
         return Ok(total);
     }
@@ -150,7 +178,7 @@ pub fn solve_row(
     let first_move = total.max_displacement();
     for _ in 1..params.g1_passes.max(1) {
         pass_params.g1_tangential_weight *= G1_WEIGHT_STEP;
-        let more = solve_row_once(master, &work, side, step, movable, None, &pass_params)?;
+        let more = solve_row_once(master, &work, side, step, movable, samples, &pass_params)?;
         if more.max_displacement() > G1_POLISH_MOVE_FACTOR * first_move {
             break;
         }

@@ -33,9 +33,9 @@ use nurbs_core::{BSplineSurface, Continuity, Direction, Point3, Side, Vector3};
 use rayon::prelude::*;
 
 use crate::error::{Error, Result};
-use crate::measure::{LinkMeasure, is_collapsed, measure_link};
+use crate::measure::{LinkMeasure, MeasureParams, is_collapsed};
 use crate::params::{ConnectParams, SetParams};
-use crate::rows::{RowMove, row_of, solve_row, solve_row_at};
+use crate::rows::{RowMove, row_of, solve_row_at};
 use crate::sampling::along_knots;
 
 /// C0 passes stop when the largest row movement is below this fraction of the slave size.
@@ -64,6 +64,28 @@ pub struct SideLink<'a> {
     pub master: &'a BSplineSurface,
     /// the continuity to reach
     pub target: Continuity,
+    /// the part of the side the link holds on, as an interval of the along-side parameter
+    /// (`None`: the whole side). A trimmed face's side lies on the surface it meets only up to
+    /// the trim; the row equations, measures and refinement then use samples of that part only,
+    /// and the control points whose along-side support misses it do not move.
+    pub range: Option<(f64, f64)>,
+}
+
+impl SideLink<'_> {
+    /// The along-side parameter interval the link holds on: its [`SideLink::range`] clipped to
+    /// the side's domain, or the whole domain.
+    pub fn domain(&self, slave: &BSplineSurface) -> (f64, f64) {
+        let (a, b) = self.side.along_domain(slave);
+        match self.range {
+            Some((x, y)) => (x.max(a).min(b), y.min(b).max(a)),
+            None => (a, b),
+        }
+    }
+
+    /// Measures the link on `slave` (over its range).
+    pub fn measure(&self, slave: &BSplineSurface, params: &MeasureParams) -> Result<LinkMeasure> {
+        crate::measure::measure_link_on(self.master, slave, self.side, self.range, params)
+    }
 }
 
 /// Before/after of one linked side.
@@ -131,6 +153,7 @@ fn classify(
     m: usize,
     levels: &[Option<usize>; 4],
     move_unlinked: bool,
+    kept: &[bool; 4],
 ) -> Vec<Status> {
     let (start, end) = side.neighbours();
     (0..m)
@@ -138,6 +161,8 @@ fn classify(
             let mut status = Status::Free;
             for (e, adj) in [(j, start), (m - 1 - j, end)] {
                 let s = match levels[side_index(adj)] {
+                    // on a kept side's boundary row or the row next to it
+                    None if kept[side_index(adj)] && e <= 1 => Status::Fixed,
                     Some(0) if e == 0 && k > 0 => Status::Sliding,
                     Some(la) if e < k && la >= e => Status::Fixed,
                     Some(la) if e == k && la >= k => Status::Shared,
@@ -214,8 +239,18 @@ fn solve_sides(
         .par_iter()
         .zip(statuses)
         .map(|(l, status)| {
-            let free: Vec<bool> = status.iter().map(|&s| movable(s)).collect();
-            let mut mv = solve_row(l.master, surface, l.side, step, &free, params)?;
+            let mut free: Vec<bool> = status.iter().map(|&s| movable(s)).collect();
+            if l.range.is_some() {
+                // a point whose along-side support misses the link's part has no equation
+                let (a, b) = l.domain(surface);
+                let kv = crate::sampling::along_knots(surface, l.side);
+                let (q, t) = (kv.degree(), kv.knots());
+                for (j, f) in free.iter_mut().enumerate() {
+                    *f &= t[j] < b && t[j + q + 1] > a;
+                }
+            }
+            let mut mv =
+                crate::rows::solve_row_in(l.master, surface, l.side, l.range, step, &free, params)?;
             slide(&mut mv, k, status, l.side, links, surface, params);
             Ok(mv)
         })
@@ -248,7 +283,14 @@ fn step_all(
     let mut end_slack = f64::INFINITY;
     for l in &active {
         let m = l.side.row(k, nu, nv).len();
-        let mut status = classify(l.side, k, m, &levels, params.move_unlinked_boundaries);
+        let mut status = classify(
+            l.side,
+            k,
+            m,
+            &levels,
+            params.move_unlinked_boundaries,
+            &params.kept_sides,
+        );
         // the end point on a neighbouring side collapsed to a point (a pole) is that point: it
         // never moves, so the pole stays one point and the rows next to it stay consistent
         let (start, end) = l.side.neighbours();
@@ -273,8 +315,14 @@ fn step_all(
         // its corner is already continuous (the corner sample alone asks for no move), and is
         // free otherwise (the boundary has to change for the corner anyway)
         let (t0, t1) = l.side.along_domain(slave);
+        let (r0, r1) = l.domain(slave);
         for (j, t) in [(0, t0), (m - 1, t1)] {
             if status[j] != Status::End {
+                continue;
+            }
+            // an end the link's part does not reach is no corner of this join
+            if (j == 0 && r0 > t0) || (j == m - 1 && r1 < t1) {
+                status[j] = Status::Fixed;
                 continue;
             }
             let mut only = vec![false; m];
@@ -373,7 +421,7 @@ fn tangent_corners(
         for (c, j, adj) in [(0, 1, start), (m - 1, m - 2, end)] {
             let Some(nb) = links
                 .iter()
-                .find(|x| x.side == adj && x.target >= Continuity::G1)
+                .find(|x| x.side == adj && x.target >= Continuity::G1 && x.range.is_none())
             else {
                 continue;
             };
@@ -506,6 +554,7 @@ fn single(
         side,
         master,
         target: step,
+        range: None,
     }];
     if step == Continuity::G0 {
         let mut moved = 0.0f64;
@@ -737,7 +786,7 @@ pub fn set_step(
         report.max_move = moved;
         let after: Vec<LinkMeasure> = links
             .iter()
-            .map(|l| measure_link(l.master, &s, l.side, &params.measure))
+            .map(|l| l.measure(&s, &params.measure))
             .collect::<Result<_>>()?;
         let worst = worst_excess(links, &after, step, &tolerances);
         report.after = after;
@@ -1007,7 +1056,7 @@ pub fn connect_slave(
     let mut report = ConnectReport::default();
     let before: Vec<LinkMeasure> = links
         .iter()
-        .map(|l| measure_link(l.master, slave, l.side, &params.measure))
+        .map(|l| l.measure(slave, &params.measure))
         .collect::<Result<_>>()?;
     let mut work = prepare(slave, links, params, &mut report)?;
     let mut reference = work.clone();
@@ -1029,7 +1078,7 @@ pub fn connect_slave(
         report.twists_averaged = set_rows(&mut s, links, &params.set)?;
         let after: Vec<LinkMeasure> = links
             .iter()
-            .map(|l| measure_link(l.master, &s, l.side, &params.measure))
+            .map(|l| l.measure(&s, &params.measure))
             .collect::<Result<_>>()?;
         let worst = worst_excess(links, &after, Continuity::G2, &params.tolerances);
         let rounds = report.refinements;

@@ -177,7 +177,15 @@ fn master_along(
     tracker: &mut MasterTracker,
 ) -> Option<MasterAlong> {
     let master = link.master;
-    let ts = uniform_side_params(slave, link.side, TRANSFER_SAMPLES).ok()?;
+    let (a, b) = link.domain(slave);
+    let ts: Vec<f64> = uniform_side_params(slave, link.side, TRANSFER_SAMPLES)
+        .ok()?
+        .into_iter()
+        .map(|t| {
+            let (c, d) = link.side.along_domain(slave);
+            a + (b - a) * (t - c) / (d - c)
+        })
+        .collect();
     let mut feet = Vec::with_capacity(ts.len());
     for t in ts {
         let (u, v) = link.side.params(slave, t);
@@ -362,6 +370,7 @@ mod tests {
             side: Side::V0,
             master: &master,
             target: Continuity::G1,
+            range: None,
         }];
         let (s, report) =
             with_master_knots(&slave, &links, [true; 2], 1024, ProjectionParams::default())
@@ -390,6 +399,7 @@ mod tests {
             side: Side::V0,
             master: &master,
             target: Continuity::G0,
+            range: None,
         }];
         let (s, _) =
             with_master_knots(&slave, &links, [true; 2], 1024, ProjectionParams::default())
@@ -412,6 +422,7 @@ mod tests {
             side: Side::V0,
             master: &master,
             target: Continuity::G1,
+            range: None,
         }];
         let (s, report) =
             with_master_knots(&shifted, &links, [true; 2], 5, ProjectionParams::default()).unwrap();

@@ -131,11 +131,13 @@ fn fillet_with_continuous_corners_moves_by_the_noise_and_keeps_free_boundaries()
             side: Side::U0,
             master: &left,
             target: Continuity::G2,
+            range: None,
         },
         SideLink {
             side: Side::U1,
             master: &right,
             target: Continuity::G2,
+            range: None,
         },
     ];
     let (out, report) = connect_slave(&fillet, &links, &params()).unwrap();
@@ -186,11 +188,13 @@ fn fillet_between_longer_masters_moves_by_the_noise() {
             side: Side::U0,
             master: &left,
             target: Continuity::G2,
+            range: None,
         },
         SideLink {
             side: Side::U1,
             master: &right,
             target: Continuity::G2,
+            range: None,
         },
     ];
     let (out, report) = connect_slave(&fillet, &links, &params()).unwrap();
@@ -224,11 +228,13 @@ fn refinement_stops_when_a_side_cannot_be_met() {
             side: Side::U0,
             master: &left,
             target: Continuity::G2,
+            range: None,
         },
         SideLink {
             side: Side::U1,
             master: &right,
             target: Continuity::G2,
+            range: None,
         },
     ];
     let mut p = params();

@@ -70,21 +70,25 @@ fn x_node_centre_linked_on_four_sides_gets_consistent_twists() {
             side: Side::U0,
             master: &left,
             target: Continuity::G2,
+            range: None,
         },
         SideLink {
             side: Side::U1,
             master: &right,
             target: Continuity::G2,
+            range: None,
         },
         SideLink {
             side: Side::V0,
             master: &bottom,
             target: Continuity::G2,
+            range: None,
         },
         SideLink {
             side: Side::V1,
             master: &top,
             target: Continuity::G2,
+            range: None,
         },
     ];
     let before = measure_link(&left, &slave, Side::U0, &MeasureParams::default()).unwrap();
@@ -142,11 +146,13 @@ fn corner_patch_on_two_sides_with_g1_and_g2() {
             side: Side::U0,
             master: &left,
             target: Continuity::G1,
+            range: None,
         },
         SideLink {
             side: Side::V0,
             master: &bottom,
             target: Continuity::G2,
+            range: None,
         },
     ];
     // ask for the curvature tolerance checked below (the default 2e-2 would stop the knot
@@ -191,6 +197,7 @@ fn trimmed_master_non_isoparametric_boundary_with_knot_insertion() {
         side: Side::U0,
         master: &w,
         target: Continuity::G2,
+        range: None,
     }];
     let before = measure_link(&w, &slave, Side::U0, &MeasureParams::default()).unwrap();
     assert!(before.g1_deg.unwrap() > 1.0, "{:?}", before.g1_deg);
@@ -235,6 +242,7 @@ fn rational_slave_is_kept_exact_and_connected() {
         side: Side::U0,
         master: &plane,
         target: Continuity::G0,
+        range: None,
     }];
     let (s, report) = connect_slave(&cyl, &links, &ConnectParams::default()).unwrap();
     // the weights stay: no polynomial re-approximation
@@ -270,6 +278,7 @@ fn rational_slave_moves_its_rows_with_the_rational_basis() {
         side: Side::U0,
         master: &plane,
         target: Continuity::G0,
+        range: None,
     }];
     let (s, report) = connect_slave(&cyl, &links, &ConnectParams::default()).unwrap();
     assert!(s.is_rational());

@@ -143,6 +143,7 @@ pub fn connect(model: &Model, options: &ConnectOptions) -> Result<(Model, ModelC
                     side: l.side,
                     master: &out.surfaces[l.master].surface,
                     target: target_of(l.continuity),
+                    range: None,
                 }
             })
             .collect();

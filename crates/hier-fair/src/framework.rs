@@ -47,9 +47,7 @@
 
 use std::time::Instant;
 
-use g_continuity::{
-    ConnectParams, LinkMeasure, SideLink, Tolerances, measure_link, prepare_slave, set_step,
-};
+use g_continuity::{ConnectParams, LinkMeasure, SideLink, Tolerances, prepare_slave, set_step};
 use nurbs_core::energy::{max_deviation, thin_plate_energy};
 use nurbs_core::{BSplineSurface, Continuity, ControlMask, Direction, Side, SurfaceFairing};
 use rayon::prelude::*;
@@ -304,6 +302,8 @@ pub struct FairModelReport {
     pub groups: Vec<GroupFair>,
     /// everything that did not go as asked
     pub problems: Vec<Problem>,
+    /// shared edges no link covers ([`crate::edges`]), before and after
+    pub edges: Vec<crate::edges::EdgeFair>,
 }
 
 impl FairModelReport {
@@ -355,7 +355,24 @@ pub fn fair_model_with(
         g2_rel: t.g2_rel,
     };
     let cap = |c: Continuity| params.target.map_or(c, |t| c.min(t));
-    let before = measure_links(model, &connect);
+    // shared edges no link covers: those down the hierarchy become links (over the part of the
+    // side that lies on the other surface; kept out of the output model and reported with the
+    // edges), the rest are kept as they came
+    let given = model;
+    let (work, found, ranges) = crate::edges::link_edges(given, &crate::edges::shared_edges(given));
+    let model = &work;
+    let before = measure_links(model, &ranges, &connect);
+    let edges = crate::edges::shared_edges(model);
+    let edges_before: Vec<_> = edges
+        .iter()
+        .map(|e| {
+            crate::edges::measure_edge(
+                e,
+                &model.surfaces[e.surface].surface,
+                &model.surfaces[e.other].surface,
+            )
+        })
+        .collect();
     let waves = waves(model)?;
     let mut out = model.clone();
     let mut report = FairModelReport {
@@ -392,6 +409,8 @@ pub fn fair_model_with(
                 params,
                 cap: &cap,
                 before: &before,
+                edges: &edges,
+                ranges: &ranges,
             };
             (k, job.run())
         };
@@ -412,7 +431,7 @@ pub fn fair_model_with(
             });
         }
     }
-    let after = measure_links(&out, &connect);
+    let after = measure_links(&out, &ranges, &connect);
     report.links = before
         .into_iter()
         .zip(after)
@@ -432,6 +451,31 @@ pub fn fair_model_with(
             }
         })
         .collect();
+    for f in &found {
+        let l = &report.links[f.link];
+        if let (Some(b), Some(a)) = (&l.before, &l.after) {
+            report.edges.push(crate::edges::EdgeFair {
+                surface: model.surfaces[model.links[f.link].slave].name.clone(),
+                label: format!(
+                    "{} (linked {:?}: {:.0} % of the side lies on it)",
+                    f.label,
+                    l.target,
+                    100.0 * f.fraction
+                ),
+                fraction: f.fraction,
+                before: crate::edges::EdgeMeasure {
+                    gap: b.g0,
+                    angle_deg: b.g1_deg.unwrap_or(0.0),
+                },
+                after: crate::edges::EdgeMeasure {
+                    gap: a.g0,
+                    angle_deg: a.g1_deg.unwrap_or(0.0),
+                },
+            });
+        }
+    }
+    report.links.truncate(given.links.len());
+    out.links.truncate(given.links.len());
     for l in &report.links {
         if l.met {
             continue;
@@ -479,19 +523,64 @@ pub fn fair_model_with(
             amount,
         });
     }
+    for (e, before) in edges.iter().zip(edges_before) {
+        let after = crate::edges::measure_edge(
+            e,
+            &out.surfaces[e.surface].surface,
+            &out.surfaces[e.other].surface,
+        );
+        let fair = crate::edges::EdgeFair {
+            surface: model.surfaces[e.surface].name.clone(),
+            label: format!(
+                "{}.{} ~ {}",
+                model.surfaces[e.surface].name,
+                e.side.name(),
+                model.surfaces[e.other].name
+            ),
+            fraction: e.fraction,
+            before,
+            after,
+        };
+        report.edges.push(fair);
+    }
+    for fair in &report.edges {
+        if fair.worse(t.g0, t.g1_deg) {
+            report.problems.push(Problem {
+                kind: ProblemKind::Limited,
+                surface: fair.surface.clone(),
+                link: None,
+                message: format!(
+                    "the shared edge {} ({:.0} % of the side) leaves with gap {:.3e} and angle {:.3e}° (input {:.3e}, {:.3e}°)",
+                    fair.label,
+                    100.0 * fair.fraction,
+                    fair.after.gap,
+                    fair.after.angle_deg,
+                    fair.before.gap,
+                    fair.before.angle_deg
+                ),
+                amount: Some(fair.after.angle_deg),
+            });
+        }
+    }
     report.seconds_total = start.elapsed().as_secs_f64();
     Ok((out, report))
 }
 
-fn measure_links(model: &Model, connect: &ConnectParams) -> Vec<Option<LinkMeasure>> {
+/// Every link of `model` measured (over its part of the side, `ranges`, [`crate::edges`]).
+fn measure_links(
+    model: &Model,
+    ranges: &[Option<(f64, f64)>],
+    connect: &ConnectParams,
+) -> Vec<Option<LinkMeasure>> {
     (0..model.links.len())
         .into_par_iter()
         .map(|k| {
             let l = &model.links[k];
-            measure_link(
+            g_continuity::measure::measure_link_on(
                 &model.surfaces[l.master].surface,
                 &model.surfaces[l.slave].surface,
                 l.side,
+                ranges.get(k).copied().flatten(),
                 &connect.measure,
             )
             .ok()
@@ -562,6 +651,10 @@ struct Job<'a> {
     cap: &'a (dyn Fn(Continuity) -> Continuity + Sync),
     /// every link of the model measured on the input (the "never worse" reference)
     before: &'a [Option<LinkMeasure>],
+    /// the model's shared edges no link covers ([`crate::edges`]): kept as they came
+    edges: &'a [crate::edges::SharedEdge],
+    /// per link of the model, the part of the slave's side it holds on (`None`: all of it)
+    ranges: &'a [Option<(f64, f64)>],
 }
 
 /// Per-surface state while the stages run.
@@ -651,8 +744,15 @@ impl Job<'_> {
         for (k, p) in missed {
             let l = &self.model.links[k];
             let master = &self.current.surfaces[l.master].surface;
-            let still = measure_link(master, &surface, l.side, &self.connect.measure)
-                .is_ok_and(|m| !m.meets((self.cap)(l.continuity), t.g0, t.g1_deg, t.g2_rel));
+            let range = self.ranges.get(k).copied().flatten();
+            let still = g_continuity::measure::measure_link_on(
+                master,
+                &surface,
+                l.side,
+                range,
+                &self.connect.measure,
+            )
+            .is_ok_and(|m| !m.meets((self.cap)(l.continuity), t.g0, t.g1_deg, t.g2_rel));
             if still {
                 problems.push(p);
             }
@@ -714,8 +814,16 @@ impl Job<'_> {
             tolerances.g1_deg *= GROUP_CHAIN_SHARE;
             tolerances.g2_rel *= GROUP_CHAIN_SHARE;
         }
+        // the sides it shares with a surface no link covers keep their frame in the set steps
+        // too ([`crate::edges`])
+        let mut set = self.connect.set;
+        for e in self.edges.iter().filter(|e| e.surface == self.surface) {
+            let k = Side::ALL.iter().position(|&s| s == e.side).unwrap_or(0);
+            set.kept_sides[k] = true;
+        }
         ConnectParams {
             tolerances,
+            set,
             ..*self.connect
         }
     }
@@ -755,7 +863,10 @@ impl Job<'_> {
         let tol = TOUCH_FACTOR * self.connect.tolerances.g0;
         let mut out: Vec<(usize, usize)> = Vec::new();
         let (p, q) = (me.degree_u(), me.degree_v());
-        for l in self.model.links.iter().filter(|l| l.master == self.surface) {
+        for (k, l) in self.model.links.iter().enumerate() {
+            if l.master != self.surface {
+                continue;
+            }
             let slave = &self.current.surfaces[l.slave].surface;
             if Side::ALL
                 .iter()
@@ -763,7 +874,8 @@ impl Job<'_> {
             {
                 continue;
             }
-            let (a, b) = l.side.along_domain(slave);
+            // (a link over part of the side, [`crate::edges`], holds there only)
+            let (a, b) = self.ranges[k].unwrap_or_else(|| l.side.along_domain(slave));
             let mut projector =
                 nurbs_core::SurfaceProjector::new(me, nurbs_core::ProjectionParams::default());
             for k in 0..=JOIN_SAMPLES {
@@ -795,6 +907,7 @@ impl Job<'_> {
                         side: l.side,
                         master: &self.current.surfaces[l.master].surface,
                         target: (self.cap)(l.continuity),
+                        range: self.ranges.get(k).copied().flatten(),
                     },
                 )
             })
@@ -988,7 +1101,8 @@ impl Job<'_> {
         // links that do not touch their masters: bad input, the surface is left alone
         let limit = TOUCH_FACTOR * self.connect.tolerances.g0;
         for (k, l) in &labelled {
-            let m = measure_link(l.master, self.start, l.side, &self.connect.measure)
+            let m = l
+                .measure(self.start, &self.connect.measure)
                 .map_err(|e| format!("link {}: {e}", self.model.link_label(*k)))?;
             if m.g0 > limit {
                 return Err(format!(
@@ -1068,7 +1182,7 @@ impl Job<'_> {
             let t = &self.set_params().tolerances;
             for (k, l) in &labelled {
                 let target = l.target.min(*step);
-                let Ok(m) = measure_link(l.master, last, l.side, &self.connect.measure) else {
+                let Ok(m) = l.measure(last, &self.connect.measure) else {
                     continue;
                 };
                 if m.meets(target, t.g0, t.g1_deg, t.g2_rel) {
@@ -1390,6 +1504,13 @@ impl Job<'_> {
         for &(i, j) in &self.interior_join_points(s) {
             mask.set_free(i, j, false);
         }
+        // shared edges no link covers keep their tangential frame on both surfaces
+        for e in self.edges.iter().filter(|e| e.surface == self.surface) {
+            mask.fix_frame(e.side, nurbs_core::Frame::Tangential);
+        }
+        for (i, j) in crate::edges::carrying_points(self.edges, self.surface, s, self.model) {
+            mask.set_free(i, j, false);
+        }
         if mask.free_count() == 0 || eps <= 0.0 {
             return Ok(None);
         }
@@ -1427,7 +1548,7 @@ impl Job<'_> {
             let Some(before) = self.before.get(*k).and_then(Option::as_ref) else {
                 continue;
             };
-            let Ok(after) = measure_link(l.master, result, l.side, &self.connect.measure) else {
+            let Ok(after) = l.measure(result, &self.connect.measure) else {
                 return [f64::INFINITY; 3];
             };
             for (w, g) in worst.iter_mut().zip(growths(before, &after, l.target, t)) {
@@ -1447,7 +1568,7 @@ impl Job<'_> {
         let t = &self.connect.tolerances;
         for (k, l) in labelled {
             let meets = |s: &BSplineSurface| {
-                measure_link(l.master, s, l.side, &self.connect.measure)
+                l.measure(s, &self.connect.measure)
                     .is_ok_and(|m| m.meets(l.target, t.g0, t.g1_deg, t.g2_rel))
             };
             if meets(connected) && !meets(faired) {
@@ -1473,7 +1594,7 @@ impl Job<'_> {
             let Some(before) = self.before.get(*k).and_then(Option::as_ref) else {
                 continue;
             };
-            let Ok(after) = measure_link(l.master, result, l.side, &self.connect.measure) else {
+            let Ok(after) = l.measure(result, &self.connect.measure) else {
                 return Some(format!(
                     "link {} could not be measured",
                     self.model.link_label(*k)

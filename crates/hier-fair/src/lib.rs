@@ -29,6 +29,7 @@ pub mod build;
 pub mod check;
 pub mod connect;
 pub mod corners;
+pub mod edges;
 pub mod error;
 pub mod framework;
 pub mod methods;

@@ -85,6 +85,12 @@ pub fn report_json(report: &FairModelReport) -> Value {
         "links": links,
         "corner_groups": groups,
         "problems": problems,
+        "shared_edges": report.edges.iter().map(|e| json!({
+            "edge": e.label,
+            "fraction": e.fraction,
+            "before": {"g0": e.before.gap, "g1_deg": e.before.angle_deg},
+            "after": {"g0": e.after.gap, "g1_deg": e.after.angle_deg},
+        })).collect::<Vec<_>>(),
     })
 }
 

@@ -70,14 +70,23 @@ fn kernel_models_keep_their_surfaces_and_fillets_never_get_worse() {
                 s.max_deviation,
                 s.tolerance
             );
+            // the bound: 64 per direction, or — for a direction that has more already (a
+            // kernel's freeform fillet with 66) — the input's plus the lead-in knots of its two G2
+            // sides, what G2 needs; no refinement beyond
             let (before, after) = s.net;
+            let bound = |n: usize| MAX_NET.max(n + 2 * g_continuity::lead_in::LEAD_IN_KNOTS);
             assert!(
-                after.0 <= MAX_NET.max(before.0) && after.1 <= MAX_NET.max(before.1),
+                after.0 <= bound(before.0) && after.1 <= bound(before.1),
                 "{name}: {} net {after:?}",
                 s.name
             );
         }
         let t = tolerances(&m);
+        // shared edges no link covers (a trimmed fillet running past its face, two halves of a
+        // fillet ring) leave as they came
+        for e in &report.edges {
+            assert!(!e.worse(t.g0, t.g1_deg), "{name}: {e:?}");
+        }
         for l in &report.links {
             let (Some(b), Some(a)) = (&l.before, &l.after) else {
                 panic!("{name}: {} not measured", l.label);
@@ -173,6 +182,112 @@ fn per_role_deviation_gives_fillets_their_own_budget() {
     assert!(report.links.iter().all(|l| l.met), "{:?}", report.problems);
 }
 
+/// A fillet trimmed by its vertex blend runs, as an untrimmed surface, past the plane it meets:
+/// its side lies on the plane only up to the trim, so the model has no link there. With the
+/// fillets' wide per-role budget the fairing used to move the row next to that side 0.26 mm off
+/// the plane. The side is now linked G2 to the plane over the part that lies on it (the output
+/// carries the model's links only): its two rows stay on the plane, and at the vertex blend's
+/// corner, where that part ends, the fillet's normal curvature across the blend's side is the
+/// plane's, 0, as its neighbour's is — before, 1/12 against 0, a conflict no blend could meet.
+#[test]
+fn a_trimmed_fillet_is_set_g2_on_the_face_it_runs_past() {
+    let Some(m) = model("occt_corner3_radii") else {
+        return;
+    };
+    let params = FairParams {
+        role_tolerance: [Some(0.05), Some(0.5), Some(0.5)],
+        ..FairParams::default()
+    };
+    let (out, report) = fair_model(&m, &RoleMethods::default(), None, &params).unwrap();
+    assert_eq!(out.links, m.links);
+    assert_eq!(report.links.len(), m.links.len());
+    let t = tolerances(&m);
+    let edge = report
+        .edges
+        .iter()
+        .find(|e| {
+            e.label
+                .starts_with("F10_cylinder.u0 -> P09_plane (linked G2")
+        })
+        .unwrap_or_else(|| panic!("{:#?}", report.edges));
+    // the face ends at the blend, 41 of the fillet's 44 mm
+    assert!((edge.fraction - 41.0 / 44.0).abs() < 1e-3, "{edge:?}");
+    assert!(
+        edge.after.gap <= t.g0 && edge.after.angle_deg <= t.g1_deg,
+        "{edge:?}"
+    );
+    // the plane is x = 90: the fillet's boundary row and the row next to it stay on it, to the
+    // G1 solve's rounding
+    let f10 = &out.surfaces[out.find("F10_cylinder").unwrap()].surface;
+    for j in 0..f10.num_v() {
+        for i in 0..2 {
+            let x = f10.control_point(i, j)[0];
+            assert!((x - 90.0).abs() < 1e-9, "row {i}, column {j}: {x}");
+        }
+    }
+    // the blend's corner where F10 and F08 meet (its sides u0 and v1): both fillets' normal
+    // curvatures across the blend's side v1 there, within the G2 tolerance of the fillet's 1/12
+    let c07 = &out.surfaces[out.find("C07_bspline").unwrap()].surface;
+    let (u0, v1) = (c07.domain_u().0, c07.domain_v().1);
+    let d = c07.derivatives(u0, v1);
+    let params = nurbs_core::ProjectionParams::default();
+    let kappa = |name: &str| {
+        let s = &out.surfaces[out.find(name).unwrap()].surface;
+        let f = nurbs_core::project_to_surface(s, &d.point, &params);
+        assert!(f.distance < t.g0, "{name}: {}", f.distance);
+        s.derivatives(f.u, f.v)
+            .normal_curvature(&d.dv)
+            .unwrap()
+            .abs()
+    };
+    let (k10, k08) = (kappa("F10_cylinder"), kappa("F08_cylinder"));
+    assert!((k10 - k08).abs() <= t.g2_rel / 12.0, "F10 {k10}, F08 {k08}");
+    assert!(
+        !report
+            .problems
+            .iter()
+            .any(|p| p.surface == "C07_bspline" && p.message.contains("no surface is G2 to both")),
+        "{:#?}",
+        report.problems
+    );
+}
+
+/// The saddle fillet of the pipe tee comes as two halves of a ring whose ends lie on each other
+/// with no link between them. Faired apart, each half turned its rows' ends at the seam to its
+/// own corners and the seam opened to 1.1e-2 mm and 1.12°. Now both keep their tangential frame
+/// there, in the fairing stages and in the continuity steps: the seam leaves as it came, and the
+/// G2 the halves miss at their cylinders is named with its reason.
+#[test]
+fn two_halves_of_a_fillet_ring_keep_their_seam() {
+    let Some(m) = model("occt_pipe_tee") else {
+        return;
+    };
+    let (out, report) =
+        fair_model(&m, &RoleMethods::default(), None, &FairParams::default()).unwrap();
+    assert_eq!(out.links, m.links);
+    let seams: Vec<_> = report
+        .edges
+        .iter()
+        .filter(|e| {
+            [
+                "F02_bspline.v0 ~ F05_bspline",
+                "F05_bspline.v0 ~ F02_bspline",
+            ]
+            .contains(&e.label.as_str())
+                || [
+                    "F02_bspline.v1 ~ F05_bspline",
+                    "F05_bspline.v1 ~ F02_bspline",
+                ]
+                .contains(&e.label.as_str())
+        })
+        .collect();
+    assert_eq!(seams.len(), 4, "{:#?}", report.edges);
+    for e in seams {
+        assert!(e.after.gap <= e.before.gap + 1e-12, "{e:?}");
+        assert!(e.after.angle_deg <= e.before.angle_deg + 1e-9, "{e:?}");
+    }
+}
+
 /// Spherical vertex blends (rational 2×2, one side collapsed to a pole) between three fillets
 /// that received their G2 lead-in: the blend takes the fillets' knots along each join
 /// (`g_continuity::transfer`) and reaches G2 on all three sides — every link of the box met,
@@ -228,16 +343,19 @@ fn a_degenerate_corner_keeps_its_normal() {
 /// straight (its axis). The report says so for that link, with the closed-form figure.
 #[test]
 fn a_vertex_conflict_between_masters_is_named_with_its_figure() {
-    let Some(m) = model("occt_corner3_radii") else {
+    // the loft's corner blend C16 meets the fillets F18 and F08 at one corner; there the two
+    // differ in normal curvature across C16's side, and the note gives the difference, which
+    // is checked here against the two masters of the output measured at that corner
+    let Some(m) = model("occt_loft_block") else {
         return;
     };
-    let (_, report) =
+    let (out, report) =
         fair_model(&m, &RoleMethods::default(), None, &FairParams::default()).unwrap();
     let note = report
         .problems
         .iter()
         .find(|p| {
-            p.link.as_deref() == Some("C07_bspline.v1 -> F08_cylinder")
+            p.link.as_deref() == Some("C16_bspline.v0 -> F18_bspline")
                 && p.message.contains("no surface is G2 to both")
         })
         .unwrap_or_else(|| panic!("{:#?}", report.problems));
@@ -248,7 +366,31 @@ fn a_vertex_conflict_between_masters_is_named_with_its_figure() {
         .and_then(|s| s.split(' ').next())
         .and_then(|s| s.parse().ok())
         .unwrap();
-    assert!((figure - 1.0 / 12.0).abs() < 1e-4, "{}", note.message);
+    // the corner of sides v0 and u1
+    let c16 = &out.surfaces[out.find("C16_bspline").unwrap()].surface;
+    let (u1, v0) = (c16.domain_u().1, c16.domain_v().0);
+    let d = c16.derivatives(u1, v0);
+    let params = nurbs_core::ProjectionParams::default();
+    let kappa = |name: &str| {
+        let s = &out.surfaces[out.find(name).unwrap()].surface;
+        let f = nurbs_core::project_to_surface(s, &d.point, &params);
+        let dm = s.derivatives(f.u, f.v);
+        let k = dm.normal_curvature(&d.dv).unwrap();
+        // orientation of the master's normal against the blend's
+        if dm.normal().unwrap().dot(&d.normal().unwrap()) < 0.0 {
+            -k
+        } else {
+            k
+        }
+    };
+    let diff = (kappa("F18_bspline") - kappa("F08_bspline")).abs();
+    assert!(
+        (figure - diff).abs() <= 1e-3 * diff,
+        "{figure} against {diff}: {}",
+        note.message
+    );
+    // a real disagreement (0.18 per mm here), not rounding
+    assert!(diff > 1e-2, "{diff}");
 }
 
 /// `connect` (continuity setting alone) on every kernel model: no link leaves with a larger gap
@@ -360,6 +502,7 @@ fn a_fairing_stage_at_the_top_target_leaves_every_link_as_it_is() {
                 side: l.side,
                 master: &m.surfaces[l.master].surface,
                 target: l.continuity,
+                range: None,
             })
             .collect();
         let Some(top) = links.iter().map(|l| l.target).max() else {

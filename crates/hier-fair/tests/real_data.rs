@@ -164,6 +164,7 @@ fn teapot_perturbed_rows_restored_to_g1_and_g2() {
             side,
             master: &patches[b],
             target: Continuity::G1,
+            range: None,
         })
         .collect();
     let (restored, report) = connect_slave(&perturbed, &links, &ConnectParams::default()).unwrap();
@@ -190,6 +191,7 @@ fn teapot_perturbed_rows_restored_to_g1_and_g2() {
         side: g2_side,
         master,
         target: Continuity::G2,
+        range: None,
     }];
     let (restored, report) = connect_slave(&perturbed, &links, &ConnectParams::default()).unwrap();
     let r = &report.sides[0];

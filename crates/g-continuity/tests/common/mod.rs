@@ -115,6 +115,7 @@ pub fn connect_one(
             side,
             master,
             target,
+            range: None,
         }],
         &ConnectParams::default(),
     )

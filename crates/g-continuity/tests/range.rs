@@ -1,0 +1,83 @@
+//! A link over part of a side (`SideLink::range`): a trimmed face's side lies on the surface it
+//! meets only up to the trim. Closed-form case: an exact rational quarter cylinder of radius r
+//! whose side v = 0 is the line (r, 0, z), tangent to the plane x = r, against a plane patch that
+//! ends at z = 0.6 h — the side lies on it over the first 60 % only.
+
+use g_continuity::measure::measure_link_on;
+use g_continuity::{ConnectParams, MeasureParams, SideLink, connect_slave, measure_link};
+use nurbs_core::shapes::{cylinder, plane_patch};
+use nurbs_core::{Continuity, Direction, Point3, Side, Vector3};
+
+const R: f64 = 5.0;
+const H: f64 = 40.0;
+
+fn pair() -> (nurbs_core::BSplineSurface, nurbs_core::BSplineSurface) {
+    // u along z (degree 1, split at quarters so that the far end has its own control points), v
+    // around; the plane x = R over y ∈ [-H, H], z ∈ [0, 0.6 H]
+    let cyl = cylinder(R, H)
+        .unwrap()
+        .refine(Direction::U, &[0.25, 0.5, 0.75])
+        .unwrap();
+    let plane = plane_patch(
+        Point3::new(R, 0.0, 0.0),
+        Vector3::new(0.0, 1.0, 0.0),
+        Vector3::new(0.0, 0.0, 1.0),
+        (-H, H),
+        (0.0, 0.6 * H),
+    )
+    .unwrap();
+    (cyl, plane)
+}
+
+#[test]
+fn g2_over_part_of_a_side_holds_there_and_leaves_the_rest() {
+    let (cyl, plane) = pair();
+    let link = SideLink {
+        side: Side::V0,
+        master: &plane,
+        target: Continuity::G2,
+        range: Some((0.0, 0.6)),
+    };
+    let params = ConnectParams::default();
+    // before: on the plane and tangent over the part, curvature 1/R against 0
+    let m = MeasureParams::default();
+    let before = measure_link_on(&plane, &cyl, Side::V0, link.range, &m).unwrap();
+    assert!(
+        before.g0 < 1e-12 && before.g1_deg.unwrap() < 1e-9,
+        "{before:?}"
+    );
+    assert!(before.g2_rel.unwrap() > 0.99, "{before:?}");
+    let (set, report) = connect_slave(&cyl, &[link], &params).unwrap();
+    assert!(report.sides[0].met, "{:?}", report.sides[0]);
+    let t = params.tolerances;
+    let after = link.measure(&set, &m).unwrap();
+    assert!(after.g0 <= t.g0, "{after:?}");
+    assert!(after.g1_deg.unwrap() <= t.g1_deg, "{after:?}");
+    assert!(after.g2_rel.unwrap() <= t.g2_rel, "{after:?}");
+    // past the part the boundary was not pulled onto the plane's edge: the whole side's gap is
+    // still the 0.4 H it runs past the patch
+    let whole = measure_link(&plane, &set, Side::V0, &m).unwrap();
+    assert!((whole.g0 - 0.4 * H).abs() < 1e-9 * H, "{}", whole.g0);
+    // and the far end, whose control points no basis function of the part reaches, is exactly
+    // the cylinder's
+    for k in 0..=8 {
+        let v = set.domain_v().0 + (set.domain_v().1 - set.domain_v().0) * k as f64 / 8.0;
+        let (a, b) = (cyl.point(1.0, v), set.point(1.0, v));
+        assert!((a - b).norm() < 1e-12 * H, "v = {v}: {a:?} against {b:?}");
+    }
+}
+
+#[test]
+fn a_range_outside_the_side_is_clipped_to_it() {
+    let (cyl, plane) = pair();
+    let link = SideLink {
+        side: Side::V0,
+        master: &plane,
+        target: Continuity::G1,
+        range: Some((-3.0, 0.6)),
+    };
+    assert_eq!(link.domain(&cyl), (0.0, 0.6));
+    let m = link.measure(&cyl, &MeasureParams::default()).unwrap();
+    assert!(m.g0 < 1e-12, "{m:?}");
+    assert_eq!(m.detail[0].t, 0.0);
+}
