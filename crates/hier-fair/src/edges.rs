@@ -350,10 +350,7 @@ fn edge_range(model: &Model, e: &SharedEdge) -> (f64, f64) {
 /// had to meet the earlier one and its own masters at the same corners, and its curvature to
 /// them ended 4× the input's). A link that would close a cycle of the hierarchy is not added.
 /// Edges that become no link are kept as they came.
-pub fn link_edges(
-    model: &Model,
-    edges: &[SharedEdge],
-) -> (Model, Vec<FoundLink>, Vec<Range>) {
+pub fn link_edges(model: &Model, edges: &[SharedEdge]) -> (Model, Vec<FoundLink>, Vec<Range>) {
     let mut work = model.clone();
     let mut ranges = vec![None; model.links.len()];
     let mut found = Vec::new();
