@@ -181,8 +181,10 @@ pub fn regress_line(name: &str, report: &hier_fair::FairModelReport) -> String {
     let (eb, ea) = report.surfaces.iter().fold((0.0, 0.0), |(a, b), s| {
         (a + s.energy_before, b + s.energy_after)
     });
+    // shared edges no link covers (hier_fair::edges) that leave worse, of all of them
+    let edges_worse = report.edges.iter().filter(|e| e.worse).count();
     format!(
-        "{:<28} {:>4} {:>4}/{:<4} {:>10.3e} {:>10.3e} {:>10.3e} {:>10.3e} {:>+8.1}% {:>8.3} {:>4}",
+        "{:<28} {:>4} {:>4}/{:<4} {:>10.3e} {:>10.3e} {:>10.3e} {:>10.3e} {:>+8.1}% {:>8.3} {:>4} {:>5}/{:<5}",
         name,
         report.surfaces.len(),
         met,
@@ -197,12 +199,14 @@ pub fn regress_line(name: &str, report: &hier_fair::FairModelReport) -> String {
             0.0
         },
         report.seconds_total,
-        report.problems.len()
+        report.problems.len(),
+        edges_worse,
+        report.edges.len()
     )
 }
 
 /// Header of [`regress_line`].
-pub const REGRESS_HEADER: &str = "model                        surf  met/links        gap     angle°   curv.rel  deviation   energy  seconds  probl";
+pub const REGRESS_HEADER: &str = "model                        surf  met/links        gap     angle°   curv.rel  deviation   energy  seconds probl edges worse/all";
 
 /// The models made by Open CASCADE for this project, in the order of `fixtures/occt/index.json`
 /// (see the directory's README): the one list the tests and the regression run share.

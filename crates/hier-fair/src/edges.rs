@@ -81,14 +81,30 @@ pub struct EdgeFair {
     pub before: EdgeMeasure,
     /// measured on the result
     pub after: EdgeMeasure,
+    /// whether it leaves with a larger gap or angle than it came in with (beyond the model's
+    /// G0 / G1 tolerances)
+    pub worse: bool,
 }
 
 impl EdgeFair {
-    /// Whether the result's gap or angle exceed the input's by more than the model's G0 and G1
-    /// tolerances (a change below them is no change a link could see).
-    pub fn worse(&self, g0: f64, g1_deg: f64) -> bool {
-        self.after.gap > self.before.gap + g0
-            || self.after.angle_deg > self.before.angle_deg + g1_deg
+    /// An edge's record; `worse` when the result's gap or angle exceed the input's by more than
+    /// `g0` or `g1_deg` (the model's tolerances: a change below them is none a link could see).
+    pub fn new(
+        surface: String,
+        label: String,
+        fraction: f64,
+        (before, after): (EdgeMeasure, EdgeMeasure),
+        (g0, g1_deg): (f64, f64),
+    ) -> Self {
+        let worse = after.gap > before.gap + g0 || after.angle_deg > before.angle_deg + g1_deg;
+        Self {
+            surface,
+            label,
+            fraction,
+            before,
+            after,
+            worse,
+        }
     }
 }
 

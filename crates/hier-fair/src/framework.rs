@@ -454,24 +454,22 @@ pub fn fair_model_with(
     for f in &found {
         let l = &report.links[f.link];
         if let (Some(b), Some(a)) = (&l.before, &l.after) {
-            report.edges.push(crate::edges::EdgeFair {
-                surface: model.surfaces[model.links[f.link].slave].name.clone(),
-                label: format!(
+            let measure = |m: &LinkMeasure| crate::edges::EdgeMeasure {
+                gap: m.g0,
+                angle_deg: m.g1_deg.unwrap_or(0.0),
+            };
+            report.edges.push(crate::edges::EdgeFair::new(
+                model.surfaces[model.links[f.link].slave].name.clone(),
+                format!(
                     "{} (linked {:?}: {:.0} % of the side lies on it)",
                     f.label,
                     l.target,
                     100.0 * f.fraction
                 ),
-                fraction: f.fraction,
-                before: crate::edges::EdgeMeasure {
-                    gap: b.g0,
-                    angle_deg: b.g1_deg.unwrap_or(0.0),
-                },
-                after: crate::edges::EdgeMeasure {
-                    gap: a.g0,
-                    angle_deg: a.g1_deg.unwrap_or(0.0),
-                },
-            });
+                f.fraction,
+                (measure(b), measure(a)),
+                (t.g0, t.g1_deg),
+            ));
         }
     }
     report.links.truncate(given.links.len());
@@ -529,22 +527,21 @@ pub fn fair_model_with(
             &out.surfaces[e.surface].surface,
             &out.surfaces[e.other].surface,
         );
-        let fair = crate::edges::EdgeFair {
-            surface: model.surfaces[e.surface].name.clone(),
-            label: format!(
+        report.edges.push(crate::edges::EdgeFair::new(
+            model.surfaces[e.surface].name.clone(),
+            format!(
                 "{}.{} ~ {}",
                 model.surfaces[e.surface].name,
                 e.side.name(),
                 model.surfaces[e.other].name
             ),
-            fraction: e.fraction,
-            before,
-            after,
-        };
-        report.edges.push(fair);
+            e.fraction,
+            (before, after),
+            (t.g0, t.g1_deg),
+        ));
     }
     for fair in &report.edges {
-        if fair.worse(t.g0, t.g1_deg) {
+        if fair.worse {
             report.problems.push(Problem {
                 kind: ProblemKind::Limited,
                 surface: fair.surface.clone(),

@@ -90,6 +90,7 @@ pub fn report_json(report: &FairModelReport) -> Value {
             "fraction": e.fraction,
             "before": {"g0": e.before.gap, "g1_deg": e.before.angle_deg},
             "after": {"g0": e.after.gap, "g1_deg": e.after.angle_deg},
+            "worse": e.worse,
         })).collect::<Vec<_>>(),
     })
 }
