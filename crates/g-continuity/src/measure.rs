@@ -28,7 +28,7 @@
 use nurbs_core::{BSplineSurface, Direction, ProjectionParams, Side, SurfaceDerivatives, Vector3};
 
 use crate::error::{Error, Result};
-use crate::sampling::{MasterTracker, uniform_side_params};
+use crate::sampling::{MasterTracker, uniform_part_params};
 
 /// A side whose control row spans less than this fraction of the slave size is a point (the
 /// kernel's value, one for the workspace).
@@ -168,15 +168,7 @@ pub fn measure_link_on(
     range: Option<(f64, f64)>,
     params: &MeasureParams,
 ) -> Result<LinkMeasure> {
-    let mut ts = uniform_side_params(slave, side, params.samples)?;
-    if let Some((x, y)) = range {
-        let (a, b) = side.along_domain(slave);
-        let (x, y) = (x.max(a).min(b), y.min(b).max(a));
-        let n = ts.len();
-        ts = (0..n)
-            .map(|i| x + (y - x) * i as f64 / (n - 1) as f64)
-            .collect();
-    }
+    let ts = uniform_part_params(slave, side, range, params.samples)?;
     let flat = params
         .flat_curvature
         .unwrap_or(1.0 / (FLAT_RADIUS_FACTOR * slave.size().max(f64::MIN_POSITIVE)));

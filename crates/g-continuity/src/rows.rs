@@ -155,9 +155,8 @@ pub fn solve_row_in(
     movable: &[bool],
     params: &SetParams,
 ) -> Result<RowMove> {
-    let ranged: Option<Vec<f64>> = range.map(|(x, y)| {
-        let (a, b) = side.along_domain(slave);
-        let (x, y) = (x.max(a).min(b), y.min(b).max(a));
+    let ranged: Option<Vec<f64>> = range.map(|_| {
+        let (x, y) = crate::sampling::side_part(slave, side, range);
         let mut ts: Vec<f64> = vec![x];
         ts.extend(
             solve_side_params(slave, side, params.samples_per_span, params.min_samples)

@@ -52,6 +52,33 @@ pub fn uniform_side_params(slave: &BSplineSurface, side: Side, count: usize) -> 
         .collect())
 }
 
+/// The along-side parameter interval of `range` clipped to `side`'s domain (`None`: the whole
+/// domain) — the part of the side a link over part of it holds on (`SideLink::range`).
+pub fn side_part(slave: &BSplineSurface, side: Side, range: Option<(f64, f64)>) -> (f64, f64) {
+    let (a, b) = side.along_domain(slave);
+    match range {
+        Some((x, y)) => (x.max(a).min(b), y.min(b).max(a)),
+        None => (a, b),
+    }
+}
+
+/// `count` parameters spread uniformly over `side_part(slave, side, range)`, both ends included.
+pub fn uniform_part_params(
+    slave: &BSplineSurface,
+    side: Side,
+    range: Option<(f64, f64)>,
+    count: usize,
+) -> Result<Vec<f64>> {
+    let mut ts = uniform_side_params(slave, side, count)?;
+    if range.is_some() {
+        let (x, y) = side_part(slave, side, range);
+        for (i, t) in ts.iter_mut().enumerate() {
+            *t = x + (y - x) * i as f64 / (count - 1) as f64;
+        }
+    }
+    Ok(ts)
+}
+
 /// Parameters for solving: `per_span` samples in every non-empty knot span of the along direction
 /// (the span start included) plus the domain end, and never fewer than `min_total` (then uniform).
 pub fn solve_side_params(

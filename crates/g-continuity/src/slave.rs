@@ -75,11 +75,7 @@ impl SideLink<'_> {
     /// The along-side parameter interval the link holds on: its [`SideLink::range`] clipped to
     /// the side's domain, or the whole domain.
     pub fn domain(&self, slave: &BSplineSurface) -> (f64, f64) {
-        let (a, b) = self.side.along_domain(slave);
-        match self.range {
-            Some((x, y)) => (x.max(a).min(b), y.min(b).max(a)),
-            None => (a, b),
-        }
+        crate::sampling::side_part(slave, self.side, self.range)
     }
 
     /// Measures the link on `slave` (over its range).

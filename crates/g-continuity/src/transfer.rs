@@ -29,7 +29,7 @@ use nurbs_core::{BSplineSurface, Direction, ProjectionParams};
 use crate::error::Result;
 use crate::lead_in::LEAD_IN_DEGREE;
 use crate::measure::is_collapsed;
-use crate::sampling::{MasterTracker, uniform_side_params};
+use crate::sampling::MasterTracker;
 use crate::slave::{SideLink, new_knots};
 
 /// Samples along a side used to bracket the master knots (a bracket per 1/64 of the side: the
@@ -177,15 +177,8 @@ fn master_along(
     tracker: &mut MasterTracker,
 ) -> Option<MasterAlong> {
     let master = link.master;
-    let (a, b) = link.domain(slave);
-    let ts: Vec<f64> = uniform_side_params(slave, link.side, TRANSFER_SAMPLES)
-        .ok()?
-        .into_iter()
-        .map(|t| {
-            let (c, d) = link.side.along_domain(slave);
-            a + (b - a) * (t - c) / (d - c)
-        })
-        .collect();
+    let ts = crate::sampling::uniform_part_params(slave, link.side, link.range, TRANSFER_SAMPLES)
+        .ok()?;
     let mut feet = Vec::with_capacity(ts.len());
     for t in ts {
         let (u, v) = link.side.params(slave, t);

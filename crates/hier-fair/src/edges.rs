@@ -204,6 +204,21 @@ pub fn shared_edges(model: &Model) -> Vec<SharedEdge> {
     out
 }
 
+/// The edges of `edges` that `model` (the model with its found links, [`link_edges`]) does not
+/// link: the side is no linked side, and the other surface is no slave of it — what
+/// [`shared_edges`] finds on that model, without searching again.
+pub fn not_linked(edges: Vec<SharedEdge>, model: &Model) -> Vec<SharedEdge> {
+    edges
+        .into_iter()
+        .filter(|e| {
+            !model.links.iter().any(|l| {
+                (l.slave == e.surface && l.side == e.side)
+                    || (l.slave == e.other && l.master == e.surface)
+            })
+        })
+        .collect()
+}
+
 /// Gap and normal angle of `edge` between `surface` and `other` (as they are now), over the
 /// edge's samples.
 pub fn measure_edge(
@@ -271,25 +286,23 @@ pub fn carrying_points(
                     vec![n - 1, n.saturating_sub(2)]
                 }
             };
+            // on a boundary: its rows 0 and 1 within the support along it
             let mut boundary = false;
-            for (hit, idx) in [
-                (on(f.u, u0, u1), rows(nu, true)),
-                (on(f.u, u1, u0), rows(nu, false)),
+            for (hit, rows, along_u) in [
+                (on(f.u, u0, u1), rows(nu, true), false),
+                (on(f.u, u1, u0), rows(nu, false), false),
+                (on(f.v, v0, v1), rows(nv, true), true),
+                (on(f.v, v1, v0), rows(nv, false), true),
             ] {
                 if hit {
                     boundary = true;
-                    idx.iter()
-                        .for_each(|&i| vs.iter().for_each(|&j| push(i, j)));
-                }
-            }
-            for (hit, idx) in [
-                (on(f.v, v0, v1), rows(nv, true)),
-                (on(f.v, v1, v0), rows(nv, false)),
-            ] {
-                if hit {
-                    boundary = true;
-                    idx.iter()
-                        .for_each(|&j| us.iter().for_each(|&i| push(i, j)));
+                    for &r in &rows {
+                        if along_u {
+                            us.iter().for_each(|&i| push(i, r));
+                        } else {
+                            vs.iter().for_each(|&j| push(r, j));
+                        }
+                    }
                 }
             }
             if !boundary {

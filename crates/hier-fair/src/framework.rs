@@ -359,10 +359,11 @@ pub fn fair_model_with(
     // side that lies on the other surface; kept out of the output model and reported with the
     // edges), the rest are kept as they came
     let given = model;
-    let (work, found, ranges) = crate::edges::link_edges(given, &crate::edges::shared_edges(given));
+    let all_edges = crate::edges::shared_edges(given);
+    let (work, found, ranges) = crate::edges::link_edges(given, &all_edges);
     let model = &work;
     let before = measure_links(model, &ranges, &connect);
-    let edges = crate::edges::shared_edges(model);
+    let edges = crate::edges::not_linked(all_edges, model);
     let edges_before: Vec<_> = edges
         .iter()
         .map(|e| {
