@@ -183,8 +183,15 @@ pub fn regress_line(name: &str, report: &hier_fair::FairModelReport) -> String {
     });
     // shared edges no link covers (hier_fair::edges) that leave worse, of all of them
     let edges_worse = report.edges.iter().filter(|e| e.worse).count();
+    // the largest normal jump across a C0 knot line inside a surface of the result
+    // (nurbs_core::creases): a kernel's arcs joined by double knots stay as smooth as they came
+    let crease = report
+        .surfaces
+        .iter()
+        .map(|s| s.crease_deg.1)
+        .fold(0.0, f64::max);
     format!(
-        "{:<28} {:>4} {:>4}/{:<4} {:>10.3e} {:>10.3e} {:>10.3e} {:>10.3e} {:>+8.1}% {:>8.3} {:>4} {:>5}/{:<5}",
+        "{:<28} {:>4} {:>4}/{:<4} {:>10.3e} {:>10.3e} {:>10.3e} {:>10.3e} {:>+8.1}% {:>8.3} {:>4} {:>5}/{:<5} {:>9.2e}",
         name,
         report.surfaces.len(),
         met,
@@ -201,12 +208,13 @@ pub fn regress_line(name: &str, report: &hier_fair::FairModelReport) -> String {
         report.seconds_total,
         report.problems.len(),
         edges_worse,
-        report.edges.len()
+        report.edges.len(),
+        crease
     )
 }
 
 /// Header of [`regress_line`].
-pub const REGRESS_HEADER: &str = "model                        surf  met/links        gap     angle°   curv.rel  deviation   energy  seconds probl edges worse/all";
+pub const REGRESS_HEADER: &str = "model                        surf  met/links        gap     angle°   curv.rel  deviation   energy  seconds probl edges worse/all  crease°";
 
 /// The models made by Open CASCADE for this project, in the order of `fixtures/occt/index.json`
 /// (see the directory's README): the one list the tests and the regression run share.

@@ -644,6 +644,25 @@ fn prepare(
             }
         }
     }
+    // the refinement rounds insert knots along the linked sides ([`Refiner`], the master's
+    // knots too): a low-degree along direction (a plane's, a cylinder's axis) is raised first,
+    // so that those knots do not become creases once the rows move (nurbs-core's
+    // SMOOTH_JOIN_DEGREE)
+    for l in links {
+        let dir = l.side.along_direction();
+        let degree = match dir {
+            Direction::U => s.degree_u(),
+            Direction::V => s.degree_v(),
+        };
+        if degree < nurbs_core::ops::SMOOTH_JOIN_DEGREE {
+            s = s.with_smooth_joins(dir)?;
+            let by = nurbs_core::ops::SMOOTH_JOIN_DEGREE - degree;
+            match dir {
+                Direction::U => report.degree_elevation.0 += by,
+                Direction::V => report.degree_elevation.1 += by,
+            }
+        }
+    }
     if let Some(width) = lead_in {
         let (more, lead) = crate::lead_in::with_lead_in(&s, links, width)?;
         s = more;
@@ -675,7 +694,7 @@ fn prepare(
     ] {
         let need =
             levels[side_index(a)].map_or(1, |l| l + 1) + levels[side_index(b)].map_or(1, |l| l + 1);
-        let (more, inserted) = s.with_control_count(dir, need)?;
+        let (more, inserted) = s.with_smooth_control_count(dir, need)?;
         s = more;
         report.knots_inserted += inserted;
     }

@@ -3,7 +3,7 @@
 
 use anyhow::{Result, anyhow};
 use g_continuity::{LinkMeasure, MeasureParams};
-use hier_fair::{LinkCheck, Model, Preset, measure_model};
+use hier_fair::{LinkCheck, Model, Preset, SurfaceJoins, measure_model, surface_joins};
 use serde_json::{Value, json};
 
 /// What `check` prints and whether a preset was exceeded (exit code 1).
@@ -43,20 +43,27 @@ pub fn run(
         .iter()
         .map(|c| preset.is_some_and(|p| p.exceeded_by(c)))
         .collect();
-    let exceeded = flags.iter().any(|&f| f);
+    // the surfaces' own C0 knot lines: a normal jump across one is a G1 break inside the
+    // surface, judged against the preset's angle like a link's
+    let joins = surface_joins(&model);
+    let join_flags: Vec<bool> = joins
+        .iter()
+        .map(|j| preset.is_some_and(|p| j.crease_deg.is_some_and(|d| d > p.g1_deg)))
+        .collect();
+    let exceeded = flags.iter().chain(&join_flags).any(|&f| f);
     let text = if as_json {
-        serde_json::to_string_pretty(&checks_json(
-            &model,
-            &checks,
-            preset.map(|_| flags.as_slice()),
-        ))? + "\n"
+        let mut v = checks_json(&model, &checks, preset.map(|_| flags.as_slice()));
+        if !joins.is_empty() {
+            v["surfaces"] = joins_json(&joins, preset.map(|_| join_flags.as_slice()));
+        }
+        serde_json::to_string_pretty(&v)? + "\n"
     } else {
         table(
             &model,
             &checks,
             preset.map(|_| flags.as_slice()),
             fail_above,
-        )
+        ) + &joins_table(&joins, preset.map(|_| join_flags.as_slice()), fail_above)
     };
     Ok(CheckOutcome { text, exceeded })
 }
@@ -179,5 +186,43 @@ fn table(
         "model tolerances: g0 {} · g1 {}° · g2 {}\n",
         t.g0, t.g1_deg, t.g2_rel
     );
+    out
+}
+
+fn joins_json(joins: &[SurfaceJoins], flags: Option<&[bool]>) -> Value {
+    let list: Vec<Value> = joins
+        .iter()
+        .enumerate()
+        .map(|(k, j)| {
+            let mut v = json!({
+                "name": j.name,
+                "knot_lines": j.lines,
+                "crease_deg": opt(j.crease_deg),
+            });
+            if let Some(f) = flags {
+                v["exceeded"] = json!(f[k]);
+            }
+            v
+        })
+        .collect();
+    Value::Array(list)
+}
+
+fn joins_table(joins: &[SurfaceJoins], flags: Option<&[bool]>, preset: Option<&str>) -> String {
+    let mut out = String::new();
+    for (k, j) in joins.iter().enumerate() {
+        let note = match (flags, preset) {
+            (Some(f), Some(p)) if f[k] => format!("  EXCEEDS {p}"),
+            (Some(_), Some(p)) => format!("  ok for {p}"),
+            _ => String::new(),
+        };
+        out += &format!(
+            "surface {}: {} C0 knot line(s), largest normal jump across them {}°{}\n",
+            j.name,
+            j.lines,
+            fmt_opt(j.crease_deg, 3),
+            note
+        );
+    }
     out
 }

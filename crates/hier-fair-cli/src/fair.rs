@@ -156,6 +156,13 @@ pub fn fair_surfaces(
                 (prepared, mask)
             }
         };
+        // the surface's own tangent-continuous C0 knot lines (rational arcs joined by double
+        // knots) keep their three columns, as in the framework's stages
+        let mut mask = mask;
+        let g1 = hier_fair::ModelTolerances::default().g1_deg;
+        for (i, j) in hier_fair::framework::smooth_join_points(&surfaces[k], &s, g1) {
+            mask.set_free(i, j, false);
+        }
         let s = &s;
         // checked against the contract: a result that moves a fixed point or leaves the
         // tolerance is an error, never an output

@@ -128,3 +128,45 @@ pub fn measure_model(model: &Model, params: &MeasureParams) -> Result<Vec<LinkCh
         .collect::<Result<_>>()?;
     Ok(checks)
 }
+
+/// The C⁰ knot lines inside one surface ([`nurbs_core::creases`]) and how far the normal turns
+/// across them: a join between a kernel's rational arcs, or a crease a method made. `check`
+/// reports them beside the links, so a surface that is no longer tangent continuous inside
+/// shows even where every link is met.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SurfaceJoins {
+    /// index into `model.surfaces`
+    pub surface: usize,
+    /// its name
+    pub name: String,
+    /// number of C⁰ knot lines
+    pub lines: usize,
+    /// the largest normal jump across them (degrees); `None` where no sample has normals on
+    /// both sides
+    pub crease_deg: Option<f64>,
+}
+
+/// The surfaces of `model` that have C⁰ knot lines, with the largest normal jump across them
+/// (in parallel).
+pub fn surface_joins(model: &Model) -> Vec<SurfaceJoins> {
+    (0..model.surfaces.len())
+        .into_par_iter()
+        .filter_map(|k| {
+            let s = &model.surfaces[k].surface;
+            let lines = nurbs_core::creases::knot_lines(s);
+            if lines.is_empty() {
+                return None;
+            }
+            let crease_deg = lines
+                .iter()
+                .filter_map(|l| nurbs_core::creases::crease_deg(s, l))
+                .fold(None, |a: Option<f64>, d| Some(a.map_or(d, |a| a.max(d))));
+            Some(SurfaceJoins {
+                surface: k,
+                name: model.surfaces[k].name.clone(),
+                lines: lines.len(),
+                crease_deg,
+            })
+        })
+        .collect()
+}

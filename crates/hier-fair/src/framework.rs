@@ -227,6 +227,9 @@ pub struct SurfaceFair {
     pub stages: Vec<StageReport>,
     /// false when the surface was left as it was (see the problems)
     pub processed: bool,
+    /// the largest normal jump (degrees) across the C⁰ knot lines of the input and of the
+    /// result ([`nurbs_core::creases`]; 0 without such lines)
+    pub crease_deg: (f64, f64),
 }
 
 /// Kind of a reported problem.
@@ -768,7 +771,27 @@ impl Job<'_> {
                 amount: Some(energy_after / energy_before),
             });
         }
+        // the surface's own joins: C⁰ knot lines (rational arcs joined by double knots) stay
+        // as smooth as they came ([`smooth_join_points`]); a result whose joins turn more than
+        // the input's and the G1 tolerance is a defect the report names
+        let crease_deg = (
+            nurbs_core::creases::largest_crease_deg(original),
+            nurbs_core::creases::largest_crease_deg(&surface),
+        );
+        if crease_deg.1 > crease_deg.0.max(t.g1_deg) {
+            problems.push(Problem {
+                kind: ProblemKind::Limited,
+                surface: entry.name.clone(),
+                link: None,
+                message: format!(
+                    "a C0 knot line inside it turns the normal by {:.3e}° (input {:.3e}°, G1 tolerance {:.3e}°)",
+                    crease_deg.1, crease_deg.0, t.g1_deg
+                ),
+                amount: Some(crease_deg.1),
+            });
+        }
         let report = SurfaceFair {
+            crease_deg,
             surface: self.surface,
             name: entry.name.clone(),
             role: entry.role,
@@ -1482,6 +1505,15 @@ impl Job<'_> {
         })
     }
 
+    /// Whether this surface came in as a plane (thin-plate energy exactly 0: a kernel's
+    /// bilinear patch) and `s` is still that surface: rows added to it (a degree raised, knots
+    /// inserted) give an energy of rounding size (1e-28), which no method can lower.
+    fn still_a_plane(&self, s: &BSplineSurface) -> bool {
+        thin_plate_energy(self.start) == 0.0
+            && max_deviation(self.start, s, self.params.deviation_grid)
+                <= UNCHANGED_RELATIVE * self.start.size()
+    }
+
     /// One fairing stage keeping `level` on `s` within `eps`: the stage mask, this surface's
     /// master frames and interior join points fixed. `None` when nothing is free, `eps` is 0, or
     /// the thin-plate energy of `s` is 0 (a plane: S_uu = S_uv = S_vv = 0 everywhere, no surface
@@ -1509,12 +1541,15 @@ impl Job<'_> {
         for (i, j) in crate::edges::carrying_points(self.edges, self.surface, s, self.model) {
             mask.set_free(i, j, false);
         }
+        for (i, j) in smooth_join_points(self.start, s, self.connect.tolerances.g1_deg) {
+            mask.set_free(i, j, false);
+        }
         if mask.free_count() == 0 || eps <= 0.0 {
             return Ok(None);
         }
         // (the energy of `s` as the caller's stage record has it, when it has)
         let before = energy_of_s.unwrap_or_else(|| thin_plate_energy(s));
-        if before <= 0.0 {
+        if before <= 0.0 || self.still_a_plane(s) {
             return Ok(None);
         }
         // checked: a method that moves a fixed point or leaves ε is not used; the stage measures
@@ -1838,6 +1873,43 @@ pub fn stage_mask(surface: &BSplineSurface, links: &[SideLink], level: Continuit
     mask
 }
 
+/// The control points of `s` on the three columns of every C⁰ knot line
+/// ([`nurbs_core::creases`]) across which `start` — the surface as it came in, same
+/// parametrization — is tangent continuous (normal jump within `g1_deg`, or no normal there):
+/// a kernel's rational arcs joined by double knots. The tangent plane across such a line rests
+/// on those columns staying collinear, which a fairing method that moves points one by one does
+/// not keep (a torus of three arcs came out of the local scheme with 7.4° creases); fixed, the
+/// join stays exactly as it came. A line that was already a crease in `start` (C⁰-joined
+/// Bézier patches) is left to the method, which may make it C¹ ([H] part ②).
+pub fn smooth_join_points(
+    start: &BSplineSurface,
+    s: &BSplineSurface,
+    g1_deg: f64,
+) -> Vec<(usize, usize)> {
+    let (nu, nv) = (s.num_u(), s.num_v());
+    let mut out = Vec::new();
+    for line in nurbs_core::creases::knot_lines(s) {
+        if nurbs_core::creases::crease_deg(start, &line).is_some_and(|d| d > g1_deg) {
+            continue;
+        }
+        let (count, across) = match line.direction {
+            Direction::U => (nu, nv),
+            Direction::V => (nv, nu),
+        };
+        let first = line.column.saturating_sub(1);
+        let last = (line.column + 1).min(count - 1);
+        for k in first..=last {
+            for j in 0..across {
+                out.push(match line.direction {
+                    Direction::U => (k, j),
+                    Direction::V => (j, k),
+                });
+            }
+        }
+    }
+    out
+}
+
 /// The knots of the sorted `superset` that the sorted `subset` lacks (with multiplicity).
 fn missing_knots(subset: &[f64], superset: &[f64]) -> Vec<f64> {
     let mut out = Vec::new();
@@ -1866,7 +1938,7 @@ fn free_rows(
     ] {
         let need =
             fixed_rows(links, a, Continuity::G2) + fixed_rows(links, b, Continuity::G2) + min_free;
-        let (more, k) = s.with_control_count(dir, need)?;
+        let (more, k) = s.with_smooth_control_count(dir, need)?;
         s = more;
         inserted += k;
     }

@@ -41,7 +41,9 @@ pub mod report;
 pub mod synthetic;
 
 pub use build::{BuildLog, build_hierarchy};
-pub use check::{LinkCheck, Preset, TOUCH_FACTOR, check_model, measure_model};
+pub use check::{
+    LinkCheck, Preset, SurfaceJoins, TOUCH_FACTOR, check_model, measure_model, surface_joins,
+};
 pub use connect::{ConnectOptions, LinkConnect, ModelConnectReport, SurfaceConnect, connect};
 pub use error::{Error, Result};
 pub use framework::{

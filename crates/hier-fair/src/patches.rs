@@ -142,7 +142,7 @@ pub fn prepared_patch(
         (Direction::U, Side::U0, Side::U1),
         (Direction::V, Side::V0, Side::V1),
     ] {
-        let (more, k) = s.with_control_count(dir, rows(a) + rows(b) + min_free)?;
+        let (more, k) = s.with_smooth_control_count(dir, rows(a) + rows(b) + min_free)?;
         s = more;
         inserted += k;
     }

@@ -38,6 +38,8 @@ pub fn report_json(report: &FairModelReport) -> Value {
                 "seconds": s.seconds,
                 "knots_inserted": s.knots_inserted,
                 "processed": s.processed,
+                "crease_deg_before": s.crease_deg.0,
+                "crease_deg_after": s.crease_deg.1,
                 "stages": s.stages.iter().map(|st| json!({
                     "stage": st.stage.name(),
                     "max_move": if st.max_move.is_finite() { json!(st.max_move) } else { Value::Null },

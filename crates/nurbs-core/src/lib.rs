@@ -26,6 +26,7 @@
 
 pub mod banded;
 pub mod basis;
+pub mod creases;
 pub mod curve;
 pub mod diffgeom;
 pub mod energy;

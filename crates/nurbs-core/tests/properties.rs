@@ -132,6 +132,22 @@ proptest! {
         prop_assert!(max_gap(&s, &more, 23) < 1e-12);
     }
 
+    /// Rows for moving points: a direction below degree 3 is raised before knots go in, so no
+    /// inserted knot is a C0 join (a crease once the points move); the surface stays.
+    #[test]
+    fn smooth_rows_up_to_a_control_count_keep_the_surface_and_make_no_joins(seed in 0u64..10_000, extra in 1usize..6) {
+        let s = random_surface(seed, 1..=5, 9, false);
+        let want = s.num_v() + extra;
+        let (more, _) = s.with_smooth_control_count(Direction::V, want).unwrap();
+        prop_assert!(more.num_v() >= want);
+        prop_assert!(more.degree_v() >= s.degree_v().max(nurbs_core::ops::SMOOTH_JOIN_DEGREE));
+        prop_assert!(max_gap(&s, &more, 23) < 1e-12);
+        // every knot line of full multiplicity was one of the input's (elevation keeps those)
+        let lines = nurbs_core::creases::knot_lines(&more);
+        let before = nurbs_core::creases::knot_lines(&s);
+        prop_assert!(lines.iter().all(|l| before.iter().any(|b| b.direction == l.direction && b.knot == l.knot)));
+    }
+
     #[test]
     fn removing_an_inserted_knot_gives_back_the_original(seed in 0u64..10_000, rational in any::<bool>(), t in 0.01f64..0.99) {
         let s = random_surface(seed, 1..=5, 9, rational);
