@@ -148,9 +148,9 @@ mod tests {
         assert!((largest_crease_deg(&bent) - d).abs() < 1e-9);
     }
 
-    #[test]
-    fn simple_knots_are_no_joins() {
-        let s = shapes::plane_patch(
+    /// The bilinear unit square in z = 0 (degree 1 both ways, as kernels write planes).
+    fn unit_plane() -> BSplineSurface {
+        shapes::plane_patch(
             Point3::origin(),
             Vector3::x(),
             Vector3::y(),
@@ -158,10 +158,15 @@ mod tests {
             (0.0, 1.0),
         )
         .unwrap()
-        .with_smooth_joins(Direction::U)
-        .unwrap()
-        .refine(Direction::U, &[0.25, 0.5])
-        .unwrap();
+    }
+
+    #[test]
+    fn simple_knots_are_no_joins() {
+        let s = unit_plane()
+            .with_smooth_joins(Direction::U)
+            .unwrap()
+            .refine(Direction::U, &[0.25, 0.5])
+            .unwrap();
         assert!(knot_lines(&s).is_empty());
         assert_eq!(largest_crease_deg(&s), 0.0);
     }
@@ -170,16 +175,7 @@ mod tests {
     /// points stay collinear.
     #[test]
     fn a_knot_in_a_degree_one_direction_is_a_join() {
-        let s = shapes::plane_patch(
-            Point3::origin(),
-            Vector3::x(),
-            Vector3::y(),
-            (0.0, 1.0),
-            (0.0, 1.0),
-        )
-        .unwrap()
-        .refine(Direction::U, &[0.5])
-        .unwrap();
+        let s = unit_plane().refine(Direction::U, &[0.5]).unwrap();
         let lines = knot_lines(&s);
         assert_eq!(lines.len(), 1);
         assert_eq!(lines[0].column, 1);
