@@ -4,7 +4,7 @@
 
 use g_continuity::Tolerances;
 use hier_fair::framework::{MAX_NET, worse_than};
-use hier_fair::{FairParams, Model, ProblemKind, Role, RoleMethods, fair_model};
+use hier_fair::{FairModelReport, FairParams, Model, ProblemKind, Role, RoleMethods, fair_model};
 use nurbs_core::Continuity;
 
 /// The kernel models, as the directory's `index.json` lists them (one list for every test and
@@ -31,6 +31,23 @@ fn model(name: &str) -> Option<Model> {
     Some(Model::from_json(&text).unwrap())
 }
 
+/// `name` faired with the default methods and tolerances, once per test binary: the tests that
+/// read the default result share it (each kernel model takes seconds to fair; the tests run in
+/// parallel threads, and a second test asking for a model waits for the first one's result).
+fn faired(name: &str) -> &'static (Model, FairModelReport) {
+    use std::collections::HashMap;
+    use std::sync::OnceLock;
+    static CACHE: OnceLock<HashMap<String, OnceLock<(Model, FairModelReport)>>> = OnceLock::new();
+    let cache = CACHE.get_or_init(|| models().into_iter().map(|n| (n, OnceLock::new())).collect());
+    let cell = cache
+        .get(name)
+        .unwrap_or_else(|| panic!("{name} is not in fixtures/occt/index.json"));
+    cell.get_or_init(|| {
+        let m = model(name).unwrap();
+        fair_model(&m, &RoleMethods::default(), None, &FairParams::default()).unwrap()
+    })
+}
+
 fn tolerances(model: &Model) -> Tolerances {
     let t = &model.tolerances;
     Tolerances {
@@ -49,8 +66,7 @@ fn kernel_models_keep_their_surfaces_and_fillets_never_get_worse() {
     for name in models() {
         let name = name.as_str();
         let Some(m) = model(name) else { return };
-        let (out, report) =
-            fair_model(&m, &RoleMethods::default(), None, &FairParams::default()).unwrap();
+        let (out, report) = faired(name);
         assert_eq!(out.surfaces.len(), m.surfaces.len());
         for (a, b) in m.surfaces.iter().zip(&out.surfaces) {
             assert_eq!((&a.name, a.role), (&b.name, b.role));
@@ -136,8 +152,7 @@ fn kernel_models_keep_their_surfaces_and_fillets_never_get_worse() {
 fn rolling_ball_fillets_reach_g2_on_their_planes() {
     for name in ["occt_box12_r5", "occt_plate_boss", "occt_corner3_radii"] {
         let Some(m) = model(name) else { return };
-        let (_, report) =
-            fair_model(&m, &RoleMethods::default(), None, &FairParams::default()).unwrap();
+        let (_, report) = faired(name);
         let mut fillet_links = 0;
         for l in &report.links {
             let link = m.links[l.link];
@@ -267,8 +282,7 @@ fn two_halves_of_a_fillet_ring_keep_their_seam() {
     let Some(m) = model("occt_pipe_tee") else {
         return;
     };
-    let (out, report) =
-        fair_model(&m, &RoleMethods::default(), None, &FairParams::default()).unwrap();
+    let (out, report) = faired("occt_pipe_tee");
     assert_eq!(out.links, m.links);
     let seams: Vec<_> = report
         .edges
@@ -302,8 +316,7 @@ fn vertex_blends_reach_g2_on_their_faired_fillets() {
     let Some(m) = model("occt_box12_r5") else {
         return;
     };
-    let (_, report) =
-        fair_model(&m, &RoleMethods::default(), None, &FairParams::default()).unwrap();
+    let (_, report) = faired("occt_box12_r5");
     let t = tolerances(&m);
     let mut corner_links = 0;
     for l in &report.links {
@@ -331,8 +344,7 @@ fn a_degenerate_corner_keeps_its_normal() {
     let Some(m) = model("occt_box12_variable") else {
         return;
     };
-    let (_, report) =
-        fair_model(&m, &RoleMethods::default(), None, &FairParams::default()).unwrap();
+    let (_, report) = faired("occt_box12_variable");
     let l = report
         .links
         .iter()
@@ -351,11 +363,7 @@ fn a_vertex_conflict_between_masters_is_named_with_its_figure() {
     // the loft's corner blend C16 meets the fillets F18 and F08 at one corner; there the two
     // differ in normal curvature across C16's side, and the note gives the difference, which
     // is checked here against the two masters of the output measured at that corner
-    let Some(m) = model("occt_loft_block") else {
-        return;
-    };
-    let (out, report) =
-        fair_model(&m, &RoleMethods::default(), None, &FairParams::default()).unwrap();
+    let (out, report) = faired("occt_loft_block");
     let note = report
         .problems
         .iter()
@@ -563,8 +571,7 @@ fn a_fairing_stage_at_the_top_target_leaves_every_link_as_it_is() {
 #[test]
 fn planes_are_left_alone_and_unreported() {
     let m = model("occt_plate_boss").unwrap();
-    let (out, report) =
-        fair_model(&m, &RoleMethods::default(), None, &FairParams::default()).unwrap();
+    let (out, report) = faired("occt_plate_boss");
     let mut planes = 0;
     for s in &report.surfaces {
         if s.energy_before != 0.0 {
