@@ -38,7 +38,7 @@ pub struct ConnectOptions {
 impl Default for ConnectOptions {
     /// Each link's own target; the continuity setting with the widest curvature lead-in at its
     /// G2 sides ([`g_continuity::MAX_LEAD_IN`]) and nets bounded as in the framework
-    /// ([`crate::framework::MAX_NET`]). Without a lead-in a G2 side whose three boundary rows
+    /// ([`crate::framework::MAX_NET`], [`crate::framework::net_bound`]). Without a lead-in a G2 side whose three boundary rows
     /// are all there is (a kernel's degree-2 rolling-ball fillet) is rebuilt across its whole
     /// width: 0.52 for a fillet of radius 5, against 0.012 with the lead-in — the fairest
     /// transition is the widest ([SV] §4.2), and `connect` has no deviation budget to narrow it.
@@ -147,10 +147,14 @@ pub fn connect(model: &Model, options: &ConnectOptions) -> Result<(Model, ModelC
                 }
             })
             .collect();
+        let own = ConnectParams {
+            max_control_points: crate::framework::net_bound(params.max_control_points, original),
+            ..params
+        };
         let (result, report, fallback) = protected(
             original,
             &links,
-            &params,
+            &own,
             &link_ids
                 .iter()
                 .map(|&i| &before[i].measure)

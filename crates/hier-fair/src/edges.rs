@@ -20,6 +20,12 @@
 //!   both surfaces keep their tangential frame where the edge is, the surface whose side it is
 //!   along that whole side (in the fairing masks and in the continuity steps), the other one at
 //!   the control points that carry the edge ([`carrying_points`]).
+//! - A seam — an edge between two surfaces of one role, as the two halves of a fillet ring — is
+//!   kept by the fairing stages but left free to the continuity steps ([`is_seam`]): each half
+//!   is set to the same masters the same way, so the two settings agree along the seam, and a
+//!   kept seam column would hold each half's cross-section at its input curvature where it meets
+//!   its masters. A seam the free steps open beyond its tolerance has its surfaces run again with
+//!   it kept ([`opened_seams`]).
 //!
 //! The fairing report measures every such edge before and after; the output model's links are
 //! the input's.
@@ -420,4 +426,166 @@ pub fn link_edges(model: &Model, edges: &[SharedEdge]) -> (Model, Vec<FoundLink>
         });
     }
     (work, found, ranges)
+}
+
+/// Whether `edge` is a seam: a shared edge between two surfaces of one role (the two halves of
+/// a fillet ring a kernel splits). Neither is the other's master, so each is set to its own
+/// masters in the same way; where those masters agree along the seam, the two settings agree
+/// there too, and the continuity steps need not keep the seam's frame — kept, it holds each
+/// half's seam column at its input cross-section, which cannot be G2 to the masters at the
+/// seam's ends ([SV] §3.2: the corner of a G2 side needs its curvature free).
+pub(crate) fn is_seam(model: &Model, edge: &SharedEdge) -> bool {
+    model.surfaces[edge.surface].role == model.surfaces[edge.other].role
+}
+
+/// The surfaces of `wave` to run again with their seams kept: those on a seam ([`is_seam`])
+/// that the wave's results (`now`: a surface as the wave leaves it) leave with a gap or angle beyond the input's plus the G0/G1
+/// tolerance (the rule of [`EdgeFair`]), and every surface of the wave joined to
+/// one of them by a seam (kept on one side only, a seam would open too).
+pub(crate) fn opened_seams<'a>(
+    model: &Model,
+    now: &dyn Fn(usize) -> &'a BSplineSurface,
+    edges: &[SharedEdge],
+    edges_before: &[EdgeMeasure],
+    wave: &[usize],
+) -> Vec<usize> {
+    let t = &model.tolerances;
+    let seams: Vec<usize> = (0..edges.len())
+        .filter(|&i| is_seam(model, &edges[i]))
+        .filter(|&i| wave.contains(&edges[i].surface) || wave.contains(&edges[i].other))
+        .collect();
+    let mut again: Vec<usize> = Vec::new();
+    for &i in &seams {
+        let e = &edges[i];
+        let m = measure_edge(e, now(e.surface), now(e.other));
+        let b = &edges_before[i];
+        if m.gap > b.gap + t.g0 || m.angle_deg > b.angle_deg + t.g1_deg {
+            again.extend(
+                [e.surface, e.other]
+                    .into_iter()
+                    .filter(|k| wave.contains(k)),
+            );
+        }
+    }
+    loop {
+        let more: Vec<usize> = seams
+            .iter()
+            .map(|&i| &edges[i])
+            .filter(|e| again.contains(&e.surface) != again.contains(&e.other))
+            .flat_map(|e| [e.surface, e.other])
+            .filter(|k| wave.contains(k) && !again.contains(k))
+            .collect();
+        if more.is_empty() {
+            break;
+        }
+        again.extend(more);
+    }
+    again.sort_unstable();
+    again.dedup();
+    again
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::Role;
+    use nurbs_core::{Point3, Vector3, shapes::plane_patch};
+
+    /// Three unit squares side by side along x, each of `role`, sharing the edges x = 1 and
+    /// x = 2 (tangentially: they are one plane).
+    fn strip(role: Role) -> (Model, Vec<SharedEdge>) {
+        let square = |x0: f64| {
+            plane_patch(
+                Point3::new(x0, 0.0, 0.0),
+                Vector3::x(),
+                Vector3::y(),
+                (0.0, 1.0),
+                (0.0, 1.0),
+            )
+            .unwrap()
+        };
+        let mut model = Model::from_primaries(vec![square(0.0), square(1.0), square(2.0)]);
+        for s in &mut model.surfaces {
+            s.role = role;
+        }
+        let ts: Vec<f64> = (0..=8).map(|i| f64::from(i) / 8.0).collect();
+        let edge = |surface, side, other| SharedEdge {
+            surface,
+            side,
+            other,
+            ts: ts.clone(),
+            fraction: 1.0,
+        };
+        let edges = vec![
+            edge(0, Side::U1, 1),
+            edge(1, Side::U0, 0),
+            edge(1, Side::U1, 2),
+            edge(2, Side::U0, 1),
+        ];
+        (model, edges)
+    }
+
+    /// `surface` with its control points on side u0 lifted by `dz`.
+    fn lifted(surface: &BSplineSurface, dz: f64) -> BSplineSurface {
+        let mut s = surface.clone();
+        let nv = s.num_v();
+        for p in &mut s.control_points_mut()[..nv] {
+            p.z += dz;
+        }
+        s
+    }
+
+    #[test]
+    fn a_seam_is_an_edge_between_two_surfaces_of_one_role() {
+        let (mut model, edges) = strip(Role::Connecting);
+        assert!(edges.iter().all(|e| is_seam(&model, e)));
+        model.surfaces[1].role = Role::Corner;
+        assert!(edges.iter().all(|e| !is_seam(&model, e)));
+    }
+
+    #[test]
+    fn an_opened_seam_sends_both_its_surfaces_and_their_seam_neighbours_back() {
+        let (model, edges) = strip(Role::Connecting);
+        let before: Vec<EdgeMeasure> = edges
+            .iter()
+            .map(|e| {
+                measure_edge(
+                    e,
+                    &model.surfaces[e.surface].surface,
+                    &model.surfaces[e.other].surface,
+                )
+            })
+            .collect();
+        let wave = [0, 1, 2];
+        let g0 = model.tolerances.g0;
+        // surface 1 moved its u0 side by a tenth of the gap tolerance: the seam stays
+        let within = lifted(&model.surfaces[1].surface, 0.1 * g0);
+        let now = |k: usize| {
+            if k == 1 {
+                &within
+            } else {
+                &model.surfaces[k].surface
+            }
+        };
+        assert_eq!(
+            opened_seams(&model, &now, &edges, &before, &wave),
+            Vec::<usize>::new()
+        );
+        // ten times the tolerance: the seam 0 ~ 1 opened; surface 2, joined to 1 by the other
+        // seam, runs again too (kept on one side only, that seam would open)
+        let beyond = lifted(&model.surfaces[1].surface, 10.0 * g0);
+        let now = |k: usize| {
+            if k == 1 {
+                &beyond
+            } else {
+                &model.surfaces[k].surface
+            }
+        };
+        assert_eq!(
+            opened_seams(&model, &now, &edges, &before, &wave),
+            vec![0, 1, 2]
+        );
+        // a surface outside the wave is not run again
+        assert_eq!(opened_seams(&model, &now, &edges, &before, &[1]), vec![1]);
+    }
 }

@@ -98,6 +98,14 @@ pub const MASTER_FRAME: nurbs_core::Frame = nurbs_core::Frame::Tangential;
 /// side) that keeps every surface of a model within seconds.
 pub const MAX_NET: usize = 64;
 
+/// The net bound per direction for refining `surface`: `bound`, or for a surface that comes in
+/// with a direction near or above it (a kernel's degree-9 fillet with C0 joins has 66 columns)
+/// its largest input count plus a quarter of `bound` — the room a lead-in and two halvings of the
+/// spans next to each corner take — so that a dense input keeps room to be refined.
+pub fn net_bound(bound: usize, surface: &BSplineSurface) -> usize {
+    bound.max(surface.num_u().max(surface.num_v()) + bound / 4)
+}
+
 /// Settings of [`fair_model`].
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FairParams {
@@ -401,7 +409,7 @@ pub fn fair_model_with(
                 .fold(f64::INFINITY, f64::min);
             group_stage(model, &mut out, group, group_tolerance, params, &mut report);
         }
-        let job = |&k: &usize| -> (usize, Outcome) {
+        let job = |&k: &usize, free_seams: bool| -> (usize, Outcome) {
             let job = Job {
                 model,
                 current: &out,
@@ -415,14 +423,34 @@ pub fn fair_model_with(
                 before: &before,
                 edges: &edges,
                 ranges: &ranges,
+                free_seams,
             };
             (k, job.run())
         };
-        let results: Vec<(usize, Outcome)> = if params.parallel {
-            wave.par_iter().map(job).collect()
-        } else {
-            wave.iter().map(job).collect()
+        let run = |ks: &[usize], free_seams: bool| -> Vec<(usize, Outcome)> {
+            if params.parallel {
+                ks.par_iter().map(|k| job(k, free_seams)).collect()
+            } else {
+                ks.iter().map(|k| job(k, free_seams)).collect()
+            }
         };
+        let mut results = run(&wave, true);
+        // a seam the free continuity steps opened beyond its tolerance: its surfaces run again
+        // with the seam's frame kept ([`crate::edges::is_seam`])
+        let now = |k: usize| {
+            results
+                .iter()
+                .find(|r| r.0 == k)
+                .map_or(&out.surfaces[k].surface, |r| &r.1.surface)
+        };
+        let again = crate::edges::opened_seams(model, &now, &edges, &edges_before, &wave);
+        if !again.is_empty() {
+            for (k, outcome) in run(&again, false) {
+                if let Some(r) = results.iter_mut().find(|r| r.0 == k) {
+                    r.1 = outcome;
+                }
+            }
+        }
         for (k, outcome) in results {
             out.surfaces[k].surface = outcome.surface;
             report.surfaces.push(outcome.report);
@@ -656,6 +684,9 @@ struct Job<'a> {
     edges: &'a [crate::edges::SharedEdge],
     /// per link of the model, the part of the slave's side it holds on (`None`: all of it)
     ranges: &'a [Option<(f64, f64)>],
+    /// whether the continuity steps may move the frame of a shared edge with a surface of the
+    /// same role ([`crate::edges::is_seam`]); the fairing stages keep it either way
+    free_seams: bool,
 }
 
 /// Per-surface state while the stages run.
@@ -839,12 +870,17 @@ impl Job<'_> {
         // too ([`crate::edges`])
         let mut set = self.connect.set;
         for e in self.edges.iter().filter(|e| e.surface == self.surface) {
+            if self.free_seams && crate::edges::is_seam(self.model, e) {
+                continue;
+            }
             let k = Side::ALL.iter().position(|&s| s == e.side).unwrap_or(0);
             set.kept_sides[k] = true;
         }
+        let me = &self.model.surfaces[self.surface].surface;
         ConnectParams {
             tolerances,
             set,
+            max_control_points: net_bound(self.connect.max_control_points, me),
             ..*self.connect
         }
     }

@@ -3,7 +3,7 @@
 //! a pole, freeform rational fillets, trimmed masters.
 
 use g_continuity::Tolerances;
-use hier_fair::framework::{MAX_NET, worse_than};
+use hier_fair::framework::{MAX_NET, net_bound, worse_than};
 use hier_fair::{FairModelReport, FairParams, Model, ProblemKind, Role, RoleMethods, fair_model};
 use nurbs_core::Continuity;
 
@@ -100,9 +100,10 @@ fn kernel_models_keep_their_surfaces_and_fillets_never_get_worse() {
                 s.max_deviation,
                 s.tolerance
             );
-            let (before, after) = s.net;
+            let (_, after) = s.net;
+            let bound = net_bound(MAX_NET, &m.surfaces[m.find(&s.name).unwrap()].surface);
             assert!(
-                after.0 <= MAX_NET.max(before.0) && after.1 <= MAX_NET.max(before.1),
+                after.0 <= bound && after.1 <= bound,
                 "{name}: {} net {after:?}",
                 s.name
             );
@@ -273,17 +274,23 @@ fn a_trimmed_fillet_is_set_g2_on_the_face_it_runs_past() {
 }
 
 /// The saddle fillet of the pipe tee comes as two halves of a ring whose ends lie on each other
-/// with no link between them. Faired apart, each half turned its rows' ends at the seam to its
-/// own corners and the seam opened to 1.1e-2 mm and 1.12°. Now both keep their tangential frame
-/// there, in the fairing stages and in the continuity steps: the seam leaves as it came, and the
-/// G2 the halves miss at their cylinders is named with its reason.
+/// with no link between them. Faired apart with nothing kept, each half turned its rows' ends at
+/// the seam to its own corners and the seam opened to 1.1e-2 mm and 1.12°; with the seam's frame
+/// kept in the continuity steps too, neither half could reach G2 at its cylinders (the seam
+/// column held the input's cross-section curvature 1/5 where the cylinders have 0 and 1/25).
+/// Now the continuity steps set both halves to the same masters freely and the fairing stages
+/// keep the seam: every link is met and the seam stays within its tolerances.
 #[test]
-fn two_halves_of_a_fillet_ring_keep_their_seam() {
+fn two_halves_of_a_fillet_ring_reach_g2_and_keep_their_seam() {
     let Some(m) = model("occt_pipe_tee") else {
         return;
     };
     let (out, report) = faired("occt_pipe_tee");
     assert_eq!(out.links, m.links);
+    let t = tolerances(&m);
+    for l in &report.links {
+        assert!(l.met, "{} after {:?}", l.label, l.after);
+    }
     let seams: Vec<_> = report
         .edges
         .iter()
@@ -291,19 +298,19 @@ fn two_halves_of_a_fillet_ring_keep_their_seam() {
             [
                 "F02_bspline.v0 ~ F05_bspline",
                 "F05_bspline.v0 ~ F02_bspline",
+                "F02_bspline.v1 ~ F05_bspline",
+                "F05_bspline.v1 ~ F02_bspline",
             ]
             .contains(&e.label.as_str())
-                || [
-                    "F02_bspline.v1 ~ F05_bspline",
-                    "F05_bspline.v1 ~ F02_bspline",
-                ]
-                .contains(&e.label.as_str())
         })
         .collect();
     assert_eq!(seams.len(), 4, "{:#?}", report.edges);
     for e in seams {
-        assert!(e.after.gap <= e.before.gap + 1e-12, "{e:?}");
-        assert!(e.after.angle_deg <= e.before.angle_deg + 1e-9, "{e:?}");
+        assert!(!e.worse, "{e:?}");
+        assert!(
+            e.after.gap <= t.g0 && e.after.angle_deg <= t.g1_deg,
+            "{e:?}"
+        );
     }
 }
 
