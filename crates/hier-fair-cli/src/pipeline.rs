@@ -133,16 +133,7 @@ pub fn summary(report: &FairModelReport, title: &str) -> String {
         report.tolerance
     );
     for p in &report.problems {
-        let _ = writeln!(
-            s,
-            "{}: {}{}: {}",
-            p.kind.name(),
-            p.surface,
-            p.link
-                .as_ref()
-                .map_or(String::new(), |l| format!(" (link {l})")),
-            p.message
-        );
+        let _ = writeln!(s, "{p}");
     }
     s
 }

@@ -39,7 +39,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         );
     }
     for p in &report.problems {
-        println!("{}: {}: {}", p.kind.name(), p.surface, p.message);
+        println!("{p}");
     }
     Ok(())
 }

@@ -239,16 +239,7 @@ pub fn report_markdown_in(report: &FairModelReport, title: &str, units: Option<&
     if !report.problems.is_empty() {
         let _ = writeln!(md, "## Problems\n");
         for p in &report.problems {
-            let _ = writeln!(
-                md,
-                "- **{}** {}{}: {}",
-                p.kind.name(),
-                p.surface,
-                p.link
-                    .as_ref()
-                    .map_or(String::new(), |l| format!(" (link {l})")),
-                p.message
-            );
+            let _ = writeln!(md, "- **{}** {}: {}", p.kind.name(), p.place(), p.message);
         }
         md.push('\n');
     }

@@ -1,0 +1,219 @@
+//! The continuity steps alone ([SV] §3.2 steps 1, 3, 5 without fairing), run before the stages:
+//! their deviation decides the highest level the tolerance allows, and the width of a G2
+//! lead-in is searched here ([`g_continuity::lead_in`]).
+
+use super::*;
+
+/// Relative margin of the dry run's slack test: a variant's larger G2 move bound is skipped
+/// only when every weight the previous run rejected moved more than the bound by more than
+/// this (a few roundings of the move quotient, so the skip stays exact).
+pub const SLACK_ROUNDING: f64 = 1e-12;
+
+/// Share of the deviation tolerance the continuity steps alone may use when the framework
+/// chooses the width of a G2 lead-in: the rest is left to the fairing stages. The lead-in's
+/// width grows with the square root of the deviation it may use, so half the budget still
+/// gives 1/√2 ≈ 71 % of the widest transition the whole budget would allow, and the fairing
+/// keeps as much room as the continuity steps take.
+pub const LEAD_IN_SHARE: f64 = 0.5;
+
+/// Trials of the lead-in width search: the first at the widest lead-in, each next one scaled by
+/// √(budget/d); the error of the square law shrinks with the width, so the third trial is
+/// usually within the budget and six are a bound, not a typical count.
+pub const LEAD_IN_TRIALS: usize = 6;
+
+/// Factor applied to each predicted width: 0.9, so a prediction that is 20 % optimistic on the
+/// deviation (0.9² ≈ 0.81) still lands within the budget.
+pub const LEAD_IN_MARGIN: f64 = 0.9;
+
+/// A trial narrows the lead-in by at most this factor (the square law is a local estimate).
+pub const LEAD_IN_MAX_NARROWING: f64 = 8.0;
+
+/// Narrowest lead-in tried, as a fraction of the cross domain: 1/64, where the three lead-in
+/// knots are 1/192 of the domain apart and the curvature ramp is steeper than any fairing
+/// would keep.
+pub const MIN_LEAD_IN: f64 = 1.0 / 64.0;
+
+impl DryRun {
+    /// The deviation of the last step (0 without steps).
+    pub(super) fn deviation(&self) -> f64 {
+        self.steps.last().map_or(0.0, |s| s.2)
+    }
+}
+
+impl Job<'_> {
+    /// Runs the continuity steps alone (no fairing) from `prepared`: every step up to the
+    /// highest target, each with its sampled deviation from the original.
+    pub(super) fn dry_run(
+        &self,
+        prepared: &BSplineSurface,
+        links: &[SideLink<'_>],
+    ) -> std::result::Result<DryRun, String> {
+        let name = &self.model.surfaces[self.surface].name;
+        let original = &self.model.surfaces[self.surface].surface;
+        let mut steps = Vec::new();
+        let params = self.set_params();
+        let Some(top) = links.iter().map(|l| l.target).max() else {
+            return Ok(DryRun {
+                steps,
+                met: true,
+                met_steps: Vec::new(),
+                prepared: prepared.clone(),
+                tangent_corners: false,
+            });
+        };
+        let mut s = prepared.clone();
+        let mut met = false;
+        let mut met_steps = Vec::new();
+        // the step settings in use; a variant that met a step stays for the steps after it (a
+        // G2 step solves the C0 and G1 rows again after refining)
+        let mut set = params.set;
+        for step in [Continuity::G0, Continuity::G1, Continuity::G2] {
+            if step > top {
+                break;
+            }
+            let t = &params.tolerances;
+            let meets = |after: &[g_continuity::LinkMeasure]| {
+                links
+                    .iter()
+                    .zip(after)
+                    .all(|(l, m)| m.meets(l.target.min(step), t.g0, t.g1_deg, t.g2_rel))
+            };
+            let run = |set: g_continuity::SetParams| {
+                set_step(&s, links, step, &ConnectParams { set, ..params })
+                    .map_err(|e| format!("setting {step:?} on {name}: {e}"))
+            };
+            let (mut next, report) = run(set)?;
+            met = meets(&report.after);
+            // missed: the variants of the step, in order, the first that meets is kept —
+            // G2 with the move bound of `connect`, which exact joins of constructed pairs need
+            // (a vertex blend between faired fillets); then the corners' end tangents turned
+            // into the neighbouring masters' tangent planes (a corner normal the C0 fit left
+            // off by more than the G1 tolerance), see `SetParams::tangent_corners`
+            let connect_bound = g_continuity::SetParams::default().g2_move_factor;
+            let mut variants = Vec::new();
+            if step == Continuity::G2 && set.g2_move_factor < connect_bound {
+                variants.push(g_continuity::SetParams {
+                    g2_move_factor: connect_bound,
+                    ..set
+                });
+            }
+            if step >= Continuity::G1 && !set.tangent_corners {
+                let turned = g_continuity::SetParams {
+                    tangent_corners: true,
+                    ..set
+                };
+                variants.push(turned);
+                if step == Continuity::G2 && set.g2_move_factor < connect_bound {
+                    variants.push(g_continuity::SetParams {
+                        g2_move_factor: connect_bound,
+                        ..turned
+                    });
+                }
+            }
+            // the G2 slack of the runs with the step's move bound, per corner setting: a variant
+            // that only raises the bound to below it would repeat that run bit for bit
+            let mut slack = vec![(set.tangent_corners, report.g2_slack)];
+            for variant in variants {
+                if met {
+                    break;
+                }
+                let same = slack
+                    .iter()
+                    .find(|(turned, _)| *turned == variant.tangent_corners)
+                    .map(|&(_, sl)| sl);
+                // (the slack is a quotient of moves, the search compares a product: the margin
+                // keeps a ratio one rounding above the bound from counting as beyond it)
+                if variant.g2_move_factor > set.g2_move_factor
+                    && same.is_some_and(|sl| sl > variant.g2_move_factor * (1.0 + SLACK_ROUNDING))
+                {
+                    continue;
+                }
+                let (other, again) = run(variant)?;
+                if variant.g2_move_factor == set.g2_move_factor {
+                    slack.push((variant.tangent_corners, again.g2_slack));
+                }
+                if meets(&again.after) {
+                    next = other;
+                    met = true;
+                    set = variant;
+                }
+            }
+            let d = max_deviation(original, &next, self.params.deviation_grid);
+            steps.push((step, next.clone(), d));
+            met_steps.push(met);
+            s = next;
+        }
+        Ok(DryRun {
+            steps,
+            met,
+            met_steps,
+            prepared: prepared.clone(),
+            tangent_corners: set.tangent_corners,
+        })
+    }
+
+    /// Prepares the surface and runs the continuity steps alone, with the widest curvature
+    /// lead-in at its G2 sides whose deviation fits [`LEAD_IN_SHARE`] of the tolerance
+    /// ([`g_continuity::lead_in`]): the deviation of the G2 step grows with the square of the
+    /// lead-in width, so after a trial the next width is w·√(budget/d), narrowed by
+    /// [`LEAD_IN_MARGIN`] against the neglected higher-order terms. Returns the chosen trial and
+    /// the smallest deviation any trial that met every link needed (the honest figure of a
+    /// conflict).
+    pub(super) fn prepare_and_dry_run(
+        &self,
+        links: &[SideLink<'_>],
+    ) -> std::result::Result<(DryRun, Option<f64>), String> {
+        let name = &self.model.surfaces[self.surface].name;
+        let g2 = links.iter().any(|l| {
+            l.target >= Continuity::G2 && !g_continuity::measure::is_collapsed(self.start, l.side)
+        });
+        let budget = LEAD_IN_SHARE * self.tolerance;
+        let mut width = g2.then_some(g_continuity::MAX_LEAD_IN);
+        let mut trials: Vec<DryRun> = Vec::new();
+        for _ in 0..LEAD_IN_TRIALS {
+            let connect = ConnectParams {
+                lead_in: width,
+                ..*self.connect
+            };
+            let (prepared, _) = prepare_slave(self.start, links, &connect)
+                .map_err(|e| format!("preparing {name}: {e}"))?;
+            let (prepared, _) = free_rows(prepared, links, self.params.min_free_rows)
+                .map_err(|e| format!("inserting knots into {name}: {e}"))?;
+            let dry = self.dry_run(&prepared, links)?;
+            let d = dry.deviation();
+            let done = d <= budget;
+            trials.push(dry);
+            let Some(w) = width else { break };
+            if done {
+                break;
+            }
+            let next = w * (budget / d).sqrt() * LEAD_IN_MARGIN;
+            let next = next.clamp(w / LEAD_IN_MAX_NARROWING, w * LEAD_IN_MARGIN);
+            if next < MIN_LEAD_IN {
+                break;
+            }
+            width = Some(next);
+        }
+        let needed = trials
+            .iter()
+            .filter(|t| t.met)
+            .map(DryRun::deviation)
+            .fold(None, |a: Option<f64>, d| Some(a.map_or(d, |a| a.min(d))));
+        // the widest trial that met its links within the budget; else the one that met them
+        // with the least deviation; else the one with the least deviation
+        let pick = trials
+            .iter()
+            .position(|t| t.met && t.deviation() <= budget)
+            .or_else(|| {
+                (0..trials.len())
+                    .filter(|&k| trials[k].met)
+                    .min_by(|&a, &b| trials[a].deviation().total_cmp(&trials[b].deviation()))
+            })
+            .unwrap_or_else(|| {
+                (0..trials.len())
+                    .min_by(|&a, &b| trials[a].deviation().total_cmp(&trials[b].deviation()))
+                    .unwrap_or(0)
+            });
+        Ok((trials.swap_remove(pick), needed))
+    }
+}

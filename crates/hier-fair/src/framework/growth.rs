@@ -1,0 +1,87 @@
+//! How much worse a link leaves than it came: growth factors of gap, angle and curvature
+//! against the input, their order, and the report phrases.
+
+use super::*;
+
+/// The factors by which `after` exceeds `before` in gap, normal angle and relative curvature
+/// difference (each against the larger of its input value and its tolerance; 0 above the
+/// target). A relative curvature figure counts only where the absolute difference grew too: a
+/// relative figure that grows while the absolute difference shrinks means that both curvatures
+/// went down — a lead-in flattening a vertex blend next to a fillet that is straight across the
+/// join (box12_r5: 1.000 → 1.002 while |Δκ| went 0.2 → 2e-4): the join got better, not worse.
+pub(crate) fn growths(
+    before: &LinkMeasure,
+    after: &LinkMeasure,
+    target: Continuity,
+    t: &Tolerances,
+) -> [f64; 3] {
+    let mut out = [after.g0 / before.g0.max(t.g0), 0.0, 0.0];
+    if target >= Continuity::G1 {
+        out[1] = after.g1_deg.unwrap_or(0.0) / before.g1_deg.unwrap_or(0.0).max(t.g1_deg);
+    }
+    let (abs_before, abs_after) = (before.g2_abs.unwrap_or(0.0), after.g2_abs.unwrap_or(0.0));
+    let rel_after = after.g2_rel.unwrap_or(0.0);
+    if target >= Continuity::G2 && abs_after > abs_before * (1.0 + t.g2_rel) && rel_after > t.g2_rel
+    {
+        // the relative figure is bounded by 2 (|κ_s − κ_m| ≤ 2 max |κ|), so a join that stays
+        // missed shows its growth in the absolute difference: 0.19 → 41 /mm is a crease, though
+        // the relative figure only goes 1.0 → 1.02
+        out[2] = (rel_after / before.g2_rel.unwrap_or(0.0).max(t.g2_rel))
+            .max(abs_after / abs_before.max(f64::MIN_POSITIVE));
+    }
+    out
+}
+
+/// How `after` is worse than `before` up to `target` (beyond the tolerance), or `None`: a
+/// `growths` factor above 1 — a larger gap, a larger normal angle, or a larger relative
+/// curvature difference together with a larger absolute one.
+pub fn worse_than(
+    before: &LinkMeasure,
+    after: &LinkMeasure,
+    target: Continuity,
+    t: &Tolerances,
+) -> Option<String> {
+    let [g0, g1, g2] = growths(before, after, target, t);
+    if g0 > 1.0 {
+        Some(format!(
+            "with a gap of {:.3e} (input {:.3e})",
+            after.g0, before.g0
+        ))
+    } else if g1 > 1.0 {
+        Some(format!(
+            "with a normal angle of {:.3e}° (input {:.3e}°)",
+            after.g1_deg.unwrap_or(0.0),
+            before.g1_deg.unwrap_or(0.0)
+        ))
+    } else if g2 > 1.0 {
+        Some(format!(
+            "with a relative curvature difference of {:.3e} (input {:.3e}), absolute {:.3e} (input {:.3e})",
+            after.g2_rel.unwrap_or(0.0),
+            before.g2_rel.unwrap_or(0.0),
+            after.g2_abs.unwrap_or(0.0),
+            before.g2_abs.unwrap_or(0.0)
+        ))
+    } else {
+        None
+    }
+}
+
+/// Orders two [`Job::worst_growth`] results: the one that leaves a gap grow less is better,
+/// then the angle, then the curvature — a join that opens is a defect, one that loses
+/// tangency is visible in every reflection, a curvature step only in a zebra or curvature
+/// plot. A factor up to 1 (no link worse) counts as 1.
+pub(crate) fn growth_order(a: [f64; 3], b: [f64; 3]) -> std::cmp::Ordering {
+    a.iter()
+        .zip(&b)
+        .map(|(x, y)| x.max(1.0).total_cmp(&y.max(1.0)))
+        .find(|o| o.is_ne())
+        .unwrap_or(std::cmp::Ordering::Equal)
+}
+
+/// `[gap, angle, curvature]` growth factors, as a report phrase.
+pub(crate) fn growth_text(g: [f64; 3]) -> String {
+    format!(
+        "gap {:.3} ×, angle {:.3} ×, curvature {:.3} ×",
+        g[0], g[1], g[2]
+    )
+}

@@ -1,0 +1,292 @@
+//! One surface's run ([SV] §3.2): the per-surface state and what the run reports — the result
+//! of its stages, its energy, creases and the problems it met — and what a surface knows of its
+//! place in the model: its set-step settings, the sides its slaves hang on, its links.
+
+use super::*;
+
+/// A result that lies within this fraction of the surface's size of its input everywhere is
+/// the input (knot insertion is exact up to round-off, about 1e-15 of the size; a fairing move
+/// the reports show starts at 1e-9).
+pub const UNCHANGED_RELATIVE: f64 = 1e-12;
+
+/// Samples along a slave side lying inside its master whose knot spans the master keeps
+/// (`Job::interior_join_points`): 64 intervals, so a master span is skipped only when the
+/// join crosses it in less than 1/64 of the side — and a span crossed that briefly is also
+/// held by its neighbours' supports, which overlap it by p of its control points.
+pub const JOIN_SAMPLES: usize = 64;
+
+impl Run<'_> {
+    pub(super) fn record(&mut self, stage: Stage, before: &BSplineSurface, after: &BSplineSurface) {
+        self.record_known(stage, before, after, None);
+    }
+    /// [`Run::record`] with the energy of `after` when the caller has it already.
+    pub(super) fn record_known(
+        &mut self,
+        stage: Stage,
+        before: &BSplineSurface,
+        after: &BSplineSurface,
+        energy: Option<f64>,
+    ) {
+        let max_move = if before.control_points().len() == after.control_points().len() {
+            nurbs_core::max_displacement(before.control_points(), after.control_points())
+        } else {
+            f64::NAN
+        };
+        self.stages.push(StageReport {
+            stage,
+            max_move,
+            deviation: max_deviation(self.original, after, self.grid),
+            energy: energy.unwrap_or_else(|| thin_plate_energy(after)),
+            iterations: 0,
+            knots_inserted: 0,
+            epsilon: 0.0,
+        });
+    }
+    pub(super) fn deviation(&self) -> f64 {
+        self.stages.last().map_or(0.0, |s| s.deviation)
+    }
+}
+
+impl Job<'_> {
+    pub(super) fn run(&self) -> Outcome {
+        let t0 = Instant::now();
+        let entry = &self.model.surfaces[self.surface];
+        let original = &entry.surface;
+        let mut problems = Vec::new();
+        let mut missed = Vec::new();
+        let (surface, stages, processed) = match self.stages(original, &mut problems, &mut missed) {
+            Ok((s, stages)) => (s, stages, true),
+            Err(message) => {
+                problems.push(Problem {
+                    kind: ProblemKind::Failed,
+                    surface: entry.name.clone(),
+                    link: None,
+                    message,
+                    amount: None,
+                });
+                (original.clone(), Vec::new(), false)
+            }
+        };
+        // a result of the input's shape (knots inserted, nothing moved) is the input itself: the
+        // inserted knots add nothing, and the energy integrated on the finer spans differs from
+        // the input's by the quadrature error of a rational surface (up to 4e-7 relative), which
+        // would read as a rise
+        let energy_before = thin_plate_energy(original);
+        let (surface, stages) = if processed
+            && max_deviation(original, &surface, self.params.deviation_grid)
+                <= UNCHANGED_RELATIVE * original.size()
+        {
+            let energy = energy_before;
+            let stages = stages
+                .into_iter()
+                .map(|mut st| {
+                    st.knots_inserted = 0;
+                    st.energy = energy;
+                    st.deviation = 0.0;
+                    st
+                })
+                .collect();
+            (original.clone(), stages)
+        } else {
+            (surface, stages)
+        };
+        // the dry run's misses are reported for the links the result still misses
+        let t = &self.connect.tolerances;
+        for (k, p) in missed {
+            let l = &self.model.links[k];
+            let master = &self.current.surfaces[l.master].surface;
+            let range = self.ranges.get(k).copied().flatten();
+            let still = g_continuity::measure::measure_link_on(
+                master,
+                &surface,
+                l.side,
+                range,
+                &self.connect.measure,
+            )
+            .is_ok_and(|m| !m.meets((self.cap)(l.continuity), t.g0, t.g1_deg, t.g2_rel));
+            if still {
+                problems.push(p);
+            }
+        }
+        let energy_after = thin_plate_energy(&surface);
+        if energy_after > energy_before {
+            // fairing stages never raise it (`fair_stage`): the rise is what the joins cost
+            problems.push(Problem {
+                kind: ProblemKind::Limited,
+                surface: entry.name.clone(),
+                link: None,
+                message: format!(
+                    "its thin-plate energy rose from {energy_before:.4e} to {energy_after:.4e}: what setting the continuity to its masters costs, which no fairing stage could take back"
+                ),
+                amount: Some(energy_after / energy_before),
+            });
+        }
+        // the surface's own joins: C⁰ knot lines (rational arcs joined by double knots) stay
+        // as smooth as they came ([`smooth_join_points`]); a result whose joins turn more than
+        // the input's and the G1 tolerance is a defect the report names
+        let crease_deg = (
+            nurbs_core::creases::largest_crease_deg(original),
+            nurbs_core::creases::largest_crease_deg(&surface),
+        );
+        if crease_deg.1 > crease_deg.0.max(t.g1_deg) {
+            problems.push(Problem {
+                kind: ProblemKind::Limited,
+                surface: entry.name.clone(),
+                link: None,
+                message: format!(
+                    "a C0 knot line inside it turns the normal by {:.3e}° (input {:.3e}°, G1 tolerance {:.3e}°)",
+                    crease_deg.1, crease_deg.0, t.g1_deg
+                ),
+                amount: Some(crease_deg.1),
+            });
+        }
+        let report = SurfaceFair {
+            crease_deg,
+            surface: self.surface,
+            name: entry.name.clone(),
+            role: entry.role,
+            method: self.fairing.name().to_string(),
+            energy_before,
+            energy_after,
+            tolerance: self.tolerance,
+            degree: (surface.degree_u(), surface.degree_v()),
+            net: (
+                (original.num_u(), original.num_v()),
+                (surface.num_u(), surface.num_v()),
+            ),
+            max_deviation: if processed {
+                max_deviation(original, &surface, self.params.deviation_grid)
+            } else {
+                0.0
+            },
+            iterations: stages.iter().map(|s| s.iterations).sum(),
+            knots_inserted: stages.iter().map(|s| s.knots_inserted).sum(),
+            seconds: t0.elapsed().as_secs_f64(),
+            stages,
+            processed,
+        };
+        Outcome {
+            surface,
+            report,
+            problems,
+        }
+    }
+
+    /// The continuity settings of this surface's set steps: a patch of a corner group aims at
+    /// [`GROUP_CHAIN_SHARE`] × the G1/G2 tolerances.
+    pub(super) fn set_params(&self) -> ConnectParams {
+        let in_group = self
+            .model
+            .corners
+            .iter()
+            .any(|g| g.patches.contains(&self.surface));
+        let mut tolerances = self.connect.tolerances;
+        if in_group {
+            tolerances.g1_deg *= GROUP_CHAIN_SHARE;
+            tolerances.g2_rel *= GROUP_CHAIN_SHARE;
+        }
+        // the sides it shares with a surface no link covers keep their frame in the set steps
+        // too ([`crate::edges`])
+        let mut set = self.connect.set;
+        for e in self.edges.iter().filter(|e| e.surface == self.surface) {
+            if self.free_seams && crate::edges::is_seam(self.model, e) {
+                continue;
+            }
+            let k = Side::ALL.iter().position(|&s| s == e.side).unwrap_or(0);
+            set.kept_sides[k] = true;
+        }
+        let me = &self.model.surfaces[self.surface].surface;
+        ConnectParams {
+            tolerances,
+            set,
+            max_control_points: net_bound(self.connect.max_control_points, me),
+            ..*self.connect
+        }
+    }
+
+    pub(super) fn is_master(&self) -> bool {
+        self.model.links.iter().any(|l| l.master == self.surface)
+    }
+
+    /// Sides of this surface along which a slave is linked G1 or higher (its linked side lies
+    /// on this side's boundary curve, see [`lies_on_side`]); their tangential frame is kept in
+    /// every fairing stage of this surface ([`MASTER_FRAME`]).
+    pub(super) fn master_sides(&self) -> Vec<Side> {
+        let me = self.start;
+        let tol = TOUCH_FACTOR * self.connect.tolerances.g0;
+        let mut sides = Vec::new();
+        for l in self.model.links.iter().filter(|l| l.master == self.surface) {
+            if (self.cap)(l.continuity) < Continuity::G1 {
+                continue;
+            }
+            let slave = &self.current.surfaces[l.slave].surface;
+            for side in Side::ALL {
+                if !sides.contains(&side) && lies_on_side(slave, l.side, me, side, tol) {
+                    sides.push(side);
+                }
+            }
+        }
+        sides
+    }
+
+    /// Control points of `me` (this surface as the stages have it) that carry the join of a
+    /// slave whose linked side lies *inside* this surface rather than on one of its boundary
+    /// sides (a trimmed master, model-format.md): every control point whose basis function is
+    /// non-zero at a foot point of the slave side. Fixing them keeps the master exactly as it
+    /// was on every knot span the join crosses — position, tangent plane and curvature — so the
+    /// slave, set against the input, stays continuous whatever the fairing does elsewhere.
+    pub(super) fn interior_join_points(&self, me: &BSplineSurface) -> Vec<(usize, usize)> {
+        let tol = TOUCH_FACTOR * self.connect.tolerances.g0;
+        let mut out: Vec<(usize, usize)> = Vec::new();
+        let (p, q) = (me.degree_u(), me.degree_v());
+        for (k, l) in self.model.links.iter().enumerate() {
+            if l.master != self.surface {
+                continue;
+            }
+            let slave = &self.current.surfaces[l.slave].surface;
+            if Side::ALL
+                .iter()
+                .any(|&side| lies_on_side(slave, l.side, me, side, tol))
+            {
+                continue;
+            }
+            // (a link over part of the side, [`crate::edges`], holds there only)
+            let (a, b) = self.ranges[k].unwrap_or_else(|| l.side.along_domain(slave));
+            let mut projector =
+                nurbs_core::SurfaceProjector::new(me, nurbs_core::ProjectionParams::default());
+            for k in 0..=JOIN_SAMPLES {
+                let t = a + (b - a) * k as f64 / JOIN_SAMPLES as f64;
+                let (u, v) = l.side.params(slave, t);
+                let foot = projector.project(&slave.point(u, v));
+                let (su, sv) = (me.knots_u().span(foot.u), me.knots_v().span(foot.v));
+                for i in su - p..=su {
+                    for j in sv - q..=sv {
+                        if !out.contains(&(i, j)) {
+                            out.push((i, j));
+                        }
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    pub(super) fn links(&self) -> Vec<(usize, SideLink<'_>)> {
+        self.model
+            .links_of_slave(self.surface)
+            .into_iter()
+            .map(|k| {
+                let l = &self.model.links[k];
+                (
+                    k,
+                    SideLink {
+                        side: l.side,
+                        master: &self.current.surfaces[l.master].surface,
+                        target: (self.cap)(l.continuity),
+                        range: self.ranges.get(k).copied().flatten(),
+                    },
+                )
+            })
+            .collect()
+    }
+}

@@ -1,0 +1,232 @@
+//! What the framework reports: stages, surfaces, links and problems.
+
+use super::*;
+
+/// A step of the per-surface alternation ([SV] §3.2).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Stage {
+    /// knot insertion, degree elevation, rational to polynomial
+    Prepare,
+    /// boundary rows onto the (faired) masters
+    SetG0,
+    /// fairing with the positional frames fixed
+    FairC0,
+    /// tangential rows
+    SetG1,
+    /// fairing with the tangential frames of G1/G2 sides fixed
+    FairG1,
+    /// curvature rows
+    SetG2,
+    /// fairing with the curvature frames of G2 sides fixed
+    FairG2,
+}
+
+impl Stage {
+    /// Short name for reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            Stage::Prepare => "prepare",
+            Stage::SetG0 => "set G0",
+            Stage::FairC0 => "fair C0",
+            Stage::SetG1 => "set G1",
+            Stage::FairG1 => "fair G1",
+            Stage::SetG2 => "set G2",
+            Stage::FairG2 => "fair G2",
+        }
+    }
+}
+
+impl Stage {
+    /// The set stage of `level`.
+    pub fn set(level: Continuity) -> Stage {
+        match level {
+            Continuity::G0 => Stage::SetG0,
+            Continuity::G1 => Stage::SetG1,
+            Continuity::G2 => Stage::SetG2,
+        }
+    }
+
+    /// The fairing stage keeping `level`.
+    pub fn fair(level: Continuity) -> Stage {
+        match level {
+            Continuity::G0 => Stage::FairC0,
+            Continuity::G1 => Stage::FairG1,
+            Continuity::G2 => Stage::FairG2,
+        }
+    }
+}
+
+/// What one stage did.
+#[derive(Debug, Clone, PartialEq)]
+pub struct StageReport {
+    /// the stage
+    pub stage: Stage,
+    /// largest control-point move of the stage (model units)
+    pub max_move: f64,
+    /// sampled deviation from the original after the stage
+    pub deviation: f64,
+    /// thin-plate energy after the stage
+    pub energy: f64,
+    /// fairing iterations (0 for continuity stages)
+    pub iterations: usize,
+    /// knots inserted by the stage
+    pub knots_inserted: usize,
+    /// the ball radius ε given to a fairing stage (0 for continuity stages)
+    pub epsilon: f64,
+}
+
+/// What happened to one surface.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SurfaceFair {
+    /// index into the model
+    pub surface: usize,
+    /// its name
+    pub name: String,
+    /// its role
+    pub role: Role,
+    /// method name
+    pub method: String,
+    /// thin-plate energy of the input
+    pub energy_before: f64,
+    /// thin-plate energy of the result
+    pub energy_after: f64,
+    /// sampled deviation of the result from the input (model units)
+    pub max_deviation: f64,
+    /// this surface's deviation tolerance (model units, [`Model::deviation_of`])
+    pub tolerance: f64,
+    /// degree (u, v) of the result
+    pub degree: (usize, usize),
+    /// control net (u, v) of the input and of the result
+    pub net: ((usize, usize), (usize, usize)),
+    /// fairing iterations, all stages
+    pub iterations: usize,
+    /// knots inserted, all stages
+    pub knots_inserted: usize,
+    /// seconds spent on this surface
+    pub seconds: f64,
+    /// the stages, in order
+    pub stages: Vec<StageReport>,
+    /// false when the surface was left as it was (see the problems)
+    pub processed: bool,
+    /// the largest normal jump (degrees) across the C⁰ knot lines of the input and of the
+    /// result ([`nurbs_core::creases`]; 0 without such lines)
+    pub crease_deg: (f64, f64),
+}
+
+/// Kind of a reported problem.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ProblemKind {
+    /// the surface could not be processed and was left as it was
+    Failed,
+    /// the continuity targets and the deviation tolerance cannot both be met
+    Conflict,
+    /// fairing was dropped or cut short to stay within the tolerance
+    Limited,
+    /// a link ends above the model's continuity tolerances (the amount is its worst measure
+    /// divided by its tolerance)
+    Unmet,
+}
+
+impl ProblemKind {
+    /// Short name for reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            ProblemKind::Failed => "failed",
+            ProblemKind::Conflict => "conflict",
+            ProblemKind::Limited => "limited",
+            ProblemKind::Unmet => "unmet",
+        }
+    }
+}
+
+/// A problem the run met, naming the surface and, where there is one, the link.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Problem {
+    /// what kind
+    pub kind: ProblemKind,
+    /// the surface
+    pub surface: String,
+    /// the link ("slave.side -> master"), when one is at fault
+    pub link: Option<String>,
+    /// what happened, readable
+    pub message: String,
+    /// the amount, e.g. the deviation a continuity step needs (model units)
+    pub amount: Option<f64>,
+}
+
+impl Problem {
+    /// The surface, and the link where one is at fault: "F02 (link F02.u0 -> P06)".
+    pub fn place(&self) -> String {
+        match &self.link {
+            Some(l) => format!("{} (link {l})", self.surface),
+            None => self.surface.clone(),
+        }
+    }
+}
+
+impl std::fmt::Display for Problem {
+    /// The report line: "limited: F02 (link F02.u0 -> P06): what happened".
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{}: {}: {}",
+            self.kind.name(),
+            self.place(),
+            self.message
+        )
+    }
+}
+
+/// Before/after of one link.
+#[derive(Debug, Clone, PartialEq)]
+pub struct LinkFair {
+    /// index into `model.links`
+    pub link: usize,
+    /// "slave.side -> master"
+    pub label: String,
+    /// the link's target (capped by [`FairParams::target`])
+    pub target: Continuity,
+    /// measured on the input (`None` when measuring failed)
+    pub before: Option<LinkMeasure>,
+    /// measured on the result
+    pub after: Option<LinkMeasure>,
+    /// whether `after` meets the model's tolerances up to the target
+    pub met: bool,
+}
+
+/// What [`fair_model`] did.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct FairModelReport {
+    /// wall-clock seconds
+    pub seconds_total: f64,
+    /// the deviation tolerance used
+    pub tolerance: f64,
+    /// per surface, in processing order
+    pub surfaces: Vec<SurfaceFair>,
+    /// per link, in model order
+    pub links: Vec<LinkFair>,
+    /// the n-sided stage of each corner group ([SV] §3.4)
+    pub groups: Vec<GroupFair>,
+    /// everything that did not go as asked
+    pub problems: Vec<Problem>,
+    /// shared edges no link covers ([`crate::edges`]), before and after
+    pub edges: Vec<crate::edges::EdgeFair>,
+}
+
+impl FairModelReport {
+    /// Whether a surface failed (was left as it was).
+    pub fn has_failures(&self) -> bool {
+        self.problems.iter().any(|p| p.kind == ProblemKind::Failed)
+    }
+}
+
+/// Progress of a run: `done` of `total` surfaces, the last one finished named.
+#[derive(Debug, Clone, Copy)]
+pub struct Progress<'a> {
+    /// surfaces finished
+    pub done: usize,
+    /// surfaces in the model
+    pub total: usize,
+    /// the surface just finished
+    pub name: &'a str,
+}
