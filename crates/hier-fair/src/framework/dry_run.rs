@@ -48,7 +48,6 @@ impl Job<'_> {
         prepared: &BSplineSurface,
         links: &[SideLink<'_>],
     ) -> std::result::Result<DryRun, String> {
-        let name = &self.model.surfaces[self.surface].name;
         let original = &self.model.surfaces[self.surface].surface;
         let mut steps = Vec::new();
         let params = self.set_params();
@@ -71,73 +70,8 @@ impl Job<'_> {
             if step > top {
                 break;
             }
-            let t = &params.tolerances;
-            let meets = |after: &[g_continuity::LinkMeasure]| {
-                links
-                    .iter()
-                    .zip(after)
-                    .all(|(l, m)| m.meets(l.target.min(step), t.g0, t.g1_deg, t.g2_rel))
-            };
-            let run = |set: g_continuity::SetParams| {
-                set_step(&s, links, step, &ConnectParams { set, ..params })
-                    .map_err(|e| format!("setting {step:?} on {name}: {e}"))
-            };
-            let (mut next, report) = run(set)?;
-            met = meets(&report.after);
-            // missed: the variants of the step, in order, the first that meets is kept —
-            // G2 with the move bound of `connect`, which exact joins of constructed pairs need
-            // (a vertex blend between faired fillets); then the corners' end tangents turned
-            // into the neighbouring masters' tangent planes (a corner normal the C0 fit left
-            // off by more than the G1 tolerance), see `SetParams::tangent_corners`
-            let connect_bound = g_continuity::SetParams::default().g2_move_factor;
-            let mut variants = Vec::new();
-            if step == Continuity::G2 && set.g2_move_factor < connect_bound {
-                variants.push(g_continuity::SetParams {
-                    g2_move_factor: connect_bound,
-                    ..set
-                });
-            }
-            if step >= Continuity::G1 && !set.tangent_corners {
-                let turned = g_continuity::SetParams {
-                    tangent_corners: true,
-                    ..set
-                };
-                variants.push(turned);
-                if step == Continuity::G2 && set.g2_move_factor < connect_bound {
-                    variants.push(g_continuity::SetParams {
-                        g2_move_factor: connect_bound,
-                        ..turned
-                    });
-                }
-            }
-            // the G2 slack of the runs with the step's move bound, per corner setting: a variant
-            // that only raises the bound to below it would repeat that run bit for bit
-            let mut slack = vec![(set.tangent_corners, report.g2_slack)];
-            for variant in variants {
-                if met {
-                    break;
-                }
-                let same = slack
-                    .iter()
-                    .find(|(turned, _)| *turned == variant.tangent_corners)
-                    .map(|&(_, sl)| sl);
-                // (the slack is a quotient of moves, the search compares a product: the margin
-                // keeps a ratio one rounding above the bound from counting as beyond it)
-                if variant.g2_move_factor > set.g2_move_factor
-                    && same.is_some_and(|sl| sl > variant.g2_move_factor * (1.0 + SLACK_ROUNDING))
-                {
-                    continue;
-                }
-                let (other, again) = run(variant)?;
-                if variant.g2_move_factor == set.g2_move_factor {
-                    slack.push((variant.tangent_corners, again.g2_slack));
-                }
-                if meets(&again.after) {
-                    next = other;
-                    met = true;
-                    set = variant;
-                }
-            }
+            let next;
+            (next, met, set) = self.dry_step(&s, links, step, &params, set)?;
             let d = max_deviation(original, &next, self.params.deviation_grid);
             steps.push((step, next.clone(), d));
             met_steps.push(met);
@@ -150,6 +84,59 @@ impl Job<'_> {
             prepared: prepared.clone(),
             tangent_corners: set.tangent_corners,
         })
+    }
+
+    /// One continuity step of the dry run from `s` with the settings `set`, and where it
+    /// misses, its variants in order ([`step_variants`]) until one meets: the result, whether
+    /// it met every link up to `step`, and the settings that gave it.
+    fn dry_step(
+        &self,
+        s: &BSplineSurface,
+        links: &[SideLink<'_>],
+        step: Continuity,
+        params: &ConnectParams,
+        set: g_continuity::SetParams,
+    ) -> std::result::Result<(BSplineSurface, bool, g_continuity::SetParams), String> {
+        let name = &self.model.surfaces[self.surface].name;
+        let t = &params.tolerances;
+        let meets = |after: &[g_continuity::LinkMeasure]| {
+            links
+                .iter()
+                .zip(after)
+                .all(|(l, m)| m.meets(l.target.min(step), t.g0, t.g1_deg, t.g2_rel))
+        };
+        let run = |set: g_continuity::SetParams| {
+            set_step(s, links, step, &ConnectParams { set, ..*params })
+                .map_err(|e| format!("setting {step:?} on {name}: {e}"))
+        };
+        let (next, report) = run(set)?;
+        if meets(&report.after) {
+            return Ok((next, true, set));
+        }
+        // the G2 slack of the runs with the step's move bound, per corner setting: a variant
+        // that only raises the bound to below it would repeat that run bit for bit
+        let mut slack = vec![(set.tangent_corners, report.g2_slack)];
+        for variant in step_variants(set, step) {
+            let same = slack
+                .iter()
+                .find(|(turned, _)| *turned == variant.tangent_corners)
+                .map(|&(_, sl)| sl);
+            // (the slack is a quotient of moves, the search compares a product: the margin
+            // keeps a ratio one rounding above the bound from counting as beyond it)
+            if variant.g2_move_factor > set.g2_move_factor
+                && same.is_some_and(|sl| sl > variant.g2_move_factor * (1.0 + SLACK_ROUNDING))
+            {
+                continue;
+            }
+            let (other, again) = run(variant)?;
+            if variant.g2_move_factor == set.g2_move_factor {
+                slack.push((variant.tangent_corners, again.g2_slack));
+            }
+            if meets(&again.after) {
+                return Ok((other, true, variant));
+            }
+        }
+        Ok((next, false, set))
     }
 
     /// Prepares the surface and runs the continuity steps alone, with the widest curvature
@@ -216,4 +203,34 @@ impl Job<'_> {
             });
         Ok((trials.swap_remove(pick), needed))
     }
+}
+
+/// The variants of a continuity step that missed with `set`, in the order they are tried: G2
+/// with the move bound of `connect`, which exact joins of constructed pairs need (a vertex
+/// blend between faired fillets); then the corners' end tangents turned into the neighbouring
+/// masters' tangent planes (a corner normal the C0 fit left off by more than the G1
+/// tolerance, `SetParams::tangent_corners`), with `connect`'s bound too at G2.
+fn step_variants(set: g_continuity::SetParams, step: Continuity) -> Vec<g_continuity::SetParams> {
+    let connect_bound = g_continuity::SetParams::default().g2_move_factor;
+    let mut variants = Vec::new();
+    if step == Continuity::G2 && set.g2_move_factor < connect_bound {
+        variants.push(g_continuity::SetParams {
+            g2_move_factor: connect_bound,
+            ..set
+        });
+    }
+    if step >= Continuity::G1 && !set.tangent_corners {
+        let turned = g_continuity::SetParams {
+            tangent_corners: true,
+            ..set
+        };
+        variants.push(turned);
+        if step == Continuity::G2 && set.g2_move_factor < connect_bound {
+            variants.push(g_continuity::SetParams {
+                g2_move_factor: connect_bound,
+                ..turned
+            });
+        }
+    }
+    variants
 }

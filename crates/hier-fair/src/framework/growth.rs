@@ -85,3 +85,80 @@ pub(crate) fn growth_text(g: [f64; 3]) -> String {
         g[0], g[1], g[2]
     )
 }
+
+impl Job<'_> {
+    /// The largest [`growths`] factors of `result` over this surface's links against the input,
+    /// per kind (gap, angle, curvature; ≤ 1: no link worse).
+    pub(super) fn worst_growth(
+        &self,
+        labelled: &[(usize, SideLink<'_>)],
+        result: &BSplineSurface,
+    ) -> [f64; 3] {
+        let t = &self.connect.tolerances;
+        let mut worst = [0.0f64; 3];
+        for (k, l) in labelled {
+            let Some(before) = self.before.get(*k).and_then(Option::as_ref) else {
+                continue;
+            };
+            let Ok(after) = l.measure(result, &self.connect.measure) else {
+                return [f64::INFINITY; 3];
+            };
+            for (w, g) in worst.iter_mut().zip(growths(before, &after, l.target, t)) {
+                *w = w.max(g);
+            }
+        }
+        worst
+    }
+
+    /// The first link of this surface that `connected` meets and `faired` misses, described.
+    pub(super) fn lost_link(
+        &self,
+        labelled: &[(usize, SideLink<'_>)],
+        connected: &BSplineSurface,
+        faired: &BSplineSurface,
+    ) -> Option<String> {
+        let t = &self.connect.tolerances;
+        for (k, l) in labelled {
+            let meets = |s: &BSplineSurface| {
+                l.measure(s, &self.connect.measure)
+                    .is_ok_and(|m| m.meets(l.target, t.g0, t.g1_deg, t.g2_rel))
+            };
+            if meets(connected) && !meets(faired) {
+                return Some(format!(
+                    "it would leave link {} unmet, which the continuity setting alone meets",
+                    self.model.link_label(*k)
+                ));
+            }
+        }
+        None
+    }
+
+    /// The first link of this surface that `result` leaves worse than the input (a larger gap,
+    /// angle or curvature difference, up to its target, beyond both the input's value and the
+    /// tolerance), described; `None` when every link is at least as good.
+    pub(super) fn worse_link(
+        &self,
+        labelled: &[(usize, SideLink<'_>)],
+        result: &BSplineSurface,
+    ) -> Option<String> {
+        let t = &self.connect.tolerances;
+        for (k, l) in labelled {
+            let Some(before) = self.before.get(*k).and_then(Option::as_ref) else {
+                continue;
+            };
+            let Ok(after) = l.measure(result, &self.connect.measure) else {
+                return Some(format!(
+                    "link {} could not be measured",
+                    self.model.link_label(*k)
+                ));
+            };
+            if let Some(what) = worse_than(before, &after, l.target, t) {
+                return Some(format!(
+                    "it would leave link {} {what}",
+                    self.model.link_label(*k)
+                ));
+            }
+        }
+        None
+    }
+}

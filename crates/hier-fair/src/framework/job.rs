@@ -48,6 +48,8 @@ impl Run<'_> {
 }
 
 impl Job<'_> {
+    /// Runs this surface's stages and reports them: the result (the input where the stages
+    /// failed, named in the problems), its energy, creases and the problems it leaves.
     pub(super) fn run(&self) -> Outcome {
         let t0 = Instant::now();
         let entry = &self.model.surfaces[self.surface];
@@ -67,47 +69,13 @@ impl Job<'_> {
                 (original.clone(), Vec::new(), false)
             }
         };
-        // a result of the input's shape (knots inserted, nothing moved) is the input itself: the
-        // inserted knots add nothing, and the energy integrated on the finer spans differs from
-        // the input's by the quadrature error of a rational surface (up to 4e-7 relative), which
-        // would read as a rise
         let energy_before = thin_plate_energy(original);
-        let (surface, stages) = if processed
-            && max_deviation(original, &surface, self.params.deviation_grid)
-                <= UNCHANGED_RELATIVE * original.size()
-        {
-            let energy = energy_before;
-            let stages = stages
-                .into_iter()
-                .map(|mut st| {
-                    st.knots_inserted = 0;
-                    st.energy = energy;
-                    st.deviation = 0.0;
-                    st
-                })
-                .collect();
-            (original.clone(), stages)
+        let (surface, stages) = if processed {
+            self.unchanged_is_input(original, surface, stages, energy_before)
         } else {
             (surface, stages)
         };
-        // the dry run's misses are reported for the links the result still misses
-        let t = &self.connect.tolerances;
-        for (k, p) in missed {
-            let l = &self.model.links[k];
-            let master = &self.current.surfaces[l.master].surface;
-            let range = self.ranges.get(k).copied().flatten();
-            let still = g_continuity::measure::measure_link_on(
-                master,
-                &surface,
-                l.side,
-                range,
-                &self.connect.measure,
-            )
-            .is_ok_and(|m| !m.meets((self.cap)(l.continuity), t.g0, t.g1_deg, t.g2_rel));
-            if still {
-                problems.push(p);
-            }
-        }
+        self.still_missed(&surface, missed, &mut problems);
         let energy_after = thin_plate_energy(&surface);
         if energy_after > energy_before {
             // fairing stages never raise it (`fair_stage`): the rise is what the joins cost
@@ -121,25 +89,7 @@ impl Job<'_> {
                 amount: Some(energy_after / energy_before),
             });
         }
-        // the surface's own joins: C⁰ knot lines (rational arcs joined by double knots) stay
-        // as smooth as they came ([`smooth_join_points`]); a result whose joins turn more than
-        // the input's and the G1 tolerance is a defect the report names
-        let crease_deg = (
-            nurbs_core::creases::largest_crease_deg(original),
-            nurbs_core::creases::largest_crease_deg(&surface),
-        );
-        if crease_deg.1 > crease_deg.0.max(t.g1_deg) {
-            problems.push(Problem {
-                kind: ProblemKind::Limited,
-                surface: entry.name.clone(),
-                link: None,
-                message: format!(
-                    "a C0 knot line inside it turns the normal by {:.3e}° (input {:.3e}°, G1 tolerance {:.3e}°)",
-                    crease_deg.1, crease_deg.0, t.g1_deg
-                ),
-                amount: Some(crease_deg.1),
-            });
-        }
+        let crease_deg = self.creases(original, &surface, &mut problems);
         let report = SurfaceFair {
             crease_deg,
             surface: self.surface,
@@ -170,6 +120,90 @@ impl Job<'_> {
             report,
             problems,
         }
+    }
+
+    /// A result of the input's shape (knots inserted, nothing moved) is the input itself: the
+    /// inserted knots add nothing, and the energy integrated on the finer spans differs from the
+    /// input's by the quadrature error of a rational surface (up to 4e-7 relative), which would
+    /// read as a rise.
+    fn unchanged_is_input(
+        &self,
+        original: &BSplineSurface,
+        surface: BSplineSurface,
+        stages: Vec<StageReport>,
+        energy_before: f64,
+    ) -> (BSplineSurface, Vec<StageReport>) {
+        if max_deviation(original, &surface, self.params.deviation_grid)
+            > UNCHANGED_RELATIVE * original.size()
+        {
+            return (surface, stages);
+        }
+        let stages = stages
+            .into_iter()
+            .map(|mut st| {
+                st.knots_inserted = 0;
+                st.energy = energy_before;
+                st.deviation = 0.0;
+                st
+            })
+            .collect();
+        (original.clone(), stages)
+    }
+
+    /// The dry run's misses, reported for the links `surface` still misses.
+    fn still_missed(
+        &self,
+        surface: &BSplineSurface,
+        missed: Vec<(usize, Problem)>,
+        problems: &mut Vec<Problem>,
+    ) {
+        let t = &self.connect.tolerances;
+        for (k, p) in missed {
+            let l = &self.model.links[k];
+            let master = &self.current.surfaces[l.master].surface;
+            let range = self.ranges.get(k).copied().flatten();
+            let still = g_continuity::measure::measure_link_on(
+                master,
+                surface,
+                l.side,
+                range,
+                &self.connect.measure,
+            )
+            .is_ok_and(|m| !m.meets((self.cap)(l.continuity), t.g0, t.g1_deg, t.g2_rel));
+            if still {
+                problems.push(p);
+            }
+        }
+    }
+
+    /// The largest crease of the input and of `surface`. The surface's own joins — C⁰ knot
+    /// lines (rational arcs joined by double knots) — stay as smooth as they came
+    /// ([`smooth_join_points`]); a result whose joins turn more than the input's and the G1
+    /// tolerance is a defect the report names.
+    fn creases(
+        &self,
+        original: &BSplineSurface,
+        surface: &BSplineSurface,
+        problems: &mut Vec<Problem>,
+    ) -> (f64, f64) {
+        let t = &self.connect.tolerances;
+        let crease_deg = (
+            nurbs_core::creases::largest_crease_deg(original),
+            nurbs_core::creases::largest_crease_deg(surface),
+        );
+        if crease_deg.1 > crease_deg.0.max(t.g1_deg) {
+            problems.push(Problem {
+                kind: ProblemKind::Limited,
+                surface: self.model.surfaces[self.surface].name.clone(),
+                link: None,
+                message: format!(
+                    "a C0 knot line inside it turns the normal by {:.3e}° (input {:.3e}°, G1 tolerance {:.3e}°)",
+                    crease_deg.1, crease_deg.0, t.g1_deg
+                ),
+                amount: Some(crease_deg.1),
+            });
+        }
+        crease_deg
     }
 
     /// The continuity settings of this surface's set steps: a patch of a corner group aims at

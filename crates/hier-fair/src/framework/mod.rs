@@ -82,6 +82,7 @@ pub use plan::waves;
 pub use report::{
     FairModelReport, LinkFair, Problem, ProblemKind, Progress, Stage, StageReport, SurfaceFair,
 };
+use report::{edge_reports, found_edge_reports, link_reports, unmet_problems, worse_edge_problems};
 
 /// Fraction of the deviation tolerance the fairing stages may plan to use (the rest absorbs the
 /// difference between sampled and true deviation).
@@ -213,226 +214,73 @@ pub fn fair_model_with(
     let all_edges = crate::edges::shared_edges(given);
     let (work, found, ranges) = crate::edges::link_edges(given, &all_edges);
     let model = &work;
-    let before = measure_links(model, &ranges, &connect);
     let edges = crate::edges::not_linked(all_edges, model);
-    let edges_before: Vec<_> = edges
-        .iter()
-        .map(|e| {
-            crate::edges::measure_edge(
-                e,
-                &model.surfaces[e.surface].surface,
-                &model.surfaces[e.other].surface,
-            )
-        })
-        .collect();
-    let waves = waves(model)?;
+    let edges_before = measure_edges(model, &edges);
+    let plan = Plan {
+        model,
+        fairers,
+        params,
+        connect: &connect,
+        cap: &cap,
+        before: &measure_links(model, &ranges, &connect),
+        edges: &edges,
+        edges_before: &edges_before,
+        ranges: &ranges,
+    };
     let mut out = model.clone();
     let mut report = FairModelReport {
         tolerance,
         ..FairModelReport::default()
     };
-    let total = model.surfaces.len();
-    let mut done = 0;
-    let mut group_done = vec![false; model.corners.len()];
-    for wave in waves {
-        // n-sided corner groups whose first patch runs in this wave: one mesh, refit ([SV] §3.4)
-        for (g, group) in model.corners.iter().enumerate() {
-            if group_done[g] || !group.patches.iter().any(|p| wave.contains(p)) {
-                continue;
-            }
-            group_done[g] = true;
-            // the group moves all its patches together: the tightest of their tolerances
-            let group_tolerance = group
-                .patches
-                .iter()
-                .map(|&k| model.deviation_of(k, &params.role_tolerance, params.tolerance))
-                .fold(f64::INFINITY, f64::min);
-            group_stage(model, &mut out, group, group_tolerance, params, &mut report);
-        }
-        let job = |&k: &usize, free_seams: bool| -> (usize, Outcome) {
-            let job = Job {
-                model,
-                current: &out,
-                start: &out.surfaces[k].surface,
-                surface: k,
-                fairing: fairers.of(model.surfaces[k].role),
-                tolerance: model.deviation_of(k, &params.role_tolerance, params.tolerance),
-                connect: &connect,
-                params,
-                cap: &cap,
-                before: &before,
-                edges: &edges,
-                ranges: &ranges,
-                free_seams,
-            };
-            (k, job.run())
-        };
-        let run = |ks: &[usize], free_seams: bool| -> Vec<(usize, Outcome)> {
-            if params.parallel {
-                ks.par_iter().map(|k| job(k, free_seams)).collect()
-            } else {
-                ks.iter().map(|k| job(k, free_seams)).collect()
-            }
-        };
-        let mut results = run(&wave, true);
-        // a seam the free continuity steps opened beyond its tolerance: its surfaces run again
-        // with the seam's frame kept ([`crate::edges::is_seam`])
-        let now = |k: usize| {
-            results
-                .iter()
-                .find(|r| r.0 == k)
-                .map_or(&out.surfaces[k].surface, |r| &r.1.surface)
-        };
-        let again = crate::edges::opened_seams(model, &now, &edges, &edges_before, &wave);
-        if !again.is_empty() {
-            for (k, outcome) in run(&again, false) {
-                if let Some(r) = results.iter_mut().find(|r| r.0 == k) {
-                    r.1 = outcome;
-                }
-            }
-        }
-        for (k, outcome) in results {
-            out.surfaces[k].surface = outcome.surface;
-            report.surfaces.push(outcome.report);
-            report.problems.extend(outcome.problems);
-            done += 1;
-            progress(Progress {
-                done,
-                total,
-                name: &model.surfaces[k].name,
-            });
-        }
-    }
+    plan.run(&mut out, &mut report, progress)?;
     let after = measure_links(&out, &ranges, &connect);
-    report.links = before
-        .into_iter()
-        .zip(after)
-        .enumerate()
-        .map(|(k, (b, a))| {
-            let target = cap(model.links[k].continuity);
-            let met = a
-                .as_ref()
-                .is_some_and(|m| m.meets(target, t.g0, t.g1_deg, t.g2_rel));
-            LinkFair {
-                link: k,
-                label: model.link_label(k),
-                target,
-                before: b,
-                after: a,
-                met,
-            }
-        })
-        .collect();
-    for f in &found {
-        let l = &report.links[f.link];
-        if let (Some(b), Some(a)) = (&l.before, &l.after) {
-            let measure = |m: &LinkMeasure| crate::edges::EdgeMeasure {
-                gap: m.g0,
-                angle_deg: m.g1_deg.unwrap_or(0.0),
-            };
-            report.edges.push(crate::edges::EdgeFair::new(
-                model.surfaces[model.links[f.link].slave].name.clone(),
-                format!(
-                    "{} (linked {:?}: {:.0} % of the side lies on it)",
-                    f.label,
-                    l.target,
-                    100.0 * f.fraction
-                ),
-                f.fraction,
-                (measure(b), measure(a)),
-                (t.g0, t.g1_deg),
-            ));
-        }
-    }
+    report.links = link_reports(model, plan.before, after, &cap);
+    report
+        .edges
+        .extend(found_edge_reports(model, &found, &report.links));
     report.links.truncate(given.links.len());
     out.links.truncate(given.links.len());
-    for l in &report.links {
-        if l.met {
-            continue;
-        }
-        let slave = &model.surfaces[model.links[l.link].slave].name;
-        let (message, amount) = match &l.after {
-            Some(m) => {
-                let parts = [
-                    (m.g0 / t.g0, format!("gap {:.3e}", m.g0)),
-                    (
-                        m.g1_deg.map_or(0.0, |a| a / t.g1_deg),
-                        format!("angle {:.3e}°", m.g1_deg.unwrap_or(0.0)),
-                    ),
-                    (
-                        if l.target >= Continuity::G2 {
-                            m.g2_rel.map_or(0.0, |r| r / t.g2_rel)
-                        } else {
-                            0.0
-                        },
-                        format!("curvature {:.3e}", m.g2_rel.unwrap_or(0.0)),
-                    ),
-                ];
-                let worst = parts
-                    .iter()
-                    .max_by(|a, b| a.0.total_cmp(&b.0))
-                    .map_or((0.0, String::new()), |p| p.clone());
-                (
-                    format!(
-                        "{:?} not reached: {} is {:.1} × its tolerance",
-                        l.target, worst.1, worst.0
-                    ),
-                    Some(worst.0),
-                )
-            }
-            None => (
-                "the link could not be measured after fairing".to_string(),
-                None,
-            ),
-        };
-        report.problems.push(Problem {
-            kind: ProblemKind::Unmet,
-            surface: slave.clone(),
-            link: Some(l.label.clone()),
-            message,
-            amount,
-        });
-    }
-    for (e, before) in edges.iter().zip(edges_before) {
-        let after = crate::edges::measure_edge(
-            e,
-            &out.surfaces[e.surface].surface,
-            &out.surfaces[e.other].surface,
-        );
-        report.edges.push(crate::edges::EdgeFair::new(
-            model.surfaces[e.surface].name.clone(),
-            format!(
-                "{}.{} ~ {}",
-                model.surfaces[e.surface].name,
-                e.side.name(),
-                model.surfaces[e.other].name
-            ),
-            e.fraction,
-            (before, after),
-            (t.g0, t.g1_deg),
-        ));
-    }
-    for fair in &report.edges {
-        if fair.worse {
-            report.problems.push(Problem {
-                kind: ProblemKind::Limited,
-                surface: fair.surface.clone(),
-                link: None,
-                message: format!(
-                    "the shared edge {} ({:.0} % of the side) leaves with gap {:.3e} and angle {:.3e}° (input {:.3e}, {:.3e}°)",
-                    fair.label,
-                    100.0 * fair.fraction,
-                    fair.after.gap,
-                    fair.after.angle_deg,
-                    fair.before.gap,
-                    fair.before.angle_deg
-                ),
-                amount: Some(fair.after.angle_deg),
-            });
-        }
-    }
+    let unmet = unmet_problems(model, &report.links);
+    report.problems.extend(unmet);
+    let after_edges = measure_edges(&out, &edges);
+    report
+        .edges
+        .extend(edge_reports(model, &edges, edges_before, after_edges));
+    let worse = worse_edge_problems(&report.edges);
+    report.problems.extend(worse);
     report.seconds_total = start.elapsed().as_secs_f64();
     Ok((out, report))
+}
+
+/// Every shared edge measured on the surfaces of `on`.
+fn measure_edges(on: &Model, edges: &[crate::edges::SharedEdge]) -> Vec<crate::edges::EdgeMeasure> {
+    edges
+        .iter()
+        .map(|e| {
+            crate::edges::measure_edge(
+                e,
+                &on.surfaces[e.surface].surface,
+                &on.surfaces[e.other].surface,
+            )
+        })
+        .collect()
+}
+
+/// What a run of [`fair_model_with`] works from: the model with its found links, the methods,
+/// the settings, and the input's measures every result is held against.
+struct Plan<'a> {
+    model: &'a Model,
+    fairers: Fairers<'a>,
+    params: &'a FairParams,
+    connect: &'a ConnectParams,
+    cap: &'a (dyn Fn(Continuity) -> Continuity + Sync),
+    /// every link measured on the input
+    before: &'a [Option<LinkMeasure>],
+    /// the shared edges no link covers, and their measures on the input
+    edges: &'a [crate::edges::SharedEdge],
+    edges_before: &'a [crate::edges::EdgeMeasure],
+    /// per link, the part of the slave's side it holds on
+    ranges: &'a [Option<(f64, f64)>],
 }
 
 /// Every link of `model` measured (over its part of the side, `ranges`, [`crate::edges`]).

@@ -45,3 +45,102 @@ fn group_start(model: &Model, k: usize, wave_of: &[usize]) -> usize {
         .max()
         .unwrap_or(0)
 }
+
+impl Plan<'_> {
+    /// Runs the waves one after another into `out`: each wave's corner groups first ([SV]
+    /// §3.4), then its surfaces ([`Plan::wave`]), reporting each surface as it finishes.
+    pub(super) fn run(
+        &self,
+        out: &mut Model,
+        report: &mut FairModelReport,
+        progress: &(dyn Fn(Progress<'_>) + Sync),
+    ) -> Result<()> {
+        let model = self.model;
+        let total = model.surfaces.len();
+        let mut done = 0;
+        let mut group_done = vec![false; model.corners.len()];
+        for wave in waves(model)? {
+            // n-sided corner groups whose first patch runs in this wave: one mesh, refit
+            for (g, group) in model.corners.iter().enumerate() {
+                if group_done[g] || !group.patches.iter().any(|p| wave.contains(p)) {
+                    continue;
+                }
+                group_done[g] = true;
+                // the group moves all its patches together: the tightest of their tolerances
+                let group_tolerance = group
+                    .patches
+                    .iter()
+                    .map(|&k| self.tolerance_of(k))
+                    .fold(f64::INFINITY, f64::min);
+                group_stage(model, out, group, group_tolerance, self.params, report);
+            }
+            for (k, outcome) in self.wave(out, &wave) {
+                out.surfaces[k].surface = outcome.surface;
+                report.surfaces.push(outcome.report);
+                report.problems.extend(outcome.problems);
+                done += 1;
+                progress(Progress {
+                    done,
+                    total,
+                    name: &model.surfaces[k].name,
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Surface `k`'s deviation tolerance ([`Model::deviation_of`]).
+    fn tolerance_of(&self, k: usize) -> f64 {
+        self.model
+            .deviation_of(k, &self.params.role_tolerance, self.params.tolerance)
+    }
+
+    /// The surfaces of one wave run against `out` (the earlier waves' results), in parallel
+    /// when asked. Seams are left to the continuity steps; a seam they opened beyond its
+    /// tolerance has its surfaces run again with the seam's frame kept
+    /// ([`crate::edges::opened_seams`]).
+    fn wave(&self, out: &Model, wave: &[usize]) -> Vec<(usize, Outcome)> {
+        let job = |&k: &usize, free_seams: bool| -> (usize, Outcome) {
+            let job = Job {
+                model: self.model,
+                current: out,
+                start: &out.surfaces[k].surface,
+                surface: k,
+                fairing: self.fairers.of(self.model.surfaces[k].role),
+                tolerance: self.tolerance_of(k),
+                connect: self.connect,
+                params: self.params,
+                cap: self.cap,
+                before: self.before,
+                edges: self.edges,
+                ranges: self.ranges,
+                free_seams,
+            };
+            (k, job.run())
+        };
+        let run = |ks: &[usize], free_seams: bool| -> Vec<(usize, Outcome)> {
+            if self.params.parallel {
+                ks.par_iter().map(|k| job(k, free_seams)).collect()
+            } else {
+                ks.iter().map(|k| job(k, free_seams)).collect()
+            }
+        };
+        let mut results = run(wave, true);
+        let now = |k: usize| {
+            results
+                .iter()
+                .find(|r| r.0 == k)
+                .map_or(&out.surfaces[k].surface, |r| &r.1.surface)
+        };
+        let again =
+            crate::edges::opened_seams(self.model, &now, self.edges, self.edges_before, wave);
+        if !again.is_empty() {
+            for (k, outcome) in run(&again, false) {
+                if let Some(r) = results.iter_mut().find(|r| r.0 == k) {
+                    r.1 = outcome;
+                }
+            }
+        }
+        results
+    }
+}

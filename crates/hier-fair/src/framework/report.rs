@@ -230,3 +230,169 @@ pub struct Progress<'a> {
     /// the surface just finished
     pub name: &'a str,
 }
+
+/// The before/after record of every link of `model`, met or not against the model's
+/// tolerances up to its (capped) target.
+pub(super) fn link_reports(
+    model: &Model,
+    before: &[Option<LinkMeasure>],
+    after: Vec<Option<LinkMeasure>>,
+    cap: &dyn Fn(Continuity) -> Continuity,
+) -> Vec<LinkFair> {
+    let t = &model.tolerances;
+    before
+        .iter()
+        .cloned()
+        .zip(after)
+        .enumerate()
+        .map(|(k, (b, a))| {
+            let target = cap(model.links[k].continuity);
+            let met = a
+                .as_ref()
+                .is_some_and(|m| m.meets(target, t.g0, t.g1_deg, t.g2_rel));
+            LinkFair {
+                link: k,
+                label: model.link_label(k),
+                target,
+                before: b,
+                after: a,
+                met,
+            }
+        })
+        .collect()
+}
+
+/// The shared edges that became links ([`crate::edges::link_edges`]), as edge records from
+/// their links' measures.
+pub(super) fn found_edge_reports(
+    model: &Model,
+    found: &[crate::edges::FoundLink],
+    links: &[LinkFair],
+) -> Vec<crate::edges::EdgeFair> {
+    let t = &model.tolerances;
+    let mut out = Vec::new();
+    for f in found {
+        let l = &links[f.link];
+        if let (Some(b), Some(a)) = (&l.before, &l.after) {
+            let measure = |m: &LinkMeasure| crate::edges::EdgeMeasure {
+                gap: m.g0,
+                angle_deg: m.g1_deg.unwrap_or(0.0),
+            };
+            out.push(crate::edges::EdgeFair::new(
+                model.surfaces[model.links[f.link].slave].name.clone(),
+                format!(
+                    "{} (linked {:?}: {:.0} % of the side lies on it)",
+                    f.label,
+                    l.target,
+                    100.0 * f.fraction
+                ),
+                f.fraction,
+                (measure(b), measure(a)),
+                (t.g0, t.g1_deg),
+            ));
+        }
+    }
+    out
+}
+
+/// An `unmet` problem for every link not met, with its worst measure over its tolerance.
+pub(super) fn unmet_problems(model: &Model, links: &[LinkFair]) -> Vec<Problem> {
+    let t = &model.tolerances;
+    let mut out = Vec::new();
+    for l in links.iter().filter(|l| !l.met) {
+        let slave = &model.surfaces[model.links[l.link].slave].name;
+        let (message, amount) = match &l.after {
+            Some(m) => {
+                let parts = [
+                    (m.g0 / t.g0, format!("gap {:.3e}", m.g0)),
+                    (
+                        m.g1_deg.map_or(0.0, |a| a / t.g1_deg),
+                        format!("angle {:.3e}°", m.g1_deg.unwrap_or(0.0)),
+                    ),
+                    (
+                        if l.target >= Continuity::G2 {
+                            m.g2_rel.map_or(0.0, |r| r / t.g2_rel)
+                        } else {
+                            0.0
+                        },
+                        format!("curvature {:.3e}", m.g2_rel.unwrap_or(0.0)),
+                    ),
+                ];
+                let worst = parts
+                    .iter()
+                    .max_by(|a, b| a.0.total_cmp(&b.0))
+                    .map_or((0.0, String::new()), |p| p.clone());
+                (
+                    format!(
+                        "{:?} not reached: {} is {:.1} × its tolerance",
+                        l.target, worst.1, worst.0
+                    ),
+                    Some(worst.0),
+                )
+            }
+            None => (
+                "the link could not be measured after fairing".to_string(),
+                None,
+            ),
+        };
+        out.push(Problem {
+            kind: ProblemKind::Unmet,
+            surface: slave.clone(),
+            link: Some(l.label.clone()),
+            message,
+            amount,
+        });
+    }
+    out
+}
+
+/// The records of the shared edges no link covers, before and after.
+pub(super) fn edge_reports(
+    model: &Model,
+    edges: &[crate::edges::SharedEdge],
+    before: Vec<crate::edges::EdgeMeasure>,
+    after: Vec<crate::edges::EdgeMeasure>,
+) -> Vec<crate::edges::EdgeFair> {
+    let t = &model.tolerances;
+    edges
+        .iter()
+        .zip(before.into_iter().zip(after))
+        .map(|(e, (before, after))| {
+            crate::edges::EdgeFair::new(
+                model.surfaces[e.surface].name.clone(),
+                format!(
+                    "{}.{} ~ {}",
+                    model.surfaces[e.surface].name,
+                    e.side.name(),
+                    model.surfaces[e.other].name
+                ),
+                e.fraction,
+                (before, after),
+                (t.g0, t.g1_deg),
+            )
+        })
+        .collect()
+}
+
+/// A `limited` problem for every shared edge that leaves worse than it came.
+pub(super) fn worse_edge_problems(edges: &[crate::edges::EdgeFair]) -> Vec<Problem> {
+    edges
+        .iter()
+        .filter(|fair| fair.worse)
+        .map(|fair| Problem {
+            kind: ProblemKind::Limited,
+            surface: fair.surface.clone(),
+            link: None,
+            message: format!(
+                "the shared edge {} ({:.0} % of the side) leaves with gap {:.3e} and angle {:.3e}° (input {:.3e}, {:.3e}°)",
+                fair.label,
+                100.0 * fair.fraction,
+                fair.after.gap,
+                fair.after.angle_deg,
+                fair.before.gap,
+                fair.before.angle_deg
+            ),
+            amount: Some(fair.after.angle_deg),
+        })
+        .collect()
+}

@@ -4,18 +4,96 @@
 
 use super::*;
 
+/// What the stages of one surface work from, after the dry run.
+struct StagePlan<'a> {
+    /// the surface's links with their model indices
+    labelled: &'a [(usize, SideLink<'a>)],
+    /// the same links
+    links: &'a [SideLink<'a>],
+    /// sides along which a slave hangs on this surface ([`MASTER_FRAME`] kept)
+    master_sides: Vec<Side>,
+    /// the deviation the fairing stages may plan with ([`DEVIATION_SAFETY`], [`MASTER_SHARE`])
+    budget: f64,
+    /// the highest level the tolerance allows (`None`: not even C0)
+    highest: Option<Continuity>,
+    /// the highest target of the links (`None`: no links)
+    top: Option<Continuity>,
+    /// the prepared surface, with the dry run's knots
+    prepared: BSplineSurface,
+    /// the dry run's result at `highest`
+    connected: BSplineSurface,
+}
+
+impl StagePlan<'_> {
+    /// The levels the alternation goes through: G0 up to the highest (G0 alone without one).
+    fn levels(&self) -> Vec<Continuity> {
+        match self.highest {
+            None => vec![Continuity::G0],
+            Some(h) => [Continuity::G0, Continuity::G1, Continuity::G2]
+                .into_iter()
+                .filter(|&c| c <= h)
+                .collect(),
+        }
+    }
+}
+
 impl Job<'_> {
+    /// The stages of this surface from `original` ([SV] §3.2): the dry run decides the highest
+    /// level the tolerance allows (conflicts and misses go to `problems` and `missed`), the set
+    /// and fairing stages run up to it, and the never-worse fallback picks the result.
     pub(super) fn stages(
         &self,
         original: &BSplineSurface,
         problems: &mut Vec<Problem>,
         missed: &mut Vec<(usize, Problem)>,
     ) -> std::result::Result<(BSplineSurface, Vec<StageReport>), String> {
-        let name = &self.model.surfaces[self.surface].name;
         let labelled = self.links();
-        // links that do not touch their masters: bad input, the surface is left alone
+        self.check_touch(&labelled)?;
+        let links: Vec<SideLink> = labelled.iter().map(|(_, l)| *l).collect();
+        let mut run = Run {
+            original,
+            grid: self.params.deviation_grid,
+            stages: Vec::new(),
+        };
+        // 0. prepare, with the curvature lead-in the continuity steps alone can afford
+        let (dry, needed) = self.prepare_and_dry_run(&links)?;
+        let prepared = dry.prepared.clone();
+        run.record(Stage::Prepare, self.start, &prepared);
+        run.stages[0].knots_inserted = knots_between(self.start, &prepared);
+        let top = links.iter().map(|l| l.target).max();
+        let highest = self.highest_level(&labelled, &dry, problems);
+        self.report_conflicts(&labelled, &dry, highest, needed, problems);
+        self.report_missed(&labelled, &dry, missed);
+        let connected = highest
+            .and_then(|h| dry.steps.iter().find(|(c, _, _)| *c == h))
+            .map_or_else(|| prepared.clone(), |(_, s, _)| s.clone());
+        if top.is_some() && highest.is_none() {
+            // not even C0 fits within the tolerance: keep the input
+            return Ok((self.start.clone(), run.stages));
+        }
+        let prepared = self.with_dry_run_knots(prepared, &connected, highest, &mut run)?;
+        let plan = StagePlan {
+            labelled: &labelled,
+            links: &links,
+            master_sides: self.master_sides(),
+            budget: if self.is_master() {
+                MASTER_SHARE * self.tolerance
+            } else {
+                DEVIATION_SAFETY * self.tolerance
+            },
+            highest,
+            top,
+            prepared: prepared.clone(),
+            connected,
+        };
+        let s = self.run_levels(&plan, prepared, dry.tangent_corners, &mut run, problems)?;
+        Ok(self.never_worse(&plan, s, run, problems))
+    }
+
+    /// Links that do not touch their masters are bad input: the surface is left alone.
+    fn check_touch(&self, labelled: &[(usize, SideLink<'_>)]) -> std::result::Result<(), String> {
         let limit = TOUCH_FACTOR * self.connect.tolerances.g0;
-        for (k, l) in &labelled {
+        for (k, l) in labelled {
             let m = l
                 .measure(self.start, &self.connect.measure)
                 .map_err(|e| format!("link {}: {e}", self.model.link_label(*k)))?;
@@ -29,145 +107,167 @@ impl Job<'_> {
                 ));
             }
         }
-        let links: Vec<SideLink> = labelled.iter().map(|(_, l)| *l).collect();
-        let mut run = Run {
-            original,
-            grid: self.params.deviation_grid,
-            stages: Vec::new(),
-        };
-        // 0. prepare, with the curvature lead-in the continuity steps alone can afford
-        let (dry, needed) = self.prepare_and_dry_run(&links)?;
-        let prepared = dry.prepared.clone();
-        run.record(Stage::Prepare, self.start, &prepared);
-        run.stages[0].knots_inserted = knots_between(self.start, &prepared);
-        let top = links.iter().map(|l| l.target).max();
-        // the highest step whose deviation stays within the tolerance; a step beyond it is a
-        // conflict naming its links, with the least deviation a trial needed to meet them
-        let mut highest = dry
+        Ok(())
+    }
+
+    /// The highest step of the dry run whose deviation stays within the tolerance. A step that
+    /// misses its level and leaves a link worse than the input is not taken where the step below
+    /// met its own: G2 attempted and missed must not cost the G1 that was there (reported).
+    fn highest_level(
+        &self,
+        labelled: &[(usize, SideLink<'_>)],
+        dry: &DryRun,
+        problems: &mut Vec<Problem>,
+    ) -> Option<Continuity> {
+        let highest = dry
             .steps
             .iter()
             .take_while(|(_, _, d)| *d <= self.tolerance)
             .map(|(c, _, _)| *c)
             .last();
-        // a step that misses its level and leaves a link worse than the input is not taken where
-        // the step below met its own: G2 attempted and missed must not cost the G1 that was there
         if let Some(k) = highest.and_then(|h| dry.steps.iter().position(|(c, _, _)| *c == h))
             && k > 0
             && !dry.met_steps[k]
             && dry.met_steps[k - 1]
-            && let Some(worse) = self.worse_link(&labelled, &dry.steps[k].1)
+            && let Some(worse) = self.worse_link(labelled, &dry.steps[k].1)
         {
             let (step, below) = (dry.steps[k].0, dry.steps[k - 1].0);
             problems.push(Problem {
-                        kind: ProblemKind::Limited,
-                        surface: name.clone(),
-                        link: None,
-                        message: format!(
-                            "setting {step:?} misses its links within the deviations tried (up to {:.4}) and {worse}; the surface is kept at {below:?}",
-                            dry.steps[k].2
-                        ),
-                        amount: Some(dry.steps[k].2),
-                    });
-            highest = Some(below);
+                kind: ProblemKind::Limited,
+                surface: self.model.surfaces[self.surface].name.clone(),
+                link: None,
+                message: format!(
+                    "setting {step:?} misses its links within the deviations tried (up to {:.4}) and {worse}; the surface is kept at {below:?}",
+                    dry.steps[k].2
+                ),
+                amount: Some(dry.steps[k].2),
+            });
+            return Some(below);
         }
-        if let Some((step, _, d)) = dry.steps.iter().find(|(_, _, d)| *d > self.tolerance) {
-            let kept = highest.map_or("its input continuity".to_string(), |c| format!("{c:?}"));
-            let amount = needed.filter(|&n| n > self.tolerance).unwrap_or(*d);
-            for (k, l) in &labelled {
-                if l.target >= *step {
-                    problems.push(Problem {
-                        kind: ProblemKind::Conflict,
-                        surface: name.clone(),
-                        link: Some(self.model.link_label(*k)),
-                        message: format!(
-                            "setting {step:?} needs a deviation of {amount:.4} from the original, above the tolerance {:.4}; the surface is kept at {kept}",
-                            self.tolerance
-                        ),
-                        amount: Some(amount),
-                    });
-                }
-            }
-        }
-        // a link the steps miss although every step stayed within the tolerance is no deviation
-        // conflict: it is named with the deviation the kept trial took
-        if !dry.met
-            && dry.steps.iter().all(|(_, _, d)| *d <= self.tolerance)
-            && let Some((step, last, d)) = dry.steps.last()
-        {
-            let t = &self.set_params().tolerances;
-            for (k, l) in &labelled {
-                let target = l.target.min(*step);
-                let Ok(m) = l.measure(last, &self.connect.measure) else {
-                    continue;
-                };
-                if m.meets(target, t.g0, t.g1_deg, t.g2_rel) {
-                    continue;
-                }
-                let vertex = if target == Continuity::G2 {
-                    self.vertex_conflict(&labelled, *l, last, &m)
-                } else {
-                    None
-                };
-                missed.push((*k, Problem {
-                        kind: ProblemKind::Limited,
-                        surface: name.clone(),
-                        link: Some(self.model.link_label(*k)),
-                        message: format!(
-                            "the continuity steps miss {target:?} here in every curvature lead-in tried, deviating {d:.4} (tolerance {:.4}): not a deviation conflict{}",
-                            self.tolerance,
-                            vertex.unwrap_or_default()
-                        ),
-                        amount: Some(*d),
-                    }));
-            }
-        }
-        let connected = highest
-            .and_then(|h| dry.steps.iter().find(|(c, _, _)| *c == h))
-            .map_or_else(|| prepared.clone(), |(_, s, _)| s.clone());
-        if top.is_some() && highest.is_none() {
-            // not even C0 fits within the tolerance: keep the input
-            return Ok((self.start.clone(), run.stages));
-        }
-        let levels: Vec<Continuity> = match highest {
-            None => vec![Continuity::G0],
-            Some(h) => [Continuity::G0, Continuity::G1, Continuity::G2]
-                .into_iter()
-                .filter(|&c| c <= h)
-                .collect(),
+        highest
+    }
+
+    /// A dry-run step beyond the tolerance is a conflict naming its links, with the least
+    /// deviation a trial needed to meet them (`needed`), or the step's own.
+    fn report_conflicts(
+        &self,
+        labelled: &[(usize, SideLink<'_>)],
+        dry: &DryRun,
+        highest: Option<Continuity>,
+        needed: Option<f64>,
+        problems: &mut Vec<Problem>,
+    ) {
+        let Some((step, _, d)) = dry.steps.iter().find(|(_, _, d)| *d > self.tolerance) else {
+            return;
         };
-        // the knots the dry run's refinement found are inserted up front (shape unchanged): the
-        // set steps below then start with the freedom they need instead of finding it again
-        // round by round
-        let prepared = if highest.is_some() {
-            let (more_u, more_v) = (
-                missing_knots(prepared.knots_u().knots(), connected.knots_u().knots()),
-                missing_knots(prepared.knots_v().knots(), connected.knots_v().knots()),
-            );
-            let refined = prepared
-                .refine(Direction::U, &more_u)
-                .and_then(|p| p.refine(Direction::V, &more_v))
-                .map_err(|e| format!("inserting knots into {name}: {e}"))?;
-            if let Some(r) = run.stages.first_mut() {
-                r.knots_inserted += more_u.len() + more_v.len();
+        let kept = highest.map_or("its input continuity".to_string(), |c| format!("{c:?}"));
+        let amount = needed.filter(|&n| n > self.tolerance).unwrap_or(*d);
+        for (k, l) in labelled {
+            if l.target >= *step {
+                problems.push(Problem {
+                    kind: ProblemKind::Conflict,
+                    surface: self.model.surfaces[self.surface].name.clone(),
+                    link: Some(self.model.link_label(*k)),
+                    message: format!(
+                        "setting {step:?} needs a deviation of {amount:.4} from the original, above the tolerance {:.4}; the surface is kept at {kept}",
+                        self.tolerance
+                    ),
+                    amount: Some(amount),
+                });
             }
-            refined
-        } else {
-            prepared
+        }
+    }
+
+    /// A link the dry run misses although every step stayed within the tolerance is no
+    /// deviation conflict: it is named with the deviation the kept trial took (and a vertex
+    /// conflict of its masters where that is the reason); `run` reports it if the result still
+    /// misses it.
+    fn report_missed(
+        &self,
+        labelled: &[(usize, SideLink<'_>)],
+        dry: &DryRun,
+        missed: &mut Vec<(usize, Problem)>,
+    ) {
+        if dry.met || dry.steps.iter().any(|(_, _, d)| *d > self.tolerance) {
+            return;
+        }
+        let Some((step, last, d)) = dry.steps.last() else {
+            return;
         };
-        let master_sides = self.master_sides();
+        let t = &self.set_params().tolerances;
+        for (k, l) in labelled {
+            let target = l.target.min(*step);
+            let Ok(m) = l.measure(last, &self.connect.measure) else {
+                continue;
+            };
+            if m.meets(target, t.g0, t.g1_deg, t.g2_rel) {
+                continue;
+            }
+            let vertex = if target == Continuity::G2 {
+                self.vertex_conflict(labelled, *l, last, &m)
+            } else {
+                None
+            };
+            missed.push((*k, Problem {
+                kind: ProblemKind::Limited,
+                surface: self.model.surfaces[self.surface].name.clone(),
+                link: Some(self.model.link_label(*k)),
+                message: format!(
+                    "the continuity steps miss {target:?} here in every curvature lead-in tried, deviating {d:.4} (tolerance {:.4}): not a deviation conflict{}",
+                    self.tolerance,
+                    vertex.unwrap_or_default()
+                ),
+                amount: Some(*d),
+            }));
+        }
+    }
+
+    /// `prepared` with the knots the dry run's refinement found (shape unchanged): the set
+    /// steps then start with the freedom they need instead of finding it again round by round.
+    fn with_dry_run_knots(
+        &self,
+        prepared: BSplineSurface,
+        connected: &BSplineSurface,
+        highest: Option<Continuity>,
+        run: &mut Run<'_>,
+    ) -> std::result::Result<BSplineSurface, String> {
+        if highest.is_none() {
+            return Ok(prepared);
+        }
+        let name = &self.model.surfaces[self.surface].name;
+        let (more_u, more_v) = (
+            missing_knots(prepared.knots_u().knots(), connected.knots_u().knots()),
+            missing_knots(prepared.knots_v().knots(), connected.knots_v().knots()),
+        );
+        let refined = prepared
+            .refine(Direction::U, &more_u)
+            .and_then(|p| p.refine(Direction::V, &more_v))
+            .map_err(|e| format!("inserting knots into {name}: {e}"))?;
+        if let Some(r) = run.stages.first_mut() {
+            r.knots_inserted += more_u.len() + more_v.len();
+        }
+        Ok(refined)
+    }
+
+    /// The alternation up to the plan's highest level ([SV] §3.2): set a level, fair keeping it,
+    /// each fairing stage with its share of the deviation budget left. Returns the result.
+    fn run_levels(
+        &self,
+        plan: &StagePlan<'_>,
+        prepared: BSplineSurface,
+        tangent_corners: bool,
+        run: &mut Run<'_>,
+        problems: &mut Vec<Problem>,
+    ) -> std::result::Result<BSplineSurface, String> {
+        let name = &self.model.surfaces[self.surface].name;
         let mut set_params = self.set_params();
-        set_params.set.tangent_corners = dry.tangent_corners;
-        let prepared_for_once = prepared.clone();
-        let budget = if self.is_master() {
-            MASTER_SHARE * self.tolerance
-        } else {
-            DEVIATION_SAFETY * self.tolerance
-        };
+        set_params.set.tangent_corners = tangent_corners;
+        let levels = plan.levels();
         let mut s = prepared;
         let mut fair_left = levels.len();
         for level in levels {
-            if highest.is_some() {
-                let (next, step) = set_step(&s, &links, level, &set_params)
+            if plan.highest.is_some() {
+                let (next, step) = set_step(&s, plan.links, level, &set_params)
                     .map_err(|e| format!("setting {level:?} on {name}: {e}"))?;
                 run.record(Stage::set(level), &s, &next);
                 if let Some(r) = run.stages.last_mut() {
@@ -178,126 +278,125 @@ impl Job<'_> {
                 // at the top target every link's rows are fixed in the fairing stage, so its
                 // gap, angle and curvature stay as this set step leaves them: a link it leaves
                 // worse than the input or loses is final, and the stage's fairing is not run
-                // (the fallback below decides from the same measures)
-                if top.is_some_and(|t| level >= t)
-                    && (self.worse_link(&labelled, &s).is_some()
-                        || self.lost_link(&labelled, &connected, &s).is_some())
+                // (the fallback decides from the same measures)
+                if plan.top.is_some_and(|t| level >= t)
+                    && (self.worse_link(plan.labelled, &s).is_some()
+                        || self.lost_link(plan.labelled, &plan.connected, &s).is_some())
                 {
                     run.record(Stage::fair(level), &s, &s);
                     break;
                 }
             }
             // fairing keeping `level`
-            let stage = Stage::fair(level);
-            let eps = ((budget - run.deviation()) / fair_left as f64).max(0.0);
+            let eps = ((plan.budget - run.deviation()) / fair_left as f64).max(0.0);
             fair_left -= 1;
-            let known = run.stages.last().map(|r| r.energy);
-            match self.fair_stage(&s, &links, level, &master_sides, eps, known) {
-                Ok(Some((next, iterations, energy))) => {
-                    run.record_known(stage, &s, &next, Some(energy));
-                    if let Some(r) = run.stages.last_mut() {
-                        r.iterations = iterations;
-                        r.epsilon = eps;
-                    }
-                    s = next;
+            s = self.fair_level(plan, s, level, eps, run, problems);
+        }
+        Ok(s)
+    }
+
+    /// The fairing stage keeping `level` within `eps`, recorded in `run`; a method that fails or
+    /// breaks its contract leaves `s` as it was (reported).
+    fn fair_level(
+        &self,
+        plan: &StagePlan<'_>,
+        s: BSplineSurface,
+        level: Continuity,
+        eps: f64,
+        run: &mut Run<'_>,
+        problems: &mut Vec<Problem>,
+    ) -> BSplineSurface {
+        let stage = Stage::fair(level);
+        let known = run.stages.last().map(|r| r.energy);
+        match self.fair_stage(&s, plan.links, level, &plan.master_sides, eps, known) {
+            Ok(Some((next, iterations, energy))) => {
+                run.record_known(stage, &s, &next, Some(energy));
+                if let Some(r) = run.stages.last_mut() {
+                    r.iterations = iterations;
+                    r.epsilon = eps;
                 }
-                Ok(None) => run.record(stage, &s, &s),
-                Err(e) => {
-                    problems.push(Problem {
-                        kind: ProblemKind::Limited,
-                        surface: name.clone(),
-                        link: None,
-                        message: format!(
-                            "{} fairing ({}) was not used: {e}",
-                            self.fairing.name(),
-                            stage.name()
-                        ),
-                        amount: None,
-                    });
-                    run.record(stage, &s, &s);
-                }
+                next
+            }
+            Ok(None) => {
+                run.record(stage, &s, &s);
+                s
+            }
+            Err(e) => {
+                problems.push(Problem {
+                    kind: ProblemKind::Limited,
+                    surface: self.model.surfaces[self.surface].name.clone(),
+                    link: None,
+                    message: format!(
+                        "{} fairing ({}) was not used: {e}",
+                        self.fairing.name(),
+                        stage.name()
+                    ),
+                    amount: None,
+                });
+                run.record(stage, &s, &s);
+                s
             }
         }
-        // never worse than the input: the faired result, else continuity alone, else the input
-        let mut fallback = |why: String, amount: Option<f64>| {
-            problems.push(Problem {
-                kind: ProblemKind::Limited,
-                surface: name.clone(),
-                link: None,
-                message: why,
-                amount,
-            });
-        };
-        if run.deviation() > self.tolerance {
-            fallback(
+    }
+
+    /// Never worse than the input: the faired result `s`, else the continuity setting faired
+    /// once keeping its level, else continuity alone, else the least grown of the candidates
+    /// ([`Job::least_grown`]); every step down is reported.
+    fn never_worse(
+        &self,
+        plan: &StagePlan<'_>,
+        s: BSplineSurface,
+        run: Run<'_>,
+        problems: &mut Vec<Problem>,
+    ) -> (BSplineSurface, Vec<StageReport>) {
+        let why = if run.deviation() > self.tolerance {
+            (
                 format!(
                     "the faired surface deviates {:.4} (tolerance {:.4}); fairing dropped, continuity setting kept",
                     run.deviation(),
                     self.tolerance
                 ),
                 Some(run.deviation()),
-            );
-        } else if let Some(worse) = self.worse_link(&labelled, &s) {
-            fallback(
+            )
+        } else if let Some(worse) = self.worse_link(plan.labelled, &s) {
+            (
                 format!("fairing dropped, continuity setting kept: {worse}"),
                 None,
-            );
-        } else if let Some(lost) = self.lost_link(&labelled, &connected, &s) {
+            )
+        } else if let Some(lost) = self.lost_link(plan.labelled, &plan.connected, &s) {
             // fairing keeps the continuity it is given ([SV] §3.2 steps 4 and 6): a stage that
             // loses a link the continuity setting met is not used
-            fallback(
+            (
                 format!("fairing dropped, continuity setting kept: {lost}"),
                 None,
-            );
+            )
         } else {
-            return Ok((s, run.stages));
-        }
+            return (s, run.stages);
+        };
+        self.limited(problems, why.0, why.1);
         // the alternating stages failed: the continuity setting, faired once keeping its level
         // (its rows fixed, so it keeps every join the setting made), when that is no worse
         let mut once_result = None;
-        if let Some(h) = highest {
-            let dc = max_deviation(original, &connected, self.params.deviation_grid);
-            let mut once = Run {
-                original,
-                grid: self.params.deviation_grid,
-                stages: vec![run.stages[0].clone()],
-            };
-            once.record(Stage::set(h), &prepared_for_once, &connected);
-            let known = once.stages.last().map(|r| r.energy);
-            if let Ok(Some((faired, iterations, energy))) =
-                self.fair_stage(&connected, &links, h, &master_sides, budget - dc, known)
-            {
-                once.record_known(Stage::fair(h), &connected, &faired, Some(energy));
-                if let Some(r) = once.stages.last_mut() {
-                    r.iterations = iterations;
-                    r.epsilon = budget - dc;
-                }
-                if once.deviation() <= self.tolerance
-                    && self.lost_link(&labelled, &connected, &faired).is_none()
-                {
-                    if self.worse_link(&labelled, &faired).is_none() {
-                        fallback(
-                            format!(
-                                "the continuity setting was faired once keeping {h:?} instead of stage by stage"
-                            ),
-                            None,
-                        );
-                        return Ok((faired, once.stages));
-                    }
-                    once_result = Some((faired, once.stages));
-                }
+        if let Some((faired, stages)) = self.faired_once(plan, run.original, &run.stages[0]) {
+            if self.worse_link(plan.labelled, &faired).is_none() {
+                let h = plan.highest.unwrap_or(Continuity::G0);
+                self.limited(
+                    problems,
+                    format!(
+                        "the continuity setting was faired once keeping {h:?} instead of stage by stage"
+                    ),
+                    None,
+                );
+                return (faired, stages);
             }
+            once_result = Some((faired, stages));
         }
         let mut c = run.stages[0].clone();
-        c.deviation = max_deviation(original, &connected, self.params.deviation_grid);
-        c.energy = thin_plate_energy(&connected);
-        let Some(worse) = self.worse_link(&labelled, &connected) else {
-            return Ok((connected, vec![c]));
+        c.deviation = max_deviation(run.original, &plan.connected, self.params.deviation_grid);
+        c.energy = thin_plate_energy(&plan.connected);
+        let Some(worse) = self.worse_link(plan.labelled, &plan.connected) else {
+            return (plan.connected.clone(), vec![c]);
         };
-        // continuity alone is worse somewhere too: of the candidates, the one whose links grow
-        // the least against the input — a gap before an angle before a curvature
-        // ([`growth_order`]); on a tie the fairer one. The start may no longer fit masters
-        // that were faired before it.
         let mut candidates: Vec<(&str, BSplineSurface, Vec<StageReport>)> = Vec::new();
         if let Some((f, stages)) = once_result {
             candidates.push(("the continuity setting faired once", f, stages));
@@ -305,15 +404,81 @@ impl Job<'_> {
         if run.deviation() <= self.tolerance {
             candidates.push(("the faired result", s, run.stages.clone()));
         }
-        candidates.push(("the continuity setting", connected, vec![c]));
+        candidates.push(("the continuity setting", plan.connected.clone(), vec![c]));
         candidates.push((
             "the surface as it was",
             self.start.clone(),
             vec![run.stages[0].clone()],
         ));
+        self.least_grown(plan, candidates, &worse, problems)
+    }
+
+    /// A `limited` problem of this surface.
+    fn limited(&self, problems: &mut Vec<Problem>, message: String, amount: Option<f64>) {
+        problems.push(Problem {
+            kind: ProblemKind::Limited,
+            surface: self.model.surfaces[self.surface].name.clone(),
+            link: None,
+            message,
+            amount,
+        });
+    }
+
+    /// The plan's continuity setting faired once keeping its level, with its stage records
+    /// (`prepare` the prepare stage's record), when that stays within the tolerance and loses
+    /// no link the setting met.
+    fn faired_once(
+        &self,
+        plan: &StagePlan<'_>,
+        original: &BSplineSurface,
+        prepare: &StageReport,
+    ) -> Option<(BSplineSurface, Vec<StageReport>)> {
+        let h = plan.highest?;
+        let dc = max_deviation(original, &plan.connected, self.params.deviation_grid);
+        let mut once = Run {
+            original,
+            grid: self.params.deviation_grid,
+            stages: vec![prepare.clone()],
+        };
+        once.record(Stage::set(h), &plan.prepared, &plan.connected);
+        let known = once.stages.last().map(|r| r.energy);
+        let eps = plan.budget - dc;
+        let Ok(Some((faired, iterations, energy))) = self.fair_stage(
+            &plan.connected,
+            plan.links,
+            h,
+            &plan.master_sides,
+            eps,
+            known,
+        ) else {
+            return None;
+        };
+        once.record_known(Stage::fair(h), &plan.connected, &faired, Some(energy));
+        if let Some(r) = once.stages.last_mut() {
+            r.iterations = iterations;
+            r.epsilon = eps;
+        }
+        (once.deviation() <= self.tolerance
+            && self
+                .lost_link(plan.labelled, &plan.connected, &faired)
+                .is_none())
+        .then_some((faired, once.stages))
+    }
+
+    /// Continuity alone is worse somewhere too (`worse`): of the candidates, the one whose
+    /// links grow the least against the input — a gap before an angle before a curvature
+    /// ([`growth_order`]); on a tie the fairer one (listed first). The start may no longer fit
+    /// masters that were faired before it.
+    fn least_grown(
+        &self,
+        plan: &StagePlan<'_>,
+        mut candidates: Vec<(&str, BSplineSurface, Vec<StageReport>)>,
+        worse: &str,
+        problems: &mut Vec<Problem>,
+    ) -> (BSplineSurface, Vec<StageReport>) {
         let growth: Vec<[f64; 3]> = candidates
             .iter()
-            .map(|(_, f, _)| self.worst_growth(&labelled, f))
+            .map(|(_, f, _)| self.worst_growth(plan.labelled, f))
             .collect();
         let mut pick = 0;
         for k in 1..candidates.len() {
@@ -326,7 +491,8 @@ impl Job<'_> {
             .zip(&growth)
             .map(|((what, _, _), g)| format!("{what}: {}", growth_text(*g)))
             .collect();
-        fallback(
+        self.limited(
+            problems,
             format!(
                 "continuity alone: {worse}; kept {}, whose links grow the least against the input — {}",
                 candidates[pick].0,
@@ -335,7 +501,7 @@ impl Job<'_> {
             Some(growth[pick].into_iter().fold(0.0, f64::max)),
         );
         let (_, kept, stages) = candidates.swap_remove(pick);
-        Ok((kept, stages))
+        (kept, stages)
     }
 
     /// Where a missed G2 link is worst at an end of its side and the neighbouring side is G2
@@ -460,80 +626,5 @@ impl Job<'_> {
             ));
         }
         Ok(Some((out.surface, out.iterations, after)))
-    }
-
-    /// The largest [`growths`] factors of `result` over this surface's links against the input,
-    /// per kind (gap, angle, curvature; ≤ 1: no link worse).
-    pub(super) fn worst_growth(
-        &self,
-        labelled: &[(usize, SideLink<'_>)],
-        result: &BSplineSurface,
-    ) -> [f64; 3] {
-        let t = &self.connect.tolerances;
-        let mut worst = [0.0f64; 3];
-        for (k, l) in labelled {
-            let Some(before) = self.before.get(*k).and_then(Option::as_ref) else {
-                continue;
-            };
-            let Ok(after) = l.measure(result, &self.connect.measure) else {
-                return [f64::INFINITY; 3];
-            };
-            for (w, g) in worst.iter_mut().zip(growths(before, &after, l.target, t)) {
-                *w = w.max(g);
-            }
-        }
-        worst
-    }
-
-    /// The first link of this surface that `connected` meets and `faired` misses, described.
-    pub(super) fn lost_link(
-        &self,
-        labelled: &[(usize, SideLink<'_>)],
-        connected: &BSplineSurface,
-        faired: &BSplineSurface,
-    ) -> Option<String> {
-        let t = &self.connect.tolerances;
-        for (k, l) in labelled {
-            let meets = |s: &BSplineSurface| {
-                l.measure(s, &self.connect.measure)
-                    .is_ok_and(|m| m.meets(l.target, t.g0, t.g1_deg, t.g2_rel))
-            };
-            if meets(connected) && !meets(faired) {
-                return Some(format!(
-                    "it would leave link {} unmet, which the continuity setting alone meets",
-                    self.model.link_label(*k)
-                ));
-            }
-        }
-        None
-    }
-
-    /// The first link of this surface that `result` leaves worse than the input (a larger gap,
-    /// angle or curvature difference, up to its target, beyond both the input's value and the
-    /// tolerance), described; `None` when every link is at least as good.
-    pub(super) fn worse_link(
-        &self,
-        labelled: &[(usize, SideLink<'_>)],
-        result: &BSplineSurface,
-    ) -> Option<String> {
-        let t = &self.connect.tolerances;
-        for (k, l) in labelled {
-            let Some(before) = self.before.get(*k).and_then(Option::as_ref) else {
-                continue;
-            };
-            let Ok(after) = l.measure(result, &self.connect.measure) else {
-                return Some(format!(
-                    "link {} could not be measured",
-                    self.model.link_label(*k)
-                ));
-            };
-            if let Some(what) = worse_than(before, &after, l.target, t) {
-                return Some(format!(
-                    "it would leave link {} {what}",
-                    self.model.link_label(*k)
-                ));
-            }
-        }
-        None
     }
 }
