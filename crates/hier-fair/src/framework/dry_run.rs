@@ -9,13 +9,6 @@ use super::*;
 /// this (a few roundings of the move quotient, so the skip stays exact).
 pub const SLACK_ROUNDING: f64 = 1e-12;
 
-/// Share of the deviation tolerance the continuity steps alone may use when the framework
-/// chooses the width of a G2 lead-in: the rest is left to the fairing stages. The lead-in's
-/// width grows with the square root of the deviation it may use, so half the budget still
-/// gives 1/√2 ≈ 71 % of the widest transition the whole budget would allow, and the fairing
-/// keeps as much room as the continuity steps take.
-pub const LEAD_IN_SHARE: f64 = 0.5;
-
 /// Trials of the lead-in width search: the first at the widest lead-in, each next one scaled by
 /// √(budget/d); the error of the square law shrinks with the width, so the third trial is
 /// usually within the budget and six are a bound, not a typical count.
@@ -154,7 +147,7 @@ impl Job<'_> {
         let g2 = links.iter().any(|l| {
             l.target >= Continuity::G2 && !g_continuity::measure::is_collapsed(self.start, l.side)
         });
-        let budget = LEAD_IN_SHARE * self.tolerance;
+        let budget = self.params.budget.lead_in(self.tolerance);
         let mut width = g2.then_some(g_continuity::MAX_LEAD_IN);
         let mut trials: Vec<DryRun> = Vec::new();
         for _ in 0..LEAD_IN_TRIALS {

@@ -3,11 +3,6 @@
 
 use super::*;
 
-/// Share of the deviation tolerance the n-sided mesh fairing of a corner group may use; a group
-/// whose refitted patches deviate more is left as it was (reported), the per-patch stages then
-/// fair it within the tolerance.
-pub const GROUP_SHARE: f64 = 0.5;
-
 pub(super) fn group_stage(
     model: &Model,
     out: &mut Model,
@@ -56,10 +51,10 @@ pub(super) fn group_stage(
             ),
             after / before,
         )),
-        None if worst > GROUP_SHARE * tolerance => Some((
+        None if worst > params.budget.group(tolerance) => Some((
             format!(
-                "corner group {}: the n-sided mesh fairing moves the patches {worst:.4} from the original, above {GROUP_SHARE} × the tolerance; the patches are faired one by one instead",
-                group.name
+                "corner group {}: the n-sided mesh fairing moves the patches {worst:.4} from the original, above {} × the tolerance; the patches are faired one by one instead",
+                group.name, params.budget.group_share
             ),
             worst,
         )),

@@ -57,6 +57,7 @@ use crate::error::Result;
 use crate::methods::Fairers;
 use crate::model::{Model, Role};
 
+mod budget;
 mod dry_run;
 mod group;
 mod growth;
@@ -66,12 +67,12 @@ mod plan;
 mod report;
 mod stages;
 
+pub use budget::{DEVIATION_SAFETY, DeviationBudget, GROUP_SHARE, LEAD_IN_SHARE, MASTER_SHARE};
 pub use dry_run::{
-    LEAD_IN_MARGIN, LEAD_IN_MAX_NARROWING, LEAD_IN_SHARE, LEAD_IN_TRIALS, MIN_LEAD_IN,
-    SLACK_ROUNDING,
+    LEAD_IN_MARGIN, LEAD_IN_MAX_NARROWING, LEAD_IN_TRIALS, MIN_LEAD_IN, SLACK_ROUNDING,
 };
+pub use group::GroupFair;
 use group::group_stage;
-pub use group::{GROUP_SHARE, GroupFair};
 pub use growth::worse_than;
 pub(crate) use growth::{growth_order, growth_text, growths};
 pub use job::{JOIN_SAMPLES, UNCHANGED_RELATIVE};
@@ -83,14 +84,6 @@ pub use report::{
     FairModelReport, LinkFair, Problem, ProblemKind, Progress, Stage, StageReport, SurfaceFair,
 };
 use report::{edge_reports, found_edge_reports, link_reports, unmet_problems, worse_edge_problems};
-
-/// Fraction of the deviation tolerance the fairing stages may plan to use (the rest absorbs the
-/// difference between sampled and true deviation).
-pub const DEVIATION_SAFETY: f64 = 0.95;
-
-/// Share of the deviation tolerance the fairing stages of a *master* may use: its slaves must
-/// follow whatever its fairing changes along their joins, and that costs them deviation too.
-pub const MASTER_SHARE: f64 = 0.5;
 
 /// The framework's [`g_continuity::SetParams::g2_move_factor`]: a lighter-weighted G2 solution
 /// (closer to the exact scalar condition) is taken only when no control point moves more than
@@ -153,6 +146,8 @@ pub struct FairParams {
     pub deviation_grid: usize,
     /// Run the surfaces of one wave in parallel (default true; the result is the same).
     pub parallel: bool,
+    /// How each surface's deviation tolerance is shared ([`DeviationBudget`]).
+    pub budget: DeviationBudget,
 }
 
 impl Default for FairParams {
@@ -172,6 +167,7 @@ impl Default for FairParams {
             min_free_rows: 2,
             deviation_grid: crate::connect::DEVIATION_GRID,
             parallel: true,
+            budget: DeviationBudget::default(),
         }
     }
 }

@@ -144,3 +144,71 @@ impl Plan<'_> {
         results
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::Link;
+    use nurbs_core::{Point3, Vector3, shapes::plane_patch};
+
+    /// Four unit squares: 0 and 1 primaries, 2 a fillet on both, 3 a corner on the fillet and
+    /// on primary 0.
+    fn model() -> Model {
+        let square = |x: f64| {
+            plane_patch(
+                Point3::new(x, 0.0, 0.0),
+                Vector3::x(),
+                Vector3::y(),
+                (0.0, 1.0),
+                (0.0, 1.0),
+            )
+            .unwrap()
+        };
+        let mut m = Model::from_primaries((0..4).map(|k| square(f64::from(k))).collect());
+        m.surfaces[2].role = crate::model::Role::Connecting;
+        m.surfaces[3].role = crate::model::Role::Corner;
+        let link = |slave, side, master| Link {
+            slave,
+            side,
+            master,
+            continuity: Continuity::G2,
+        };
+        m.links = vec![
+            link(2, Side::U0, 0),
+            link(2, Side::U1, 1),
+            link(3, Side::U0, 2),
+            link(3, Side::V0, 0),
+        ];
+        m
+    }
+
+    #[test]
+    fn masters_run_in_a_wave_before_their_slaves() {
+        assert_eq!(waves(&model()).unwrap(), vec![vec![0, 1], vec![2], vec![3]]);
+    }
+
+    #[test]
+    fn a_cycle_of_links_has_no_waves() {
+        let mut m = model();
+        m.links.push(Link {
+            slave: 0,
+            side: Side::U1,
+            master: 3,
+            continuity: Continuity::G1,
+        });
+        assert!(waves(&m).is_err());
+    }
+
+    #[test]
+    fn a_corner_group_starts_after_the_masters_outside_it() {
+        let mut m = model();
+        m.corners.push(crate::model::CornerGroup {
+            name: "g".into(),
+            patches: vec![2, 3],
+        });
+        let wave_of = [0, 0, 1, 2];
+        // the group's patches hang on the primaries 0 and 1 (wave 0) only: it can start in wave 1
+        assert_eq!(group_start(&m, 3, &wave_of), 1);
+        assert_eq!(group_start(&m, 0, &wave_of), 0);
+    }
+}

@@ -76,11 +76,7 @@ impl Job<'_> {
             labelled: &labelled,
             links: &links,
             master_sides: self.master_sides(),
-            budget: if self.is_master() {
-                MASTER_SHARE * self.tolerance
-            } else {
-                DEVIATION_SAFETY * self.tolerance
-            },
+            budget: self.params.budget.fairing(self.tolerance, self.is_master()),
             highest,
             top,
             prepared: prepared.clone(),
@@ -288,7 +284,7 @@ impl Job<'_> {
                 }
             }
             // fairing keeping `level`
-            let eps = ((plan.budget - run.deviation()) / fair_left as f64).max(0.0);
+            let eps = DeviationBudget::stage_epsilon(plan.budget, run.deviation(), fair_left);
             fair_left -= 1;
             s = self.fair_level(plan, s, level, eps, run, problems);
         }
