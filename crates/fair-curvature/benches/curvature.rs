@@ -1,4 +1,4 @@
-//! Criterion benchmarks of issue #5: a 30×30 bicubic sampled on a 60×60 grid, Greiner fairing
+//! Criterion benchmarks of the curvature methods: a 30×30 bicubic sampled on a 60×60 grid, Greiner fairing
 //! (goal ≤ 150 ms) and target-curvature fairing (goal ≤ 50 ms).
 
 use criterion::{Criterion, criterion_group, criterion_main};

@@ -76,6 +76,7 @@ pub struct BuildLog {
     pub roles_found: bool,
 }
 
+/// The four sides in the order the log lists them.
 const SIDES: [Side; 4] = [Side::U0, Side::U1, Side::V0, Side::V1];
 
 /// The sample points of `side` of `s`.

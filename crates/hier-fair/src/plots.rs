@@ -9,7 +9,10 @@ use image::{Rgb, RgbImage};
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
+/// The font of every plot's text, embedded so that a plot reads the same on any machine
+/// (DejaVu Sans Mono, free licence, in `assets/`).
 const FONT: &[u8] = include_bytes!("../assets/DejaVuSansMono.ttf");
+/// The family name the embedded font is registered under with plotters.
 const FAMILY: &str = "sans-serif";
 
 fn register() {

@@ -172,6 +172,8 @@ pub fn curvature_range(surfaces: &[&BSplineSurface]) -> f64 {
     if r > 0.0 { r } else { 1.0 }
 }
 
+/// Light grey background of the pictures: light enough for the dark patch boundaries, distinct
+/// from the white stripes of a zebra.
 const BACKGROUND: Rgb<u8> = Rgb([236, 238, 242]);
 
 fn shade(view: &View, shading: Shading, n: Option<Vector3>, h: Option<f64>) -> Rgb<u8> {

@@ -18,7 +18,9 @@ use crate::params::{Located, Param, parse_params};
 
 /// Columns of a record, the section letter column, the data columns of the P section.
 pub const RECORD_COLUMNS: usize = 80;
+/// Column of the section letter (IGES 5.3 §2.1: columns 73, 0-based 72).
 const LETTER_COLUMN: usize = 72;
+/// Data columns of a P-section record (IGES 5.3 §2.2.4: 1–64; 65–72 hold the DE pointer).
 const P_DATA_COLUMNS: usize = 64;
 /// A face's parameter box that differs from its surface's domain by at most this fraction of
 /// the domain on every side is the whole surface (the boundary curve's own rounding).

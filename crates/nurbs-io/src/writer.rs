@@ -6,7 +6,9 @@ use nurbs_core::{BSplineCurve, BSplineSurface};
 
 use crate::error::IgesError;
 
+/// Data columns of a record (IGES 5.3 §2.1: 1–72, the section letter and sequence follow).
 const DATA_COLUMNS: usize = 72;
+/// Data columns of a P-section record (IGES 5.3 §2.2.4: 1–64; 65–72 hold the DE pointer).
 const P_DATA_COLUMNS: usize = 64;
 
 /// Settings of the Global section.
