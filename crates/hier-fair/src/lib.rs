@@ -35,7 +35,9 @@ pub mod framework;
 pub mod methods;
 pub mod model;
 pub mod patches;
+#[cfg(feature = "render")]
 pub mod plots;
+#[cfg(feature = "render")]
 pub mod render;
 pub mod report;
 pub mod synthetic;
