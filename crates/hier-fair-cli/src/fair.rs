@@ -13,44 +13,11 @@ use serde::Serialize;
 
 use crate::files;
 
-/// The fairing methods of the command line.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
-pub enum FairMethod {
-    /// Hadenfeld's local energy fairing
-    Energy,
-    /// one sparse global solve of the thin-plate energy, clamped to the tolerance
-    #[value(name = "energy-global")]
-    EnergyGlobal,
-    /// local energy fairing of a Bézier-spline surface: joints of full multiplicity made C¹
-    #[value(name = "energy-bezier")]
-    EnergyBezier,
-    /// knot removal and reinsertion
-    Krr,
-    /// target-curvature fairing (isocurves faired, surface refitted)
-    Curvature,
-    /// Greiner's curvature approximation
-    Greiner,
-}
-
-impl FairMethod {
-    /// The framework's method of the same name.
-    pub fn method(self) -> hier_fair::Method {
-        match self {
-            FairMethod::Energy => hier_fair::Method::Energy,
-            FairMethod::EnergyGlobal => hier_fair::Method::EnergyGlobal,
-            FairMethod::EnergyBezier => hier_fair::Method::EnergyBezier,
-            FairMethod::Krr => hier_fair::Method::Krr,
-            FairMethod::Curvature => hier_fair::Method::Curvature,
-            FairMethod::Greiner => hier_fair::Method::Greiner,
-        }
-    }
-}
-
 /// Options of `fair`.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct FairOptions {
-    /// the method
-    pub method: FairMethod,
+    /// the method's name in the program's registry ([`crate::methods`])
+    pub method: &'static str,
     /// ε: largest control-point move (model units)
     pub tolerance: f64,
     /// iteration limit (local methods: moves; energy-global: polishing moves); `None` = the
@@ -75,9 +42,9 @@ pub fn boundary_mask(surface: &BSplineSurface, keep: Continuity) -> Result<Contr
     Ok(ControlMask::with_boundary_frame(surface, keep.frame()))
 }
 
-/// The method object for `options`.
+/// The method object for `options`, from the program's registry ([`crate::methods`]).
 pub fn method(options: &FairOptions) -> Result<Box<dyn SurfaceFairing>> {
-    Ok(options.method.method().build(options.iterations))
+    Ok(crate::methods().build(options.method, options.iterations)?)
 }
 
 /// One surface's line of the report (cli-contract.md).
@@ -325,7 +292,7 @@ mod tests {
         };
         assert!(kink(&s) > 0.04, "the input has kinks");
         let options = FairOptions {
-            method: FairMethod::EnergyBezier,
+            method: "energy-bezier",
             tolerance: 0.1,
             iterations: None,
             keep: Continuity::G0,
@@ -348,7 +315,7 @@ mod tests {
     #[test]
     fn report_has_the_contract_fields() {
         let options = FairOptions {
-            method: FairMethod::Energy,
+            method: "energy",
             tolerance: 0.05,
             iterations: Some(100),
             keep: Continuity::G0,
@@ -385,11 +352,7 @@ mod tests {
         std::fs::write(&input, nurbs_core::io::surface_to_json(&surface(9))).expect("write input");
         let output = dir.path().join("out.json");
         let report = dir.path().join("report.json");
-        for method in [
-            FairMethod::Energy,
-            FairMethod::EnergyGlobal,
-            FairMethod::Krr,
-        ] {
+        for method in ["energy", "energy-global", "krr"] {
             let options = FairOptions {
                 method,
                 tolerance: 0.05,
@@ -416,7 +379,7 @@ mod tests {
                 serde_json::from_str(&files::read_text(&report).expect("report"))
                     .expect("report parses");
             assert_eq!(json["surfaces"][0]["role"], "primary");
-            if method != FairMethod::Krr {
+            if method != "krr" {
                 // the energy methods never increase the energy (KRR does not promise it)
                 assert!(
                     json["surfaces"][0]["energy_after"].as_f64()
@@ -425,7 +388,7 @@ mod tests {
             }
         }
         let options = FairOptions {
-            method: FairMethod::Energy,
+            method: "energy",
             tolerance: 0.05,
             iterations: None,
             keep: Continuity::G0,

@@ -18,6 +18,7 @@
 //! ```
 
 pub mod check;
+pub mod cli;
 pub mod connect;
 pub mod eval;
 pub mod exchange;
@@ -27,6 +28,20 @@ pub mod label;
 pub mod mesh;
 pub mod pipeline;
 pub mod summary;
+
+/// The fairing methods `--method` names: the built-in ones unless [`cli::main_with`] was given
+/// others.
+static METHODS: std::sync::OnceLock<hier_fair::MethodRegistry> = std::sync::OnceLock::new();
+
+/// The method registry of this program ([`cli::main_with`]; the built-in methods otherwise).
+pub fn methods() -> &'static hier_fair::MethodRegistry {
+    METHODS.get_or_init(hier_fair::MethodRegistry::builtin)
+}
+
+/// Sets the method registry before anything reads it; an error (giving it back) once set.
+pub fn set_methods(methods: hier_fair::MethodRegistry) -> Result<(), hier_fair::MethodRegistry> {
+    METHODS.set(methods)
+}
 
 /// A bundled surface (the hood panel of `fixtures/surfaces/`), for examples and tests.
 pub const BUNDLED_SURFACE: &str = include_str!("../../../fixtures/surfaces/hood_panel.json");

@@ -10,7 +10,6 @@ use hier_fair::render::{self, Shading, View};
 use hier_fair::{FairModelReport, FairParams, Model, Progress, RoleMethods};
 use nurbs_core::{BSplineSurface, Continuity};
 
-use crate::fair::FairMethod;
 use crate::files;
 
 /// The model bundled in the binary for `hier-fair demo`: the X-node of `fixtures/models/`
@@ -20,8 +19,9 @@ pub const DEMO_MODEL: &str = include_str!("../../../fixtures/models/x_node.json"
 /// Options of a model run.
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct ModelOptions {
-    /// one method for every role (`None`: the framework's default per role)
-    pub method: Option<FairMethod>,
+    /// one method for every role, by its name in the program's registry ([`crate::methods`];
+    /// `None`: the framework's default per role)
+    pub method: Option<&'static str>,
     /// deviation tolerance (`None`: the model's)
     pub tolerance: Option<f64>,
     /// deviation tolerance per role (primary, connecting, corner), over the model's
@@ -54,10 +54,10 @@ pub fn fair(model: &Model, options: &ModelOptions) -> Result<(Model, FairModelRe
     {
         bail!("--tolerance must be a finite length > 0, got {t}");
     }
-    let methods = options
-        .method
-        .map_or_else(RoleMethods::default, |m| RoleMethods::all(m.method()));
-    let built = hier_fair::BuiltMethods::new(&methods, options.iterations);
+    let built = match options.method {
+        Some(m) => crate::methods().build_roles([m; 3], options.iterations)?,
+        None => hier_fair::BuiltMethods::new(&RoleMethods::default(), options.iterations),
+    };
     let params = FairParams {
         target: options.target,
         tolerance: options.tolerance,

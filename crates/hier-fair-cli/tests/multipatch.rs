@@ -3,7 +3,7 @@
 //! max(input, 0.01°), knots inserted where a patch has too few rows for its frames.
 
 use g_continuity::{MeasureParams, measure_link};
-use hier_fair_cli::fair::{FairMethod, FairOptions, fair_surfaces};
+use hier_fair_cli::fair::{FairOptions, fair_surfaces};
 use nurbs_core::{BSplineSurface, Continuity};
 
 fn patches(name: &str) -> Option<Vec<BSplineSurface>> {
@@ -25,7 +25,7 @@ fn shared_edges_keep_their_continuity() {
         let edges = shared.iter().flatten().flatten().count();
         assert!(edges >= input.len(), "{name}: {edges} shared sides");
         let options = FairOptions {
-            method: FairMethod::Energy,
+            method: "energy",
             tolerance: 0.02,
             iterations: None,
             keep: Continuity::G0,

@@ -42,6 +42,20 @@ pub enum Error {
         /// the missing name
         name: String,
     },
+    /// A fairing method name no registry entry has.
+    #[error("unknown fairing method {name:?} (known: {known})")]
+    UnknownMethod {
+        /// the name given
+        name: String,
+        /// the names the registry knows, comma-separated
+        known: String,
+    },
+    /// A fairing method registered under a name that is taken.
+    #[error("a fairing method named {name:?} is registered already")]
+    DuplicateMethod {
+        /// the name
+        name: String,
+    },
     /// A side name other than u0, u1, v0, v1.
     #[error("link {link}: unknown side {side:?} (expected u0, u1, v0 or v1)")]
     UnknownSide {

@@ -52,6 +52,6 @@ pub use framework::{
     FairModelReport, FairParams, LinkFair, Problem, ProblemKind, Progress, Stage, StageReport,
     SurfaceFair, fair_model, fair_model_with,
 };
-pub use methods::{BuiltMethods, Fairers, Method, RoleMethods};
+pub use methods::{BuiltMethods, Fairers, Method, MethodEntry, MethodRegistry, RoleMethods};
 pub use model::{CornerGroup, Link, Model, ModelSurface, ModelTolerances, Role, parse_continuity};
 pub use report::{report_json, report_markdown, report_markdown_in};

@@ -6,6 +6,11 @@
 //! solve, fair-energy), `krr` (knot removal–reinsertion, fair-krr), `curvature` (target
 //! curvature, fair-curvature) and `greiner` (curvature approximation, fair-curvature).
 //!
+//! A [`MethodRegistry`] names the methods a program offers: the built-in ones, and any a crate
+//! that embeds hier-fair registers — the framework builds its per-role methods from it
+//! ([`MethodRegistry::build_roles`]) and the command line's `--method` takes its names
+//! (`hier_fair_cli::cli::main_with`).
+//!
 //! Defaults per role ([`RoleMethods::default`]): local energy fairing everywhere — it keeps every
 //! control point inside its tolerance ball by construction ([Hadenfeld] §3), moves only the free
 //! points, and never increases the energy, which is what a slave squeezed between fixed frames
@@ -61,6 +66,20 @@ impl Method {
             Method::Krr => "krr",
             Method::Curvature => "curvature",
             Method::Greiner => "greiner",
+        }
+    }
+
+    /// One line on the method, for `--help`.
+    pub fn summary(self) -> &'static str {
+        match self {
+            Method::Energy => "Hadenfeld's local energy fairing (the default)",
+            Method::EnergyGlobal => "one sparse global thin-plate solve, clamped to the tolerance",
+            Method::EnergyBezier => {
+                "local energy fairing of a Bézier-spline surface, joints of full multiplicity made C1"
+            }
+            Method::Krr => "knot removal and reinsertion",
+            Method::Curvature => "target-curvature fairing of isocurves, surface refitted",
+            Method::Greiner => "Greiner's curvature approximation",
         }
     }
 
@@ -209,6 +228,154 @@ impl RoleMethods {
     }
 }
 
+/// Builds a method object from the iteration limit a user gave (`None`: the method's own).
+type Build = Box<dyn Fn(Option<usize>) -> Box<dyn SurfaceFairing> + Send + Sync>;
+
+/// A named fairing method of a [`MethodRegistry`].
+pub struct MethodEntry {
+    /// the name `--method` takes
+    pub name: &'static str,
+    /// one line for `--help` and error messages
+    pub summary: &'static str,
+    /// whether the method has an iteration limit that `--iterations` sets
+    pub takes_iterations: bool,
+    build: Build,
+}
+
+impl MethodEntry {
+    /// The method object, with `iterations` as its limit where it has one.
+    pub fn build(&self, iterations: Option<usize>) -> Box<dyn SurfaceFairing> {
+        (self.build)(iterations)
+    }
+}
+
+impl std::fmt::Debug for MethodEntry {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("MethodEntry")
+            .field("name", &self.name)
+            .field("takes_iterations", &self.takes_iterations)
+            .finish_non_exhaustive()
+    }
+}
+
+/// The fairing methods a program offers by name: the built-in [`Method`]s, and any other
+/// [`SurfaceFairing`] a crate registers (shared by the framework and the command line).
+///
+/// ```
+/// use hier_fair::{MethodRegistry, model::Role};
+/// use nurbs_core::{Faired, FairingProblem, SurfaceFairing};
+///
+/// /// A method that leaves every surface as it is (a baseline to compare with).
+/// struct Keep;
+/// impl SurfaceFairing for Keep {
+///     fn name(&self) -> &str {
+///         "keep"
+///     }
+///     fn fair(&self, p: &FairingProblem<'_>) -> nurbs_core::Result<Faired> {
+///         Ok(Faired::new(p.surface.clone(), 0))
+///     }
+/// }
+///
+/// let mut methods = MethodRegistry::builtin();
+/// methods.register("keep", "leaves the surface as it is", false, |_| Box::new(Keep)).unwrap();
+/// assert!(methods.register("keep", "again", false, |_| Box::new(Keep)).is_err());
+/// let built = methods.build_roles(["energy", "keep", "keep"], None).unwrap();
+/// assert_eq!(built.fairers().of(Role::Corner).name(), "keep");
+/// assert!(methods.build("smooth-everything", None).is_err());
+/// ```
+#[derive(Debug)]
+pub struct MethodRegistry {
+    entries: Vec<MethodEntry>,
+}
+
+impl Default for MethodRegistry {
+    fn default() -> Self {
+        Self::builtin()
+    }
+}
+
+impl MethodRegistry {
+    /// The methods that ship with hier-fair ([`Method::ALL`]), in CLI order.
+    pub fn builtin() -> Self {
+        let mut r = Self {
+            entries: Vec::new(),
+        };
+        for m in Method::ALL {
+            let added = r.register(m.name(), m.summary(), m.takes_iterations(), move |n| {
+                m.build(n)
+            });
+            debug_assert!(added.is_ok());
+        }
+        r
+    }
+
+    /// Adds a method under `name`; an error when the name is taken.
+    pub fn register(
+        &mut self,
+        name: &'static str,
+        summary: &'static str,
+        takes_iterations: bool,
+        build: impl Fn(Option<usize>) -> Box<dyn SurfaceFairing> + Send + Sync + 'static,
+    ) -> crate::error::Result<()> {
+        if self.get(name).is_some() {
+            return Err(crate::error::Error::DuplicateMethod { name: name.into() });
+        }
+        self.entries.push(MethodEntry {
+            name,
+            summary,
+            takes_iterations,
+            build: Box::new(build),
+        });
+        Ok(())
+    }
+
+    /// The entry named `name`.
+    pub fn get(&self, name: &str) -> Option<&MethodEntry> {
+        self.entries.iter().find(|e| e.name == name)
+    }
+
+    /// Every entry, in registration order.
+    pub fn entries(&self) -> &[MethodEntry] {
+        &self.entries
+    }
+
+    /// The entry named `name`, or an error naming the known ones.
+    pub fn entry(&self, name: &str) -> crate::error::Result<&MethodEntry> {
+        self.get(name)
+            .ok_or_else(|| crate::error::Error::UnknownMethod {
+                name: name.into(),
+                known: self
+                    .entries
+                    .iter()
+                    .map(|e| e.name)
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            })
+    }
+
+    /// The method named `name`, with `iterations` as its limit where it has one.
+    pub fn build(
+        &self,
+        name: &str,
+        iterations: Option<usize>,
+    ) -> crate::error::Result<Box<dyn SurfaceFairing>> {
+        Ok(self.entry(name)?.build(iterations))
+    }
+
+    /// The methods of the three roles, named (primary, connecting, corner).
+    pub fn build_roles(
+        &self,
+        [primary, connecting, corner]: [&str; 3],
+        iterations: Option<usize>,
+    ) -> crate::error::Result<BuiltMethods> {
+        Ok(BuiltMethods {
+            primary: self.build(primary, iterations)?,
+            connecting: self.build(connecting, iterations)?,
+            corner: self.build(corner, iterations)?,
+        })
+    }
+}
+
 /// Method objects per role, borrowed: what the framework runs. Build one from [`RoleMethods`]
 /// with [`BuiltMethods`], or point the fields at your own [`SurfaceFairing`] implementations.
 #[derive(Clone, Copy)]
@@ -249,7 +416,8 @@ pub struct BuiltMethods {
 }
 
 impl BuiltMethods {
-    /// Builds the methods; `iterations` overrides every method's iteration limit.
+    /// Builds the built-in methods of each role; `iterations` overrides every method's
+    /// iteration limit ([`MethodRegistry::build_roles`] for methods by name).
     pub fn new(methods: &RoleMethods, iterations: Option<usize>) -> Self {
         Self {
             primary: methods.primary.build(iterations),

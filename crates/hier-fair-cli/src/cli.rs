@@ -1,0 +1,546 @@
+//! `hier-fair`: the command line (see `cli-contract.md`). Every error is one line on stderr and a
+//! non-zero exit code; nothing panics on bad input.
+//!
+//! [`main_with`] is the whole program with a given method registry: a crate that adds its own
+//! fairing method registers it and calls `main_with` from its `main`, and `--method` takes the
+//! new name (`examples/custom_method.rs`).
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use crate::{eval, files};
+use anyhow::{Result, bail};
+use clap::{Parser, Subcommand};
+
+#[derive(Parser)]
+#[command(
+    name = "hier-fair",
+    version,
+    about = "Constrained hierarchical fairing of B-spline surfaces"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Discrete thin-plate fairing of a triangle mesh region (boundary and K rings fixed).
+    FairMesh {
+        /// OBJ mesh (polygons are split into triangles)
+        input: PathBuf,
+        /// OBJ to write
+        #[arg(short = 'o', long = "output")]
+        output: PathBuf,
+        /// Rings fixed beyond the boundary
+        #[arg(long, default_value_t = 2)]
+        fixed_rings: usize,
+        /// JSON list of further vertex indices (0-based) to keep fixed
+        #[arg(long)]
+        fixed: Option<PathBuf>,
+        /// Largest distance a vertex may move (model units): the fairest mesh within it
+        #[arg(long, allow_negative_numbers = true)]
+        tolerance: Option<f64>,
+    },
+    /// Labels the boundary segments of a trimmed mesh region (and fits a surface with --fit).
+    Label {
+        /// OBJ mesh region
+        input: PathBuf,
+        /// JSON segments (lists of boundary vertex indices); found automatically when absent
+        #[arg(long)]
+        segments: Option<PathBuf>,
+        /// labels JSON to write
+        #[arg(short = 'o', long = "output")]
+        output: PathBuf,
+        /// SVG drawing of the labeled boundary
+        #[arg(long)]
+        svg: Option<PathBuf>,
+        /// bicubic surface fitted with the labels
+        #[arg(long)]
+        fit: Option<PathBuf>,
+    },
+    /// Reads a STEP (.step, .stp: elementary and B-spline faces) or IGES file (surfaces 128, 120 and planes 108, trimmed by 144) into a model and finds its hierarchy (links, targets, roles) from the geometry
+    Import {
+        /// STEP or IGES file
+        input: PathBuf,
+        /// Model JSON to write
+        #[arg(short = 'o', long = "output")]
+        output: PathBuf,
+        /// Prints every decision of the hierarchy (which side lies on which surface, at what distance and angle, why each role)
+        #[arg(long)]
+        explain: bool,
+    },
+    /// Finds the links and roles of a model from its geometry, keeping the links it has and its roles when it gives any
+    Build {
+        /// Model JSON
+        input: PathBuf,
+        /// Model JSON to write (never the input)
+        #[arg(short = 'o', long = "output")]
+        output: PathBuf,
+        /// Prints every decision (which side lies on which surface, at what distance and angle, why each role)
+        #[arg(long)]
+        explain: bool,
+    },
+    /// Writes the surfaces of a model as IGES 5.3 (entity 128).
+    Export {
+        /// Model JSON (or a bare surface file)
+        input: PathBuf,
+        /// IGES file to write
+        #[arg(short = 'o', long = "output")]
+        output: PathBuf,
+    },
+    /// Measures the continuity of every link of a model (gap, normal angle, curvature).
+    Check {
+        /// Model file (or a bare surface file: then there are no links).
+        model: PathBuf,
+        /// Samples per link, both ends included.
+        #[arg(long, default_value_t = 101)]
+        samples: usize,
+        /// Prints JSON (cli-contract.md) instead of a table.
+        #[arg(long)]
+        json: bool,
+        /// Exits with code 1 when a link exceeds the preset (up to its target continuity).
+        #[arg(long, value_parser = ["class-a", "standard", "exchange"])]
+        fail_above: Option<String>,
+    },
+    /// Sets continuity only (no fairing), slave by slave in hierarchy order.
+    Connect {
+        /// Model file.
+        model: PathBuf,
+        /// Output model file (written atomically; never the input).
+        #[arg(short = 'o', long = "output")]
+        output: PathBuf,
+        /// Highest continuity set (G0, G1 or G2; default: each link's own).
+        #[arg(long, value_parser = parse_keep)]
+        target: Option<nurbs_core::Continuity>,
+        /// Report JSON with before/after continuity per link.
+        #[arg(long)]
+        report: Option<PathBuf>,
+    },
+    /// Runs the main job on the bundled X-node model: fairs it, writes the faired model, the
+    /// report and the pictures into a folder and prints a readable summary.
+    Demo {
+        /// Folder of the results (made if missing; its parent must exist)
+        #[arg(long, default_value = "hier-fair-demo")]
+        out: PathBuf,
+        /// no progress bar
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Evaluates a surface: point, derivatives, normal and curvatures, as JSON on stdout.
+    Eval {
+        /// Surface file (one surface, a list, {"surfaces": [...]} or {"patches": [...]}).
+        surface: PathBuf,
+        /// Uniform grid NU,NV over the domain (both ends included, u slowest).
+        #[arg(long, conflicts_with = "params", required_unless_present = "params")]
+        grid: Option<String>,
+        /// PARAMS.json: {"params": [[u, v], ...]}.
+        #[arg(long)]
+        params: Option<PathBuf>,
+        /// Prints only {"count", "seconds", "checksum"}.
+        #[arg(long)]
+        summary: bool,
+        /// Which surface of a multi-surface file (0-based; required when there are several).
+        #[arg(long = "index")]
+        index: Option<usize>,
+    },
+    /// Hierarchical fairing of a model (masters first, continuity set then kept, [SV] §3.2), or
+    /// fairing of a bare surface file (boundaries and shared edges kept).
+    Fair {
+        /// Model or bare surface file (JSON, model-format.md)
+        input: PathBuf,
+        /// Output file (written atomically; never the input or another output)
+        #[arg(short = 'o', long = "output")]
+        output: PathBuf,
+        /// the method for every surface: energy (default), energy-global, energy-bezier, krr,
+        /// curvature, greiner, or one the program registered (`cli::main_with`)
+        #[arg(long)]
+        method: Option<String>,
+        /// deviation tolerance in model units (default: the model's; 0.02 for a bare surface)
+        #[arg(long, allow_negative_numbers = true)]
+        tolerance: Option<f64>,
+        /// models: deviation tolerance of one role, ROLE=MM (primary, connecting, corner;
+        /// repeatable); a surface's own "deviation" in the model still wins
+        #[arg(long = "tolerance-role", value_parser = parse_role_tolerance)]
+        tolerance_role: Vec<(hier_fair::Role, f64)>,
+        /// iteration limit of the iterative methods (energy, energy-global polish,
+        /// energy-bezier, krr); default: each method's own
+        #[arg(long)]
+        iterations: Option<usize>,
+        /// bare surfaces: the frame kept on all four sides
+        #[arg(long, value_parser = parse_keep, default_value = "G0")]
+        keep: nurbs_core::Continuity,
+        /// models: the highest continuity set on any link (a cap on each link's own)
+        #[arg(long, value_parser = parse_keep)]
+        target: Option<nurbs_core::Continuity>,
+        /// report JSON (per surface, per link, problems; cli-contract.md)
+        #[arg(long)]
+        report: Option<PathBuf>,
+        /// models: write pictures (zebra, mean curvature, link curvature plots) into DIR
+        #[arg(long)]
+        images: Option<PathBuf>,
+        /// no progress bar
+        #[arg(long)]
+        quiet: bool,
+    },
+}
+
+fn run(cli: Cli) -> Result<()> {
+    match cli.command {
+        Command::Check {
+            model,
+            samples,
+            json,
+            fail_above,
+        } => {
+            let text = files::read_text(&model)?;
+            let outcome = crate::check::run(
+                &text,
+                &model.display().to_string(),
+                samples,
+                json,
+                fail_above.as_deref(),
+            )?;
+            print!("{}", outcome.text);
+            if outcome.exceeded {
+                use std::io::Write;
+                let _ = std::io::stdout().flush();
+                std::process::exit(1);
+            }
+            Ok(())
+        }
+        Command::Connect {
+            model,
+            output,
+            target,
+            report,
+        } => {
+            let mut outputs = vec![("-o", output.as_path())];
+            outputs.extend(report.as_deref().map(|r| ("--report", r)));
+            files::check_outputs(&outputs, &[&model])?;
+            let text = files::read_text(&model)?;
+            let outcome = crate::connect::run(&text, &model.display().to_string(), target)?;
+            files::write_atomic(&output, outcome.model_json.as_bytes())?;
+            if let Some(r) = &report {
+                files::write_atomic(
+                    r,
+                    (serde_json::to_string_pretty(&outcome.report)? + "\n").as_bytes(),
+                )?;
+            }
+            print!("{}", outcome.summary);
+            Ok(())
+        }
+        Command::FairMesh {
+            input,
+            output,
+            fixed_rings,
+            fixed,
+            tolerance,
+        } => {
+            let mut inputs = vec![input.as_path()];
+            inputs.extend(fixed.as_deref());
+            files::check_outputs(&[("-o", &output)], &inputs)?;
+            println!(
+                "{}",
+                crate::mesh::run(&input, &output, fixed_rings, fixed.as_deref(), tolerance)?
+            );
+            Ok(())
+        }
+        Command::Label {
+            input,
+            segments,
+            output,
+            svg,
+            fit,
+        } => {
+            let mut outputs = vec![("-o", output.as_path())];
+            outputs.extend(svg.as_deref().map(|p| ("--svg", p)));
+            outputs.extend(fit.as_deref().map(|p| ("--fit", p)));
+            let mut inputs = vec![input.as_path()];
+            inputs.extend(segments.as_deref());
+            files::check_outputs(&outputs, &inputs)?;
+            let out = crate::label::LabelOutputs {
+                labels: &output,
+                svg: svg.as_deref(),
+                fit: fit.as_deref(),
+            };
+            print!("{}", crate::label::run(&input, segments.as_deref(), out)?);
+            Ok(())
+        }
+        Command::Import {
+            input,
+            output,
+            explain,
+        } => {
+            files::check_outputs(&[("-o", &output)], &[&input])?;
+            println!("{}", crate::exchange::import(&input, &output, explain)?);
+            Ok(())
+        }
+        Command::Build {
+            input,
+            output,
+            explain,
+        } => {
+            files::check_outputs(&[("-o", &output)], &[&input])?;
+            println!("{}", crate::exchange::build(&input, &output, explain)?);
+            Ok(())
+        }
+        Command::Export { input, output } => {
+            files::check_outputs(&[("-o", &output)], &[&input])?;
+            println!("{}", crate::exchange::export(&input, &output)?);
+            Ok(())
+        }
+        Command::Demo { out, quiet } => {
+            files::check_output_folder("--out", &out, &[])?;
+            print!("{}", crate::pipeline::demo(&out, quiet)?);
+            Ok(())
+        }
+        Command::Fair {
+            input,
+            output,
+            method,
+            tolerance,
+            tolerance_role,
+            iterations,
+            keep,
+            target,
+            report,
+            images,
+            quiet,
+        } => {
+            let mut outputs = vec![("-o", output.as_path())];
+            outputs.extend(report.as_deref().map(|r| ("--report", r)));
+            files::check_outputs(&outputs, &[&input])?;
+            if let Some(dir) = &images {
+                files::check_output_folder("--images", dir, &[&input])?;
+            }
+            let method = match method {
+                Some(m) => Some(crate::methods().entry(&m)?),
+                None => None,
+            };
+            if let (Some(n), Some(m)) = (iterations, method)
+                && !m.takes_iterations
+            {
+                let with: Vec<&str> = crate::methods()
+                    .entries()
+                    .iter()
+                    .filter(|e| e.takes_iterations)
+                    .map(|e| e.name)
+                    .collect();
+                bail!(
+                    "--iterations {n}: the method {} is a direct solve with no iteration limit (--iterations applies to {})",
+                    m.name,
+                    with.join(", ")
+                );
+            }
+            let method = method.map(|m| m.name);
+            let mut role_tolerance = [None; 3];
+            for (role, mm) in tolerance_role {
+                role_tolerance[role.rank()] = Some(mm);
+            }
+            let iges = crate::exchange::is_iges(&input) || crate::exchange::is_step(&input);
+            let text = if iges {
+                String::new()
+            } else {
+                files::read_text(&input)?
+            };
+            if iges || crate::pipeline::is_model(&text) {
+                let options = crate::pipeline::ModelOptions {
+                    method,
+                    tolerance,
+                    role_tolerance,
+                    iterations,
+                    target,
+                    quiet,
+                };
+                let outcome = crate::pipeline::run_fair(
+                    &input,
+                    &text,
+                    &output,
+                    report.as_deref(),
+                    images.as_deref(),
+                    &options,
+                )?;
+                print!("{}", outcome.0);
+                if let Some(first) = outcome.1.first() {
+                    use std::io::Write;
+                    let _ = std::io::stdout().flush();
+                    eprintln!(
+                        "error: {} surface(s) could not be faired, the first {first}; the partial result and report were written",
+                        outcome.1.len()
+                    );
+                    std::process::exit(1);
+                }
+                return Ok(());
+            }
+            let options = crate::fair::FairOptions {
+                method: method.unwrap_or(hier_fair::Method::Energy.name()),
+                tolerance: tolerance.unwrap_or(0.02),
+                iterations,
+                keep,
+            };
+            print!(
+                "{}",
+                crate::fair::run(&input, &output, report.as_deref(), &options)?
+            );
+            Ok(())
+        }
+        Command::Eval {
+            surface,
+            grid,
+            params,
+            summary,
+            index,
+        } => {
+            let mut surfaces = files::read_surfaces(&surface)?;
+            let chosen = match (index, surfaces.len()) {
+                (None, 1) => 0,
+                (None, n) => bail!(
+                    "{} holds {n} surfaces: choose one with --index K",
+                    surface.display()
+                ),
+                (Some(k), n) if k >= n => bail!(
+                    "--index {k} is out of range: {} holds {n} surfaces",
+                    surface.display()
+                ),
+                (Some(k), _) => k,
+            };
+            let s = surfaces.swap_remove(chosen);
+            let p = match (grid, params) {
+                (Some(g), None) => eval::parse_grid(&g)?,
+                (None, Some(path)) => {
+                    eval::parse_params(&files::read_text(&path)?, &path.display().to_string())?
+                }
+                _ => bail!("give exactly one of --grid NU,NV and --params PARAMS.json"),
+            };
+            let text = match (&p, summary) {
+                (eval::Params::Grid(nu, nv), true) => {
+                    let (count, seconds, checksum) = eval::summarize_grid(&s, *nu, *nv);
+                    eval::summary_text(count, seconds, checksum) + "\n"
+                }
+                _ => {
+                    let count = match &p {
+                        eval::Params::Grid(nu, nv) => nu * nv,
+                        eval::Params::List(list) => list.len(),
+                    };
+                    if !summary && count > eval::MAX_LISTED_SAMPLES {
+                        bail!(
+                            "listing {count} samples is above the bound of {} (about 2 GB of JSON): use --summary or fewer samples",
+                            eval::MAX_LISTED_SAMPLES
+                        );
+                    }
+                    let (samples, seconds) = eval::evaluate(&s, &p)?;
+                    if summary {
+                        eval::summary_json(&samples, seconds) + "\n"
+                    } else {
+                        eval::results_json(&samples)
+                    }
+                }
+            };
+            use std::io::Write;
+            let mut stdout = std::io::stdout().lock();
+            if let Err(e) = stdout.write_all(text.as_bytes())
+                && e.kind() != std::io::ErrorKind::BrokenPipe
+            {
+                return Err(e.into());
+            }
+            Ok(())
+        }
+    }
+}
+
+/// `ROLE=MM` of `--tolerance-role`.
+fn parse_role_tolerance(s: &str) -> Result<(hier_fair::Role, f64), String> {
+    let (role, mm) = s
+        .split_once('=')
+        .ok_or_else(|| format!("expected ROLE=MM (e.g. connecting=0.5), got {s:?}"))?;
+    let role = hier_fair::Role::parse(role.trim())
+        .ok_or_else(|| format!("unknown role {role:?}: expected primary, connecting or corner"))?;
+    let mm: f64 = mm
+        .trim()
+        .parse()
+        .map_err(|_| format!("{mm:?} is not a length"))?;
+    if !(mm.is_finite() && mm > 0.0) {
+        return Err(format!(
+            "the tolerance of {} must be a finite length > 0, got {mm}",
+            role.name()
+        ));
+    }
+    Ok((role, mm))
+}
+
+fn parse_keep(text: &str) -> Result<nurbs_core::Continuity, String> {
+    match text.to_ascii_uppercase().as_str() {
+        "G0" => Ok(nurbs_core::Continuity::G0),
+        "G1" => Ok(nurbs_core::Continuity::G1),
+        "G2" => Ok(nurbs_core::Continuity::G2),
+        _ => Err(format!("expected G0, G1 or G2, got {text}")),
+    }
+}
+
+/// The error and its causes on one line, each cause once: error types that print their source
+/// in their own message (thiserror's `{source}`) would otherwise repeat it.
+fn one_line(e: &anyhow::Error) -> String {
+    let mut out = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string().replace('\n', " ");
+        if out.contains(&text) {
+            continue;
+        }
+        if !out.is_empty() {
+            out.push_str(": ");
+        }
+        out.push_str(&text);
+    }
+    out
+}
+
+/// The program with the methods of `methods` behind `--method` (the built-in ones:
+/// [`hier_fair::MethodRegistry::builtin`]): parses the arguments, runs the subcommand, prints
+/// an error as one line. Call it once, from `main`.
+pub fn main_with(methods: hier_fair::MethodRegistry) -> ExitCode {
+    if crate::set_methods(methods).is_err() {
+        eprintln!("error: the method registry was set twice");
+        return ExitCode::from(2);
+    }
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            let code = if e.use_stderr() { 2 } else { 0 };
+            let _ = e.print();
+            return ExitCode::from(code);
+        }
+    };
+    match run(cli) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {}", one_line(&e));
+            ExitCode::from(2)
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use clap::CommandFactory;
+
+    /// Every subcommand and every argument has a help text (`hier-fair help`, `--help`).
+    #[test]
+    fn every_subcommand_and_option_has_help() {
+        let cli = super::Cli::command();
+        for sub in cli.get_subcommands() {
+            assert!(sub.get_about().is_some(), "{} has no help", sub.get_name());
+            for arg in sub.get_arguments() {
+                let id = arg.get_id().as_str();
+                if id == "help" || id == "version" {
+                    continue;
+                }
+                assert!(
+                    arg.get_help().is_some(),
+                    "{} {id} has no help",
+                    sub.get_name()
+                );
+            }
+        }
+    }
+}
