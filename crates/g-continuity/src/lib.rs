@@ -30,6 +30,7 @@
 //! hier-fair's job). References (keys in brackets) are listed in `docs/references.md`.
 
 pub mod error;
+mod ladder;
 pub mod lead_in;
 pub mod lsq;
 pub mod measure;
@@ -37,6 +38,7 @@ pub mod params;
 pub mod rows;
 pub mod sampling;
 pub mod slave;
+mod system;
 pub mod transfer;
 
 pub use error::{Error, Result};

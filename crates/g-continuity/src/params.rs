@@ -4,6 +4,34 @@ use nurbs_core::ProjectionParams;
 
 use crate::measure::MeasureParams;
 
+/// Weight of the G1 rows that keep the tangential part of the cross derivative, relative to the
+/// rows of the G1 condition itself. The condition n·ê = 0 alone admits ê = 0 (a collapsed
+/// cross derivative); the paper keeps the tangential part exactly ([SV] eq. (3)). A small weight
+/// keeps it as far as the condition allows: the remaining normal residual is of order
+/// weight² × the tangential change an exact join needs. Too small a weight lets the solve fit
+/// noise with huge tangential moves (1e-6 moved a car-shell row by 3 units); 1e-2 is safe, and
+/// the later passes shrink it where the moves stay plausible.
+pub const G1_TANGENTIAL_WEIGHT: f64 = 1e-2;
+
+/// Weight of the minimal-deviation G2 rows that keep the tangential part of the change of the
+/// curvature row at each sample, relative to the rows of the G2 condition (default of
+/// [`SetParams::g2_tangential_weight`]). With weight 1 the system is the paper's ([SV] §4.2):
+/// the change Σ_j M_j(t_k) d_j is to be the normal vector β_k n_k, a well-conditioned fit.
+pub const G2_TANGENTIAL_WEIGHT: f64 = 1.0;
+
+/// Default of [`SetParams::g2_move_factor`]: a lighter-weighted G2 solution is accepted only while
+/// no point moves more than this factor times the largest move of the first (weight 1) solution.
+pub const G2_MOVE_FACTOR: f64 = 2.0;
+
+/// Passes of the G1 solve (default of [`SetParams::g1_passes`]): the first with the tangential
+/// weight of the parameters, each further one from the previous result with the weight divided
+/// by [`crate::rows::G1_WEIGHT_STEP`] (a continuation towards the exact G1 condition).
+pub const G1_PASSES: usize = 3;
+
+/// Largest number of control points per direction knot insertion may create (a guard against
+/// runaway refinement on joins that cannot be made continuous).
+pub const MAX_CONTROL_POINTS: usize = 1024;
+
 /// How the G2 row equations are solved ([SV] §4.2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum G2Method {
@@ -34,17 +62,17 @@ pub struct SetParams {
     /// corner needs. False: they never move, and such corner samples keep their original error.
     pub move_unlinked_boundaries: bool,
     /// Weight of the rows that keep the tangential part of the cross derivative in the G1 solve,
-    /// relative to the G1 condition (default [`crate::rows::G1_TANGENTIAL_WEIGHT`]).
+    /// relative to the G1 condition (default [`G1_TANGENTIAL_WEIGHT`]).
     pub g1_tangential_weight: f64,
     /// Weight of the rows that keep the tangential part of the curvature-row change in the
     /// minimal-deviation G2 solve, relative to the G2 condition (default
-    /// [`crate::rows::G2_TANGENTIAL_WEIGHT`]: the paper's system).
+    /// [`G2_TANGENTIAL_WEIGHT`]: the paper's system).
     pub g2_tangential_weight: f64,
     /// The minimal-deviation G2 solve relaxes the tangential rows only while no point moves more
     /// than this factor times the largest move of the first solution (default
-    /// [`crate::rows::G2_MOVE_FACTOR`]; 0 keeps the first solution).
+    /// [`G2_MOVE_FACTOR`]; 0 keeps the first solution).
     pub g2_move_factor: f64,
-    /// G1 passes, each from the previous result (default [`crate::rows::G1_PASSES`]).
+    /// G1 passes, each from the previous result (default [`G1_PASSES`]).
     pub g1_passes: usize,
     /// C0 passes (each re-projects the boundary onto the master; default 4, the foot points
     /// converge linearly with a factor of the gap curvature, so 2–3 usually suffice).
@@ -70,10 +98,10 @@ impl Default for SetParams {
             min_samples: crate::measure::DEFAULT_SAMPLES,
             g2_method: G2Method::default(),
             move_unlinked_boundaries: true,
-            g1_tangential_weight: crate::rows::G1_TANGENTIAL_WEIGHT,
-            g1_passes: crate::rows::G1_PASSES,
-            g2_tangential_weight: crate::rows::G2_TANGENTIAL_WEIGHT,
-            g2_move_factor: crate::rows::G2_MOVE_FACTOR,
+            g1_tangential_weight: G1_TANGENTIAL_WEIGHT,
+            g1_passes: G1_PASSES,
+            g2_tangential_weight: G2_TANGENTIAL_WEIGHT,
+            g2_move_factor: G2_MOVE_FACTOR,
             c0_iterations: 4,
             projection: ProjectionParams::default(),
             tangent_corners: false,
@@ -125,7 +153,7 @@ pub struct ConnectParams {
     /// comes from knots inserted where the tolerances are missed.
     pub lead_in: Option<f64>,
     /// Largest number of control points per direction that knot insertion along failing sides
-    /// may create (default [`crate::slave::MAX_CONTROL_POINTS`]); a side that would need more
+    /// may create (default [`MAX_CONTROL_POINTS`]); a side that would need more
     /// keeps its best round.
     pub max_control_points: usize,
     /// Whether [`crate::prepare_slave`] first makes each side's along spline space compatible
@@ -143,7 +171,7 @@ impl Default for ConnectParams {
             max_refinements: 6,
             c0_floor: 0.0,
             lead_in: None,
-            max_control_points: crate::slave::MAX_CONTROL_POINTS,
+            max_control_points: MAX_CONTROL_POINTS,
             transfer_knots: true,
         }
     }

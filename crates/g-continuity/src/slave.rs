@@ -34,6 +34,8 @@ use rayon::prelude::*;
 
 use crate::error::{Error, Result};
 use crate::measure::{LinkMeasure, MeasureParams, is_collapsed};
+/// The default net bound lives with [`ConnectParams`] (params.rs), re-exported here.
+pub use crate::params::MAX_CONTROL_POINTS;
 use crate::params::{ConnectParams, SetParams};
 use crate::rows::{RowMove, row_of, solve_row_at};
 use crate::sampling::along_knots;
@@ -50,10 +52,6 @@ pub const C0_EXACT: f64 = 1e-11;
 /// bit-identical) when the correction its corner sample alone asks for is below this fraction of
 /// the slave size: the corner is continuous already, up to rounding of the construction.
 pub const END_CONTINUOUS: f64 = 1e-9;
-
-/// Largest number of control points per direction knot insertion may create (a guard against
-/// runaway refinement on joins that cannot be made continuous).
-pub const MAX_CONTROL_POINTS: usize = 1024;
 
 /// One linked side of a slave: which side, onto which master, with what target.
 #[derive(Debug, Clone, Copy)]
@@ -811,26 +809,11 @@ pub fn set_step(
         let mut inserted = false;
         if report.refinements < params.max_refinements {
             let knots = refiner.knots(&s, links, &report.after, step, &tolerances);
-            for (l, xs) in links.iter().zip(knots) {
-                if l.target < step || xs.is_empty() {
-                    continue;
-                }
-                let dir = l.side.along_direction();
-                let count = match dir {
-                    Direction::U => work.num_u(),
-                    Direction::V => work.num_v(),
-                };
-                if count + xs.len() > params.max_control_points {
-                    continue;
-                }
-                let xs = new_breakpoints(&work, dir, &xs);
-                if xs.is_empty() {
-                    continue;
-                }
-                work = work.refine(dir, &xs)?;
-                report.knots_inserted += xs.len();
-                inserted = true;
-            }
+            let done = insert_along(&mut work, links, knots, params, new_breakpoints, |l| {
+                l.target < step
+            })?;
+            report.knots_inserted += done.iter().map(|(_, xs)| xs.len()).sum::<usize>();
+            inserted = !done.is_empty();
         }
         if !inserted {
             let (_, s, report) = best.unwrap_or((0.0, s, report));
@@ -1059,6 +1042,57 @@ fn failing_spans(
     mids
 }
 
+/// The best refinement round of [`connect_slave`] so far.
+struct BestRound {
+    /// its worst excess over the links (≤ 1: every link met)
+    worst: f64,
+    /// the slave after the round
+    surface: BSplineSurface,
+    /// the links measured on it
+    after: Vec<LinkMeasure>,
+    /// the prepared slave refined the same way (what its moves are measured against)
+    reference: BSplineSurface,
+    /// knots inserted along the sides before the round
+    along_knots: usize,
+    /// refinement rounds before it
+    rounds: usize,
+}
+
+/// Inserts the refiner's `knots` along each link's side of `work`, except for links `skip`
+/// names and where the net would pass [`ConnectParams::max_control_points`]; `insertable`
+/// picks the values that can go in ([`new_knots`], [`new_breakpoints`]). Returns what went in,
+/// in order (the one insertion step of [`set_step`] and [`connect_slave`]).
+fn insert_along(
+    work: &mut BSplineSurface,
+    links: &[SideLink],
+    knots: Vec<Vec<f64>>,
+    params: &ConnectParams,
+    insertable: fn(&BSplineSurface, Direction, &[f64]) -> Vec<f64>,
+    skip: impl Fn(&SideLink) -> bool,
+) -> Result<Vec<(Direction, Vec<f64>)>> {
+    let mut done = Vec::new();
+    for (l, xs) in links.iter().zip(knots) {
+        if skip(l) || xs.is_empty() {
+            continue;
+        }
+        let dir = l.side.along_direction();
+        let count = match dir {
+            Direction::U => work.num_u(),
+            Direction::V => work.num_v(),
+        };
+        if count + xs.len() > params.max_control_points {
+            continue;
+        }
+        let xs = insertable(work, dir, &xs);
+        if xs.is_empty() {
+            continue;
+        }
+        *work = work.refine(dir, &xs)?;
+        done.push((dir, xs));
+    }
+    Ok(done)
+}
+
 /// Sets continuity of `slave` to all its `links` (C0 → G1 → G2, twists averaged), inserting knots
 /// along sides that miss the tolerances; returns the new slave and the report. Masters are never
 /// modified.
@@ -1076,18 +1110,9 @@ pub fn connect_slave(
     let mut work = prepare(slave, links, params, &mut report)?;
     let mut reference = work.clone();
     let mut refiner = Refiner::new(&work, links);
-    // the best round so far: (worst excess, surface, its measures, its reference, knots, rounds)
-    type Round = (
-        f64,
-        BSplineSurface,
-        Vec<LinkMeasure>,
-        BSplineSurface,
-        usize,
-        usize,
-    );
-    let mut best: Option<Round> = None;
+    let mut best: Option<BestRound> = None;
     let prepared_knots = report.knots_inserted;
-    let mut along_knots_inserted = 0;
+    let mut along_knots = 0;
     loop {
         let mut s = work.clone();
         report.twists_averaged = set_rows(&mut s, links, &params.set)?;
@@ -1097,49 +1122,40 @@ pub fn connect_slave(
             .collect::<Result<_>>()?;
         let worst = worst_excess(links, &after, Continuity::G2, &params.tolerances);
         let rounds = report.refinements;
-        let mut inserted = false;
         let knots = if rounds < params.max_refinements {
             refiner.knots(&s, links, &after, Continuity::G2, &params.tolerances)
         } else {
             Vec::new()
         };
-        if best.as_ref().is_none_or(|b| worst < b.0) {
-            best = Some((
+        if best.as_ref().is_none_or(|b| worst < b.worst) {
+            best = Some(BestRound {
                 worst,
-                s,
+                surface: s,
                 after,
-                reference.clone(),
-                along_knots_inserted,
+                reference: reference.clone(),
+                along_knots,
                 rounds,
-            ));
+            });
         }
-        for (l, xs) in links.iter().zip(knots) {
-            if xs.is_empty() {
-                continue;
-            }
-            let dir = l.side.along_direction();
-            let count = match dir {
-                Direction::U => work.num_u(),
-                Direction::V => work.num_v(),
-            };
-            if count + xs.len() > params.max_control_points {
-                continue;
-            }
-            let xs = new_knots(&work, dir, &xs);
-            if xs.is_empty() {
-                continue;
-            }
-            work = work.refine(dir, &xs)?;
-            reference = reference.refine(dir, &xs)?;
-            along_knots_inserted += xs.len();
-            inserted = true;
+        let done = insert_along(&mut work, links, knots, params, new_knots, |_| false)?;
+        for (dir, xs) in &done {
+            reference = reference.refine(*dir, xs)?;
+            along_knots += xs.len();
         }
-        if !inserted {
+        if done.is_empty() {
             break;
         }
         report.refinements += 1;
     }
-    let Some((_, result, after, reference, along, rounds)) = best else {
+    let Some(BestRound {
+        surface: result,
+        after,
+        reference,
+        along_knots: along,
+        rounds,
+        ..
+    }) = best
+    else {
         unreachable!("at least one round ran");
     };
     report.knots_inserted = prepared_knots + along;

@@ -21,11 +21,11 @@
 //!   along that whole side (in the fairing masks and in the continuity steps), the other one at
 //!   the control points that carry the edge ([`carrying_points`]).
 //! - A seam — an edge between two surfaces of one role, as the two halves of a fillet ring — is
-//!   kept by the fairing stages but left free to the continuity steps ([`is_seam`]): each half
+//!   kept by the fairing stages but left free to the continuity steps (`is_seam`): each half
 //!   is set to the same masters the same way, so the two settings agree along the seam, and a
 //!   kept seam column would hold each half's cross-section at its input curvature where it meets
 //!   its masters. A seam the free steps open beyond its tolerance has its surfaces run again with
-//!   it kept ([`opened_seams`]).
+//!   it kept (`opened_seams`).
 //!
 //! The fairing report measures every such edge before and after; the output model's links are
 //! the input's.
