@@ -27,7 +27,7 @@
 //! the roles are found only when every surface is primary (a model as `import` writes it).
 //! Every decision goes into the log (`import --explain`, `build --explain`).
 
-use nurbs_core::{BSplineSurface, Continuity, ProjectionParams, Side, project_to_surface};
+use nurbs_core::{BSplineSurface, Continuity, ProjectionParams, Side, SurfaceProjector};
 
 use crate::model::{Link, Model, Role};
 
@@ -90,11 +90,12 @@ fn side_points(s: &BSplineSurface, side: Side) -> Vec<(f64, f64)> {
 
 /// The surface (other than `own`) that `side` of surface `own` lies on within `tol`, nearest
 /// first; and the nearest surface with its distance when none does (for the log).
-fn contact(
-    model: &Model,
+fn contact<'m>(
+    model: &'m Model,
     own: usize,
     side: Side,
     tol: f64,
+    projectors: &mut [Option<SurfaceProjector<'m>>],
 ) -> (Option<SideContact>, Option<(usize, f64)>) {
     let s = &model.surfaces[own].surface;
     let params = ProjectionParams::default();
@@ -118,8 +119,10 @@ fn contact(
         let mut distance: f64 = 0.0;
         // the largest angle where both normals are defined (not at a pole)
         let mut angle: Option<f64> = None;
+        let projector =
+            projectors[k].get_or_insert_with(|| SurfaceProjector::new(&other.surface, params));
         for d in &samples {
-            let f = project_to_surface(&other.surface, &d.point, &params);
+            let f = projector.project(&d.point);
             distance = distance.max(f.distance);
             let a = match (d.normal(), other.surface.derivatives(f.u, f.v).normal()) {
                 (Some(n1), Some(n2)) => Some(n1.dot(&n2).abs().clamp(0.0, 1.0).acos().to_degrees()),
@@ -200,8 +203,10 @@ pub fn build_hierarchy(model: &mut Model) -> BuildLog {
     let mut log = BuildLog::default();
     let tol = model.tolerances.g0;
     let n = model.surfaces.len();
-    // which surface each side lies on
+    // which surface each side lies on (each surface's projector, with its grid of start points,
+    // built once for all the sides projected onto it)
     let mut contacts: Vec<[Option<SideContact>; 4]> = Vec::with_capacity(n);
+    let mut projectors: Vec<Option<SurfaceProjector<'_>>> = (0..n).map(|_| None).collect();
     for k in 0..n {
         let mut row: [Option<SideContact>; 4] = Default::default();
         for (i, &side) in SIDES.iter().enumerate() {
@@ -213,7 +218,7 @@ pub fn build_hierarchy(model: &mut Model) -> BuildLog {
                 ));
                 continue;
             }
-            let (c, nearest) = contact(model, k, side, tol);
+            let (c, nearest) = contact(model, k, side, tol, &mut projectors);
             match (&c, nearest) {
                 (Some(c), _) => log.lines.push(format!(
                     "{name}.{}: lies on {} (max distance {:.2e}, max normal angle {})",

@@ -632,14 +632,28 @@ pub fn read_step(text: &str) -> Result<StepFile, StepError> {
             *file.skipped.entry(skind).or_default() += 1;
             continue;
         };
-        // the face's boundary points, inverted on the surface
+        // the face's boundary points, inverted on the surface (a B-spline's projector builds its
+        // grid of start points once per face, not once per point)
         let mut params = Vec::new();
+        let mut projector = match &surface {
+            Surface::Spline(s) => Some(nurbs_core::SurfaceProjector::new(
+                s,
+                ProjectionParams::default(),
+            )),
+            _ => None,
+        };
         for b in m.list(id, p.get(1))? {
             let Value::Ref(bid) = b else { continue };
             let fb = &m.get(*bid)?.parts[0].1;
             let loop_id = m.reference(*bid, fb.get(1))?;
             for pt in loop_points(&m, loop_id)? {
-                params.push(surface.invert(&pt));
+                params.push(match projector.as_mut() {
+                    Some(pr) => {
+                        let f = pr.project(&pt);
+                        (f.u, f.v)
+                    }
+                    None => surface.invert(&pt),
+                });
             }
         }
         if params.is_empty() {
