@@ -23,6 +23,12 @@ use std::collections::HashMap;
 
 use nurbs_core::{BSplineCurve, BSplineSurface, KnotVector, Point3, ProjectionParams, Vector3};
 
+/// A boundary point whose Newton foot from the previous point's lies within this fraction of
+/// the surface size is on the surface there (a face's edges lie on it to the kernel's
+/// tolerance, 1e-7 of a part; the foot of a point on a surface is that point): the full search
+/// from the start grid is skipped.
+pub const ON_SURFACE_RELATIVE: f64 = 1e-7;
+
 /// Points along each edge curve used for a face's parameter box.
 pub const EDGE_SAMPLES: usize = 17;
 
@@ -642,6 +648,13 @@ pub fn read_step(text: &str) -> Result<StepFile, StepError> {
             )),
             _ => None,
         };
+        // consecutive boundary points are close: Newton from the previous foot first, the full
+        // search from the grid only where that does not land on the surface
+        let on_surface = match &surface {
+            Surface::Spline(s) => ON_SURFACE_RELATIVE * s.size(),
+            _ => 0.0,
+        };
+        let mut previous: Option<(f64, f64)> = None;
         for b in m.list(id, p.get(1))? {
             let Value::Ref(bid) = b else { continue };
             let fb = &m.get(*bid)?.parts[0].1;
@@ -649,7 +662,11 @@ pub fn read_step(text: &str) -> Result<StepFile, StepError> {
             for pt in loop_points(&m, loop_id)? {
                 params.push(match projector.as_mut() {
                     Some(pr) => {
-                        let f = pr.project(&pt);
+                        let warm = previous
+                            .map(|start| pr.project_from(&pt, start))
+                            .filter(|f| f.converged && f.distance <= on_surface);
+                        let f = warm.unwrap_or_else(|| pr.project(&pt));
+                        previous = Some((f.u, f.v));
                         (f.u, f.v)
                     }
                     None => surface.invert(&pt),
