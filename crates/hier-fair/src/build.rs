@@ -19,6 +19,13 @@
 //!   or more sides lie across the ends of connecting surfaces, each no longer than
 //!   [`CORNER_SPAN`] × that surface's width (a vertex blend; a side collapsed to a pole counts as
 //!   none); the rest *primary*.
+//! - **n-sided corner groups** ([SV] §3.4, a corner region already split into quads): n ≥ 3
+//!   surfaces around one centre point, each with the two sides that meet there lying tangentially
+//!   on its neighbours around the centre and its other two sides on surfaces outside the group,
+//!   one of them a connecting surface (a corner region is bounded by fillets; quads of a face
+//!   split around a vertex are not); none of them connecting. They become corner patches of one
+//!   group, in cyclic order; their sides on each other are no links (the framework sets those
+//!   inside the group). Where the model gives its roles, only corner patches are grouped.
 //! - **Links** go from the lower surface in the hierarchy to the higher one: a side of a
 //!   connecting surface on a primary, of a corner on a connecting surface or a primary. A side
 //!   on a surface of the same role, or on a lower one, is no link (the other surface's side is).
@@ -184,6 +191,212 @@ fn side_length(s: &BSplineSurface, side: Side) -> f64 {
     pts.windows(2).map(|w| (w[1] - w[0]).norm()).sum()
 }
 
+/// The two sides of a surface that meet at each of its corners.
+const CORNER_SIDES: [(Side, Side); 4] = [
+    (Side::U0, Side::V0),
+    (Side::U1, Side::V0),
+    (Side::U0, Side::V1),
+    (Side::U1, Side::V1),
+];
+
+/// The side opposite `side`.
+fn opposite(side: Side) -> Side {
+    match side {
+        Side::U0 => Side::U1,
+        Side::U1 => Side::U0,
+        Side::V0 => Side::V1,
+        Side::V1 => Side::V0,
+    }
+}
+
+/// A corner of a surface whose two sides lie tangentially on two other surfaces: the corner
+/// point, those two surfaces, and the surface's two other sides.
+type Centre = (nurbs_core::Point3, [usize; 2], [Side; 2]);
+
+/// The n-sided corner groups of the module docs, each in cyclic order: `contacts` are the
+/// surfaces each side lies on, `roles` the roles as found or given, `given` whether they are the
+/// model's own (then only corner patches are grouped), `taken` the surfaces already in a group.
+fn corner_groups(
+    model: &Model,
+    contacts: &[[Option<SideContact>; 4]],
+    roles: &[Role],
+    given: bool,
+    taken: &[usize],
+) -> Vec<Vec<usize>> {
+    let n = model.surfaces.len();
+    let index = |side: Side| SIDES.iter().position(|&x| x == side).unwrap_or(0);
+    let tangent = |k: usize, side: Side| {
+        contacts[k][index(side)]
+            .as_ref()
+            .filter(|c| c.angle_deg.is_some_and(|a| a <= TANGENT_ANGLE_DEG))
+            .map(|c| c.surface)
+    };
+    let eligible = |k: usize| {
+        !taken.contains(&k)
+            && if given {
+                roles[k] == Role::Corner
+            } else {
+                roles[k] != Role::Connecting
+            }
+    };
+    let mut centres: Vec<Vec<Centre>> = vec![Vec::new(); n];
+    for k in (0..n).filter(|&k| eligible(k)) {
+        let s = &model.surfaces[k].surface;
+        for (a, b) in CORNER_SIDES {
+            let (Some(x), Some(y)) = (tangent(k, a), tangent(k, b)) else {
+                continue;
+            };
+            if x != y && x != k && y != k && eligible(x) && eligible(y) {
+                let p = s.point(a.boundary_param(s), b.boundary_param(s));
+                centres[k].push((p, [x, y], [opposite(a), opposite(b)]));
+            }
+        }
+    }
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    let mut used = vec![false; n];
+    for start in 0..n {
+        for &(centre, [first, _], _) in &centres[start] {
+            if used[start] {
+                break;
+            }
+            let cycle = around(model, &centres, &used, start, first, &centre);
+            if cycle.len() >= 3 && bounded(&cycle, &centres, contacts, roles, given, &centre, model)
+            {
+                for &k in &cycle {
+                    used[k] = true;
+                }
+                groups.push(cycle);
+            }
+        }
+    }
+    groups
+}
+
+/// The corner of surface `k` at `centre` (within [`crate::corners::ON_SIDE`] of its size).
+fn centre_of<'c>(
+    model: &Model,
+    centres: &'c [Vec<Centre>],
+    k: usize,
+    centre: &nurbs_core::Point3,
+) -> impl Iterator<Item = &'c Centre> {
+    let tol = crate::corners::ON_SIDE * model.surfaces[k].surface.size();
+    centres[k]
+        .iter()
+        .filter(move |(p, _, _)| (p - centre).norm() <= tol)
+}
+
+/// The surfaces around `centre` from `start` towards `first`: each next one has a corner there
+/// whose neighbours are the previous surface and a new one; empty when the walk does not close.
+fn around(
+    model: &Model,
+    centres: &[Vec<Centre>],
+    used: &[bool],
+    start: usize,
+    first: usize,
+    centre: &nurbs_core::Point3,
+) -> Vec<usize> {
+    let mut cycle = vec![start];
+    let (mut prev, mut cur) = (start, first);
+    while cur != start {
+        if cycle.contains(&cur) || used[cur] {
+            return Vec::new();
+        }
+        let Some(&(_, [a, b], _)) =
+            centre_of(model, centres, cur, centre).find(|(_, nb, _)| nb.contains(&prev))
+        else {
+            return Vec::new();
+        };
+        cycle.push(cur);
+        (prev, cur) = (cur, if a == prev { b } else { a });
+    }
+    cycle
+}
+
+/// Whether the surfaces of `cycle` bound a corner region: each one's two outer sides lie on
+/// surfaces outside the cycle, one of them a connecting surface (any, where the roles are
+/// `given`).
+fn bounded(
+    cycle: &[usize],
+    centres: &[Vec<Centre>],
+    contacts: &[[Option<SideContact>; 4]],
+    roles: &[Role],
+    given: bool,
+    centre: &nurbs_core::Point3,
+    model: &Model,
+) -> bool {
+    let index = |side: Side| SIDES.iter().position(|&x| x == side).unwrap_or(0);
+    cycle.iter().all(|&k| {
+        let Some(&(_, _, outer)) = centre_of(model, centres, k, centre).next() else {
+            return false;
+        };
+        let on: Vec<usize> = outer
+            .iter()
+            .filter_map(|&side| contacts[k][index(side)].as_ref().map(|c| c.surface))
+            .filter(|c| !cycle.contains(c))
+            .collect();
+        on.len() == 2 && (given || on.iter().any(|&c| roles[c] == Role::Connecting))
+    })
+}
+
+/// Adds the corner group of the surfaces `cycle` (in cyclic order) to `model`, logged, with the
+/// links inside it as the framework takes them: each patch G2 to the one before it around the
+/// centre, and the last one to the first as well (a chain that closes, [SV] §3.4).
+fn add_group(
+    model: &mut Model,
+    cycle: Vec<usize>,
+    contacts: &[[Option<SideContact>; 4]],
+    log: &mut BuildLog,
+) {
+    let n = cycle.len();
+    let pairs = (1..n)
+        .map(|i| (cycle[i], cycle[i - 1]))
+        .chain(std::iter::once((cycle[n - 1], cycle[0])));
+    for (slave, master) in pairs {
+        let Some(i) = (0..4).find(|&i| {
+            contacts[slave][i]
+                .as_ref()
+                .is_some_and(|c| c.surface == master)
+        }) else {
+            continue;
+        };
+        let side = SIDES[i];
+        if model
+            .links
+            .iter()
+            .any(|l| l.slave == slave && l.side == side)
+        {
+            continue;
+        }
+        log.lines.push(format!(
+            "{}.{} -> {}: link G2 (inside the corner group, around its centre)",
+            model.surfaces[slave].name,
+            side.name(),
+            model.surfaces[master].name
+        ));
+        model.links.push(Link {
+            slave,
+            side,
+            master,
+            continuity: Continuity::G2,
+        });
+        log.links_added += 1;
+    }
+    let names: Vec<&str> = cycle
+        .iter()
+        .map(|&k| model.surfaces[k].name.as_str())
+        .collect();
+    let name = format!("group{}", model.corners.len() + 1);
+    log.lines.push(format!(
+        "{name}: a {}-sided corner region split into quads around one centre: {} (corner patches, in cyclic order)",
+        cycle.len(),
+        names.join(", ")
+    ));
+    model.corners.push(crate::model::CornerGroup {
+        name,
+        patches: cycle,
+    });
+}
+
 /// Finds the links (and, for a model of primaries only, the roles) of `model` from its geometry;
 /// returns the log. See the module docs for the rules.
 ///
@@ -303,6 +516,17 @@ pub fn build_hierarchy(model: &mut Model) -> BuildLog {
                 ));
             }
         }
+        let taken: Vec<usize> = model
+            .corners
+            .iter()
+            .flat_map(|g| g.patches.iter().copied())
+            .collect();
+        for cycle in corner_groups(model, &contacts, &roles, false, &taken) {
+            for &k in &cycle {
+                roles[k] = Role::Corner;
+            }
+            add_group(model, cycle, &contacts, &mut log);
+        }
         for k in 0..n {
             if roles[k] == Role::Primary {
                 log.lines
@@ -313,6 +537,15 @@ pub fn build_hierarchy(model: &mut Model) -> BuildLog {
     } else {
         log.lines
             .push("roles: kept as the model gives them".to_string());
+        let roles: Vec<Role> = model.surfaces.iter().map(|s| s.role).collect();
+        let taken: Vec<usize> = model
+            .corners
+            .iter()
+            .flat_map(|g| g.patches.iter().copied())
+            .collect();
+        for cycle in corner_groups(model, &contacts, &roles, true, &taken) {
+            add_group(model, cycle, &contacts, &mut log);
+        }
     }
     // links from the lower surface to the higher one; sides the model links already stay
     for k in 0..n {
