@@ -19,7 +19,7 @@
 
 use std::time::Instant;
 
-use g_continuity::{ConnectParams, LinkMeasure, SideLink, Tolerances, connect_slave};
+use g_continuity::{ConnectParams, LinkMeasure, SideLink, connect_slave};
 use nurbs_core::Continuity;
 
 use crate::check::{check_model, measure_model};
@@ -118,12 +118,7 @@ pub const DEVIATION_GRID: usize = nurbs_core::fairing::REPORT_DEVIATION_SAMPLES;
 pub fn connect(model: &Model, options: &ConnectOptions) -> Result<(Model, ModelConnectReport)> {
     let start = Instant::now();
     let mut params = options.params;
-    let t = &model.tolerances;
-    params.tolerances = Tolerances {
-        g0: t.g0,
-        g1_deg: t.g1_deg,
-        g2_rel: t.g2_rel,
-    };
+    params.tolerances = model.tolerances.continuity();
     let before = check_model(model, &params.measure)?;
     let target_of = |c: Continuity| options.target.map_or(c, |t| c.min(t));
     let mut out = model.clone();

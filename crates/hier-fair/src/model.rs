@@ -102,6 +102,17 @@ pub struct ModelTolerances {
     pub g2_rel: f64,
 }
 
+impl ModelTolerances {
+    /// The continuity tolerances (gap, angle, curvature) as g-continuity takes them.
+    pub fn continuity(&self) -> g_continuity::Tolerances {
+        g_continuity::Tolerances {
+            g0: self.g0,
+            g1_deg: self.g1_deg,
+            g2_rel: self.g2_rel,
+        }
+    }
+}
+
 impl Default for ModelTolerances {
     fn default() -> Self {
         Self {

@@ -49,12 +49,7 @@ fn faired(name: &str) -> &'static (Model, FairModelReport) {
 }
 
 fn tolerances(model: &Model) -> Tolerances {
-    let t = &model.tolerances;
-    Tolerances {
-        g0: t.g0,
-        g1_deg: t.g1_deg,
-        g2_rel: t.g2_rel,
-    }
+    model.tolerances.continuity()
 }
 
 /// What holds on every kernel model with the default tolerance: each surface within its

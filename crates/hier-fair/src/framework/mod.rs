@@ -196,12 +196,7 @@ pub fn fair_model_with(
     model.validate()?;
     let tolerance = params.tolerance.unwrap_or(model.tolerances.deviation);
     let mut connect = params.connect;
-    let t = &model.tolerances;
-    connect.tolerances = Tolerances {
-        g0: t.g0,
-        g1_deg: t.g1_deg,
-        g2_rel: t.g2_rel,
-    };
+    connect.tolerances = model.tolerances.continuity();
     let cap = |c: Continuity| params.target.map_or(c, |t| c.min(t));
     // shared edges no link covers: those down the hierarchy become links (over the part of the
     // side that lies on the other surface; kept out of the output model and reported with the
