@@ -414,10 +414,36 @@ fn add_group(
 /// ```
 pub fn build_hierarchy(model: &mut Model) -> BuildLog {
     let mut log = BuildLog::default();
+    let contacts = find_contacts(model, &mut log);
+    // roles, when the model has none of its own
+    if model.surfaces.iter().all(|s| s.role == Role::Primary) {
+        find_roles(model, &contacts, &mut log);
+    } else {
+        log.lines
+            .push("roles: kept as the model gives them".to_string());
+        let roles: Vec<Role> = model.surfaces.iter().map(|s| s.role).collect();
+        for cycle in corner_groups(model, &contacts, &roles, true, &grouped(model)) {
+            add_group(model, cycle, &contacts, &mut log);
+        }
+    }
+    add_links(model, &contacts, &mut log);
+    log
+}
+
+/// The surfaces already in a corner group of `model`.
+fn grouped(model: &Model) -> Vec<usize> {
+    model
+        .corners
+        .iter()
+        .flat_map(|g| g.patches.iter().copied())
+        .collect()
+}
+
+/// Which surface each side of each surface lies on (logged). Each surface's projector, with its
+/// grid of start points, is built once for all the sides projected onto it.
+fn find_contacts(model: &Model, log: &mut BuildLog) -> Vec<[Option<SideContact>; 4]> {
     let tol = model.tolerances.g0;
     let n = model.surfaces.len();
-    // which surface each side lies on (each surface's projector, with its grid of start points,
-    // built once for all the sides projected onto it)
     let mut contacts: Vec<[Option<SideContact>; 4]> = Vec::with_capacity(n);
     let mut projectors: Vec<Option<SurfaceProjector<'_>>> = (0..n).map(|_| None).collect();
     for k in 0..n {
@@ -454,100 +480,91 @@ pub fn build_hierarchy(model: &mut Model) -> BuildLog {
         }
         contacts.push(row);
     }
-    // roles, when the model has none of its own
-    if model.surfaces.iter().all(|s| s.role == Role::Primary) {
-        log.roles_found = true;
-        let mut roles = vec![Role::Primary; n];
-        // the width across each connecting surface
-        let mut widths = vec![0.0; n];
-        for k in 0..n {
-            let s = &model.surfaces[k].surface;
-            for (a, b) in [(0, 1), (2, 3)] {
-                let tangent = |c: &Option<SideContact>| {
-                    c.as_ref()
-                        .filter(|c| c.angle_deg.is_some_and(|x| x <= TANGENT_ANGLE_DEG))
-                        .map(|c| model.surfaces[c.surface].name.as_str())
-                };
-                let on: Vec<&str> = [tangent(&contacts[k][a]), tangent(&contacts[k][b])]
-                    .into_iter()
-                    .flatten()
-                    .collect();
-                let (yes, turn, ratio, width) = bridges(s, SIDES[a]);
-                if yes {
-                    roles[k] = Role::Connecting;
-                    widths[k] = width;
-                    log.lines.push(format!(
-                        "{}: connecting — between its sides {} and {} it turns {turn:.1}° and is {ratio:.2} as wide as long ({})",
-                        model.surfaces[k].name,
-                        SIDES[a].name(),
-                        SIDES[b].name(),
-                        if on.is_empty() {
-                            "a strip that lies on no surface within the tolerance: a fillet of trimmed faces".to_string()
-                        } else {
-                            format!("tangent to {}", on.join(" and "))
-                        }
-                    ));
-                    break;
-                }
-            }
-        }
-        for k in 0..n {
-            if roles[k] != Role::Primary {
-                continue;
-            }
-            // a side across a connecting surface's end, not along it: no longer than
-            // CORNER_SPAN × that surface's width
-            let s = &model.surfaces[k].surface;
-            let on_connecting = SIDES
-                .iter()
-                .zip(&contacts[k])
-                .filter(|(side, c)| {
-                    c.as_ref().is_some_and(|c| {
-                        roles[c.surface] == Role::Connecting
-                            && side_length(s, **side) <= CORNER_SPAN * widths[c.surface]
-                    })
-                })
-                .count();
-            if on_connecting >= 3 {
-                roles[k] = Role::Corner;
+    contacts
+}
+
+/// The roles of a model of primaries only, from the topology (module docs), logged.
+fn find_roles(model: &mut Model, contacts: &[[Option<SideContact>; 4]], log: &mut BuildLog) {
+    let n = model.surfaces.len();
+    log.roles_found = true;
+    let mut roles = vec![Role::Primary; n];
+    // the width across each connecting surface
+    let mut widths = vec![0.0; n];
+    for k in 0..n {
+        let s = &model.surfaces[k].surface;
+        for (a, b) in [(0, 1), (2, 3)] {
+            let tangent = |c: &Option<SideContact>| {
+                c.as_ref()
+                    .filter(|c| c.angle_deg.is_some_and(|x| x <= TANGENT_ANGLE_DEG))
+                    .map(|c| model.surfaces[c.surface].name.as_str())
+            };
+            let on: Vec<&str> = [tangent(&contacts[k][a]), tangent(&contacts[k][b])]
+                .into_iter()
+                .flatten()
+                .collect();
+            let (yes, turn, ratio, width) = bridges(s, SIDES[a]);
+            if yes {
+                roles[k] = Role::Connecting;
+                widths[k] = width;
                 log.lines.push(format!(
-                    "{}: corner — {on_connecting} of its sides lie across the ends of connecting surfaces",
-                    model.surfaces[k].name
+                    "{}: connecting — between its sides {} and {} it turns {turn:.1}° and is {ratio:.2} as wide as long ({})",
+                    model.surfaces[k].name,
+                    SIDES[a].name(),
+                    SIDES[b].name(),
+                    if on.is_empty() {
+                        "a strip that lies on no surface within the tolerance: a fillet of trimmed faces".to_string()
+                    } else {
+                        format!("tangent to {}", on.join(" and "))
+                    }
                 ));
+                break;
             }
-        }
-        let taken: Vec<usize> = model
-            .corners
-            .iter()
-            .flat_map(|g| g.patches.iter().copied())
-            .collect();
-        for cycle in corner_groups(model, &contacts, &roles, false, &taken) {
-            for &k in &cycle {
-                roles[k] = Role::Corner;
-            }
-            add_group(model, cycle, &contacts, &mut log);
-        }
-        for k in 0..n {
-            if roles[k] == Role::Primary {
-                log.lines
-                    .push(format!("{}: primary", model.surfaces[k].name));
-            }
-            model.surfaces[k].role = roles[k];
-        }
-    } else {
-        log.lines
-            .push("roles: kept as the model gives them".to_string());
-        let roles: Vec<Role> = model.surfaces.iter().map(|s| s.role).collect();
-        let taken: Vec<usize> = model
-            .corners
-            .iter()
-            .flat_map(|g| g.patches.iter().copied())
-            .collect();
-        for cycle in corner_groups(model, &contacts, &roles, true, &taken) {
-            add_group(model, cycle, &contacts, &mut log);
         }
     }
-    // links from the lower surface to the higher one; sides the model links already stay
+    for k in 0..n {
+        if roles[k] != Role::Primary {
+            continue;
+        }
+        // a side across a connecting surface's end, not along it: no longer than
+        // CORNER_SPAN × that surface's width
+        let s = &model.surfaces[k].surface;
+        let on_connecting = SIDES
+            .iter()
+            .zip(&contacts[k])
+            .filter(|(side, c)| {
+                c.as_ref().is_some_and(|c| {
+                    roles[c.surface] == Role::Connecting
+                        && side_length(s, **side) <= CORNER_SPAN * widths[c.surface]
+                })
+            })
+            .count();
+        if on_connecting >= 3 {
+            roles[k] = Role::Corner;
+            log.lines.push(format!(
+                "{}: corner — {on_connecting} of its sides lie across the ends of connecting surfaces",
+                model.surfaces[k].name
+            ));
+        }
+    }
+    for cycle in corner_groups(model, contacts, &roles, false, &grouped(model)) {
+        for &k in &cycle {
+            roles[k] = Role::Corner;
+        }
+        add_group(model, cycle, contacts, log);
+    }
+    for k in 0..n {
+        if roles[k] == Role::Primary {
+            log.lines
+                .push(format!("{}: primary", model.surfaces[k].name));
+        }
+        model.surfaces[k].role = roles[k];
+    }
+}
+
+/// The links from the lower surface to the higher one (module docs), logged; sides the model
+/// links already stay.
+fn add_links(model: &mut Model, contacts: &[[Option<SideContact>; 4]], log: &mut BuildLog) {
+    let n = model.surfaces.len();
     for k in 0..n {
         for (i, &side) in SIDES.iter().enumerate() {
             let Some(c) = &contacts[k][i] else { continue };
@@ -589,5 +606,4 @@ pub fn build_hierarchy(model: &mut Model) -> BuildLog {
             log.links_added += 1;
         }
     }
-    log
 }

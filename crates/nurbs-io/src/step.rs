@@ -638,41 +638,7 @@ pub fn read_step(text: &str) -> Result<StepFile, StepError> {
             *file.skipped.entry(skind).or_default() += 1;
             continue;
         };
-        // the face's boundary points, inverted on the surface (a B-spline's projector builds its
-        // grid of start points once per face, not once per point)
-        let mut params = Vec::new();
-        let mut projector = match &surface {
-            Surface::Spline(s) => Some(nurbs_core::SurfaceProjector::new(
-                s,
-                ProjectionParams::default(),
-            )),
-            _ => None,
-        };
-        // consecutive boundary points are close: Newton from the previous foot first, the full
-        // search from the grid only where that does not land on the surface
-        let on_surface = match &surface {
-            Surface::Spline(s) => ON_SURFACE_RELATIVE * s.size(),
-            _ => 0.0,
-        };
-        let mut previous: Option<(f64, f64)> = None;
-        for b in m.list(id, p.get(1))? {
-            let Value::Ref(bid) = b else { continue };
-            let fb = &m.get(*bid)?.parts[0].1;
-            let loop_id = m.reference(*bid, fb.get(1))?;
-            for pt in loop_points(&m, loop_id)? {
-                params.push(match projector.as_mut() {
-                    Some(pr) => {
-                        let warm = previous
-                            .map(|start| pr.project_from(&pt, start))
-                            .filter(|f| f.converged && f.distance <= on_surface);
-                        let f = warm.unwrap_or_else(|| pr.project(&pt));
-                        previous = Some((f.u, f.v));
-                        (f.u, f.v)
-                    }
-                    None => surface.invert(&pt),
-                });
-            }
-        }
+        let params = boundary_params(&m, id, p.get(1), &surface)?;
         if params.is_empty() {
             return Err(m.bad(id, "the face has no bounds"));
         }
@@ -700,6 +666,52 @@ pub fn read_step(text: &str) -> Result<StepFile, StepError> {
         });
     }
     Ok(file)
+}
+
+/// The parameters on `surface` of the boundary points of face `id` (its `bounds` list): a
+/// B-spline's projector builds its grid of start points once per face, not once per point.
+fn boundary_params(
+    m: &Model,
+    id: u64,
+    bounds: Option<&Value>,
+    surface: &Surface,
+) -> R<Vec<(f64, f64)>> {
+    // the face's boundary points, inverted on the surface (a B-spline's projector builds its
+    // grid of start points once per face, not once per point)
+    let mut params = Vec::new();
+    let mut projector = match surface {
+        Surface::Spline(s) => Some(nurbs_core::SurfaceProjector::new(
+            s,
+            ProjectionParams::default(),
+        )),
+        _ => None,
+    };
+    // consecutive boundary points are close: Newton from the previous foot first, the full
+    // search from the grid only where that does not land on the surface
+    let on_surface = match surface {
+        Surface::Spline(s) => ON_SURFACE_RELATIVE * s.size(),
+        _ => 0.0,
+    };
+    let mut previous: Option<(f64, f64)> = None;
+    for b in m.list(id, bounds)? {
+        let Value::Ref(bid) = b else { continue };
+        let fb = &m.get(*bid)?.parts[0].1;
+        let loop_id = m.reference(*bid, fb.get(1))?;
+        for pt in loop_points(m, loop_id)? {
+            params.push(match projector.as_mut() {
+                Some(pr) => {
+                    let warm = previous
+                        .map(|start| pr.project_from(&pt, start))
+                        .filter(|f| f.converged && f.distance <= on_surface);
+                    let f = warm.unwrap_or_else(|| pr.project(&pt));
+                    previous = Some((f.u, f.v));
+                    (f.u, f.v)
+                }
+                None => surface.invert(&pt),
+            });
+        }
+    }
+    Ok(params)
 }
 
 /// The surface of instance `sid`, `None` for a type that is not read.
