@@ -128,61 +128,10 @@ enum Command {
         quiet: bool,
     },
     /// Evaluates a surface: point, derivatives, normal and curvatures, as JSON on stdout.
-    Eval {
-        /// Surface file (one surface, a list, {"surfaces": [...]} or {"patches": [...]}).
-        surface: PathBuf,
-        /// Uniform grid NU,NV over the domain (both ends included, u slowest).
-        #[arg(long, conflicts_with = "params", required_unless_present = "params")]
-        grid: Option<String>,
-        /// PARAMS.json: {"params": [[u, v], ...]}.
-        #[arg(long)]
-        params: Option<PathBuf>,
-        /// Prints only {"count", "seconds", "checksum"}.
-        #[arg(long)]
-        summary: bool,
-        /// Which surface of a multi-surface file (0-based; required when there are several).
-        #[arg(long = "index")]
-        index: Option<usize>,
-    },
+    Eval(EvalArgs),
     /// Hierarchical fairing of a model (masters first, continuity set then kept, [SV] §3.2), or
     /// fairing of a bare surface file (boundaries and shared edges kept).
-    Fair {
-        /// Model or bare surface file (JSON, model-format.md)
-        input: PathBuf,
-        /// Output file (written atomically; never the input or another output)
-        #[arg(short = 'o', long = "output")]
-        output: PathBuf,
-        /// the method for every surface: energy (default), energy-global, energy-bezier, krr,
-        /// curvature, greiner, or one the program registered (`cli::main_with`)
-        #[arg(long)]
-        method: Option<String>,
-        /// deviation tolerance in model units (default: the model's; 0.02 for a bare surface)
-        #[arg(long, allow_negative_numbers = true)]
-        tolerance: Option<f64>,
-        /// models: deviation tolerance of one role, ROLE=MM (primary, connecting, corner;
-        /// repeatable); a surface's own "deviation" in the model still wins
-        #[arg(long = "tolerance-role", value_parser = parse_role_tolerance)]
-        tolerance_role: Vec<(hier_fair::Role, f64)>,
-        /// iteration limit of the iterative methods (energy, energy-global polish,
-        /// energy-bezier, krr); default: each method's own
-        #[arg(long)]
-        iterations: Option<usize>,
-        /// bare surfaces: the frame kept on all four sides
-        #[arg(long, value_parser = parse_keep, default_value = "G0")]
-        keep: nurbs_core::Continuity,
-        /// models: the highest continuity set on any link (a cap on each link's own)
-        #[arg(long, value_parser = parse_keep)]
-        target: Option<nurbs_core::Continuity>,
-        /// report JSON (per surface, per link, problems; cli-contract.md)
-        #[arg(long)]
-        report: Option<PathBuf>,
-        /// models: write pictures (zebra, mean curvature, link curvature plots) into DIR
-        #[arg(long)]
-        images: Option<PathBuf>,
-        /// no progress bar
-        #[arg(long)]
-        quiet: bool,
-    },
+    Fair(FairArgs),
 }
 
 fn run(cli: Cli) -> Result<()> {
@@ -192,44 +141,13 @@ fn run(cli: Cli) -> Result<()> {
             samples,
             json,
             fail_above,
-        } => {
-            let text = files::read_text(&model)?;
-            let outcome = crate::check::run(
-                &text,
-                &model.display().to_string(),
-                samples,
-                json,
-                fail_above.as_deref(),
-            )?;
-            print!("{}", outcome.text);
-            if outcome.exceeded {
-                use std::io::Write;
-                let _ = std::io::stdout().flush();
-                std::process::exit(1);
-            }
-            Ok(())
-        }
+        } => check_command(model, samples, json, fail_above),
         Command::Connect {
             model,
             output,
             target,
             report,
-        } => {
-            let mut outputs = vec![("-o", output.as_path())];
-            outputs.extend(report.as_deref().map(|r| ("--report", r)));
-            files::check_outputs(&outputs, &[&model])?;
-            let text = files::read_text(&model)?;
-            let outcome = crate::connect::run(&text, &model.display().to_string(), target)?;
-            files::write_atomic(&output, outcome.model_json.as_bytes())?;
-            if let Some(r) = &report {
-                files::write_atomic(
-                    r,
-                    (serde_json::to_string_pretty(&outcome.report)? + "\n").as_bytes(),
-                )?;
-            }
-            print!("{}", outcome.summary);
-            Ok(())
-        }
+        } => connect_command(model, output, target, report),
         Command::FairMesh {
             input,
             output,
@@ -252,21 +170,7 @@ fn run(cli: Cli) -> Result<()> {
             output,
             svg,
             fit,
-        } => {
-            let mut outputs = vec![("-o", output.as_path())];
-            outputs.extend(svg.as_deref().map(|p| ("--svg", p)));
-            outputs.extend(fit.as_deref().map(|p| ("--fit", p)));
-            let mut inputs = vec![input.as_path()];
-            inputs.extend(segments.as_deref());
-            files::check_outputs(&outputs, &inputs)?;
-            let out = crate::label::LabelOutputs {
-                labels: &output,
-                svg: svg.as_deref(),
-                fit: fit.as_deref(),
-            };
-            print!("{}", crate::label::run(&input, segments.as_deref(), out)?);
-            Ok(())
-        }
+        } => label_command(input, segments, output, svg, fit),
         Command::Import {
             input,
             output,
@@ -295,158 +199,304 @@ fn run(cli: Cli) -> Result<()> {
             print!("{}", crate::pipeline::demo(&out, quiet)?);
             Ok(())
         }
-        Command::Fair {
-            input,
-            output,
-            method,
-            tolerance,
-            tolerance_role,
-            iterations,
-            keep,
-            target,
-            report,
-            images,
-            quiet,
-        } => {
-            let mut outputs = vec![("-o", output.as_path())];
-            outputs.extend(report.as_deref().map(|r| ("--report", r)));
-            files::check_outputs(&outputs, &[&input])?;
-            if let Some(dir) = &images {
-                files::check_output_folder("--images", dir, &[&input])?;
-            }
-            let method = match method {
-                Some(m) => Some(crate::methods().entry(&m)?),
-                None => None,
+        Command::Fair(args) => fair_command(args),
+        Command::Eval(args) => eval_command(args),
+    }
+}
+
+/// `hier-fair check`.
+fn check_command(
+    model: PathBuf,
+    samples: usize,
+    json: bool,
+    fail_above: Option<String>,
+) -> Result<()> {
+    let text = files::read_text(&model)?;
+    let outcome = crate::check::run(
+        &text,
+        &model.display().to_string(),
+        samples,
+        json,
+        fail_above.as_deref(),
+    )?;
+    print!("{}", outcome.text);
+    if outcome.exceeded {
+        use std::io::Write;
+        let _ = std::io::stdout().flush();
+        std::process::exit(1);
+    }
+    Ok(())
+}
+
+/// `hier-fair connect`.
+fn connect_command(
+    model: PathBuf,
+    output: PathBuf,
+    target: Option<nurbs_core::Continuity>,
+    report: Option<PathBuf>,
+) -> Result<()> {
+    let mut outputs = vec![("-o", output.as_path())];
+    outputs.extend(report.as_deref().map(|r| ("--report", r)));
+    files::check_outputs(&outputs, &[&model])?;
+    let text = files::read_text(&model)?;
+    let outcome = crate::connect::run(&text, &model.display().to_string(), target)?;
+    files::write_atomic(&output, outcome.model_json.as_bytes())?;
+    if let Some(r) = &report {
+        files::write_atomic(
+            r,
+            (serde_json::to_string_pretty(&outcome.report)? + "\n").as_bytes(),
+        )?;
+    }
+    print!("{}", outcome.summary);
+    Ok(())
+}
+
+/// `hier-fair label`.
+fn label_command(
+    input: PathBuf,
+    segments: Option<PathBuf>,
+    output: PathBuf,
+    svg: Option<PathBuf>,
+    fit: Option<PathBuf>,
+) -> Result<()> {
+    let mut outputs = vec![("-o", output.as_path())];
+    outputs.extend(svg.as_deref().map(|p| ("--svg", p)));
+    outputs.extend(fit.as_deref().map(|p| ("--fit", p)));
+    let mut inputs = vec![input.as_path()];
+    inputs.extend(segments.as_deref());
+    files::check_outputs(&outputs, &inputs)?;
+    let out = crate::label::LabelOutputs {
+        labels: &output,
+        svg: svg.as_deref(),
+        fit: fit.as_deref(),
+    };
+    print!("{}", crate::label::run(&input, segments.as_deref(), out)?);
+    Ok(())
+}
+
+/// `hier-fair eval`.
+fn eval_command(args: EvalArgs) -> Result<()> {
+    let EvalArgs {
+        surface,
+        grid,
+        params,
+        summary,
+        index,
+    } = args;
+    let mut surfaces = files::read_surfaces(&surface)?;
+    let chosen = match (index, surfaces.len()) {
+        (None, 1) => 0,
+        (None, n) => bail!(
+            "{} holds {n} surfaces: choose one with --index K",
+            surface.display()
+        ),
+        (Some(k), n) if k >= n => bail!(
+            "--index {k} is out of range: {} holds {n} surfaces",
+            surface.display()
+        ),
+        (Some(k), _) => k,
+    };
+    let s = surfaces.swap_remove(chosen);
+    let p = match (grid, params) {
+        (Some(g), None) => eval::parse_grid(&g)?,
+        (None, Some(path)) => {
+            eval::parse_params(&files::read_text(&path)?, &path.display().to_string())?
+        }
+        _ => bail!("give exactly one of --grid NU,NV and --params PARAMS.json"),
+    };
+    let text = match (&p, summary) {
+        (eval::Params::Grid(nu, nv), true) => {
+            let (count, seconds, checksum) = eval::summarize_grid(&s, *nu, *nv);
+            eval::summary_text(count, seconds, checksum) + "\n"
+        }
+        _ => {
+            let count = match &p {
+                eval::Params::Grid(nu, nv) => nu * nv,
+                eval::Params::List(list) => list.len(),
             };
-            if let (Some(n), Some(m)) = (iterations, method)
-                && !m.takes_iterations
-            {
-                let with: Vec<&str> = crate::methods()
-                    .entries()
-                    .iter()
-                    .filter(|e| e.takes_iterations)
-                    .map(|e| e.name)
-                    .collect();
+            if !summary && count > eval::MAX_LISTED_SAMPLES {
                 bail!(
-                    "--iterations {n}: the method {} is a direct solve with no iteration limit (--iterations applies to {})",
-                    m.name,
-                    with.join(", ")
+                    "listing {count} samples is above the bound of {} (about 2 GB of JSON): use --summary or fewer samples",
+                    eval::MAX_LISTED_SAMPLES
                 );
             }
-            let method = method.map(|m| m.name);
-            let mut role_tolerance = [None; 3];
-            for (role, mm) in tolerance_role {
-                role_tolerance[role.rank()] = Some(mm);
-            }
-            let iges = crate::exchange::is_iges(&input) || crate::exchange::is_step(&input);
-            let text = if iges {
-                String::new()
+            let (samples, seconds) = eval::evaluate(&s, &p)?;
+            if summary {
+                eval::summary_json(&samples, seconds) + "\n"
             } else {
-                files::read_text(&input)?
-            };
-            if iges || crate::pipeline::is_model(&text) {
-                let options = crate::pipeline::ModelOptions {
-                    method,
-                    tolerance,
-                    role_tolerance,
-                    iterations,
-                    target,
-                    quiet,
-                };
-                let outcome = crate::pipeline::run_fair(
-                    &input,
-                    &text,
-                    &output,
-                    report.as_deref(),
-                    images.as_deref(),
-                    &options,
-                )?;
-                print!("{}", outcome.0);
-                if let Some(first) = outcome.1.first() {
-                    use std::io::Write;
-                    let _ = std::io::stdout().flush();
-                    eprintln!(
-                        "error: {} surface(s) could not be faired, the first {first}; the partial result and report were written",
-                        outcome.1.len()
-                    );
-                    std::process::exit(1);
-                }
-                return Ok(());
+                eval::results_json(&samples)
             }
-            let options = crate::fair::FairOptions {
-                method: method.unwrap_or(hier_fair::Method::Energy.name()),
-                tolerance: tolerance.unwrap_or(0.02),
-                iterations,
-                keep,
-            };
-            print!(
-                "{}",
-                crate::fair::run(&input, &output, report.as_deref(), &options)?
-            );
-            Ok(())
         }
-        Command::Eval {
-            surface,
-            grid,
-            params,
-            summary,
-            index,
-        } => {
-            let mut surfaces = files::read_surfaces(&surface)?;
-            let chosen = match (index, surfaces.len()) {
-                (None, 1) => 0,
-                (None, n) => bail!(
-                    "{} holds {n} surfaces: choose one with --index K",
-                    surface.display()
-                ),
-                (Some(k), n) if k >= n => bail!(
-                    "--index {k} is out of range: {} holds {n} surfaces",
-                    surface.display()
-                ),
-                (Some(k), _) => k,
-            };
-            let s = surfaces.swap_remove(chosen);
-            let p = match (grid, params) {
-                (Some(g), None) => eval::parse_grid(&g)?,
-                (None, Some(path)) => {
-                    eval::parse_params(&files::read_text(&path)?, &path.display().to_string())?
-                }
-                _ => bail!("give exactly one of --grid NU,NV and --params PARAMS.json"),
-            };
-            let text = match (&p, summary) {
-                (eval::Params::Grid(nu, nv), true) => {
-                    let (count, seconds, checksum) = eval::summarize_grid(&s, *nu, *nv);
-                    eval::summary_text(count, seconds, checksum) + "\n"
-                }
-                _ => {
-                    let count = match &p {
-                        eval::Params::Grid(nu, nv) => nu * nv,
-                        eval::Params::List(list) => list.len(),
-                    };
-                    if !summary && count > eval::MAX_LISTED_SAMPLES {
-                        bail!(
-                            "listing {count} samples is above the bound of {} (about 2 GB of JSON): use --summary or fewer samples",
-                            eval::MAX_LISTED_SAMPLES
-                        );
-                    }
-                    let (samples, seconds) = eval::evaluate(&s, &p)?;
-                    if summary {
-                        eval::summary_json(&samples, seconds) + "\n"
-                    } else {
-                        eval::results_json(&samples)
-                    }
-                }
-            };
-            use std::io::Write;
-            let mut stdout = std::io::stdout().lock();
-            if let Err(e) = stdout.write_all(text.as_bytes())
-                && e.kind() != std::io::ErrorKind::BrokenPipe
-            {
-                return Err(e.into());
-            }
-            Ok(())
-        }
+    };
+    use std::io::Write;
+    let mut stdout = std::io::stdout().lock();
+    if let Err(e) = stdout.write_all(text.as_bytes())
+        && e.kind() != std::io::ErrorKind::BrokenPipe
+    {
+        return Err(e.into());
     }
+    Ok(())
+}
+
+/// `hier-fair fair`: a model (or a STEP/IGES file) through the framework, or a bare surface file.
+fn fair_command(args: FairArgs) -> Result<()> {
+    let FairArgs {
+        input,
+        output,
+        method,
+        tolerance,
+        tolerance_role,
+        iterations,
+        keep,
+        target,
+        report,
+        images,
+        quiet,
+    } = args;
+    let mut outputs = vec![("-o", output.as_path())];
+    outputs.extend(report.as_deref().map(|r| ("--report", r)));
+    files::check_outputs(&outputs, &[&input])?;
+    if let Some(dir) = &images {
+        files::check_output_folder("--images", dir, &[&input])?;
+    }
+    let method = registered_method(method.as_deref(), iterations)?;
+    let mut role_tolerance = [None; 3];
+    for (role, mm) in tolerance_role {
+        role_tolerance[role.rank()] = Some(mm);
+    }
+    let iges = crate::exchange::is_iges(&input) || crate::exchange::is_step(&input);
+    let text = if iges {
+        String::new()
+    } else {
+        files::read_text(&input)?
+    };
+    if iges || crate::pipeline::is_model(&text) {
+        let options = crate::pipeline::ModelOptions {
+            method,
+            tolerance,
+            role_tolerance,
+            iterations,
+            target,
+            quiet,
+        };
+        let outcome = crate::pipeline::run_fair(
+            &input,
+            &text,
+            &output,
+            report.as_deref(),
+            images.as_deref(),
+            &options,
+        )?;
+        print!("{}", outcome.0);
+        if let Some(first) = outcome.1.first() {
+            use std::io::Write;
+            let _ = std::io::stdout().flush();
+            eprintln!(
+                "error: {} surface(s) could not be faired, the first {first}; the partial result and report were written",
+                outcome.1.len()
+            );
+            std::process::exit(1);
+        }
+        return Ok(());
+    }
+    let options = crate::fair::FairOptions {
+        method: method.unwrap_or(hier_fair::Method::Energy.name()),
+        tolerance: tolerance.unwrap_or(0.02),
+        iterations,
+        keep,
+    };
+    print!(
+        "{}",
+        crate::fair::run(&input, &output, report.as_deref(), &options)?
+    );
+    Ok(())
+}
+
+/// The registered method named `name` ([`crate::methods`]), checked against `--iterations`
+/// (a direct solve has no iteration limit).
+fn registered_method(
+    name: Option<&str>,
+    iterations: Option<usize>,
+) -> Result<Option<&'static str>> {
+    let Some(name) = name else {
+        return Ok(None);
+    };
+    let m = crate::methods().entry(name)?;
+    if let Some(n) = iterations
+        && !m.takes_iterations
+    {
+        let with: Vec<&str> = crate::methods()
+            .entries()
+            .iter()
+            .filter(|e| e.takes_iterations)
+            .map(|e| e.name)
+            .collect();
+        bail!(
+            "--iterations {n}: the method {} is a direct solve with no iteration limit (--iterations applies to {})",
+            m.name,
+            with.join(", ")
+        );
+    }
+    Ok(Some(m.name))
+}
+
+/// Arguments of `hier-fair eval`.
+#[derive(clap::Args)]
+struct EvalArgs {
+    /// Surface file (one surface, a list, {"surfaces": [...]} or {"patches": [...]}).
+    surface: PathBuf,
+    /// Uniform grid NU,NV over the domain (both ends included, u slowest).
+    #[arg(long, conflicts_with = "params", required_unless_present = "params")]
+    grid: Option<String>,
+    /// PARAMS.json: {"params": [[u, v], ...]}.
+    #[arg(long)]
+    params: Option<PathBuf>,
+    /// Prints only {"count", "seconds", "checksum"}.
+    #[arg(long)]
+    summary: bool,
+    /// Which surface of a multi-surface file (0-based; required when there are several).
+    #[arg(long = "index")]
+    index: Option<usize>,
+}
+
+/// Arguments of `hier-fair fair`.
+#[derive(clap::Args)]
+struct FairArgs {
+    /// Model or bare surface file (JSON, model-format.md)
+    input: PathBuf,
+    /// Output file (written atomically; never the input or another output)
+    #[arg(short = 'o', long = "output")]
+    output: PathBuf,
+    /// the method for every surface: energy (default), energy-global, energy-bezier, krr,
+    /// curvature, greiner, or one the program registered (`cli::main_with`)
+    #[arg(long)]
+    method: Option<String>,
+    /// deviation tolerance in model units (default: the model's; 0.02 for a bare surface)
+    #[arg(long, allow_negative_numbers = true)]
+    tolerance: Option<f64>,
+    /// models: deviation tolerance of one role, ROLE=MM (primary, connecting, corner;
+    /// repeatable); a surface's own "deviation" in the model still wins
+    #[arg(long = "tolerance-role", value_parser = parse_role_tolerance)]
+    tolerance_role: Vec<(hier_fair::Role, f64)>,
+    /// iteration limit of the iterative methods (energy, energy-global polish,
+    /// energy-bezier, krr); default: each method's own
+    #[arg(long)]
+    iterations: Option<usize>,
+    /// bare surfaces: the frame kept on all four sides
+    #[arg(long, value_parser = parse_keep, default_value = "G0")]
+    keep: nurbs_core::Continuity,
+    /// models: the highest continuity set on any link (a cap on each link's own)
+    #[arg(long, value_parser = parse_keep)]
+    target: Option<nurbs_core::Continuity>,
+    /// report JSON (per surface, per link, problems; cli-contract.md)
+    #[arg(long)]
+    report: Option<PathBuf>,
+    /// models: write pictures (zebra, mean curvature, link curvature plots) into DIR
+    #[arg(long)]
+    images: Option<PathBuf>,
+    /// no progress bar
+    #[arg(long)]
+    quiet: bool,
 }
 
 /// `ROLE=MM` of `--tolerance-role`.
