@@ -53,9 +53,17 @@ pub fn model_from_step(input: &Path) -> Result<(Model, String, hier_fair::BuildL
             .map(|f| (f.name.clone(), f.id.to_string(), f.surface.clone())),
     );
     model.units = Some(file.units.clone());
+    let tol = hier_fair::trim::TRIM_SHARE * model.tolerances.g0;
+    for (m, f) in model.surfaces.iter_mut().zip(&file.faces) {
+        m.trim = f
+            .trim
+            .iter()
+            .map(|l| hier_fair::trim::thin_loop(l, tol))
+            .collect();
+    }
     let log = hier_fair::build_hierarchy(&mut model);
     let summary = format!(
-        "imported {} faces, each over its parameter box (the trim itself not kept); faces of surfaces not read: {}; {}",
+        "imported {} faces, each over its parameter box with its bounds kept as trim loops; faces of surfaces not read: {}; {}",
         file.faces.len(),
         counts_text(&file.skipped),
         hierarchy_summary(&model, &log),
@@ -118,10 +126,16 @@ pub fn model_from_iges(input: &Path) -> Result<(Model, String, hier_fair::BuildL
             .map(|s| (s.name.clone(), format!("de{}", s.de), s.surface.clone())),
     );
     model.units = Some(file.units.to_lowercase());
+    let tol = hier_fair::trim::TRIM_SHARE * model.tolerances.g0;
+    for (m, s) in model.surfaces.iter_mut().zip(&file.surfaces) {
+        if !s.trim.is_empty() {
+            m.trim = vec![hier_fair::trim::thin_loop(&s.trim, tol)];
+        }
+    }
     let log = hier_fair::build_hierarchy(&mut model);
     let trimmed = file.surfaces.iter().filter(|s| s.trimmed).count();
     let summary = format!(
-        "imported {} surfaces ({} trimmed by entity 144: each kept over its face's box, the trim itself not kept); {} curves (126) not imported; other entities skipped: {}; surfaces with no exact form, not imported: {}; {}",
+        "imported {} surfaces ({} trimmed by entity 144: each kept over its face's box with its outer boundary kept as a trim loop); {} curves (126) not imported; other entities skipped: {}; surfaces with no exact form, not imported: {}; {}",
         file.surfaces.len(),
         trimmed,
         file.curves.len(),

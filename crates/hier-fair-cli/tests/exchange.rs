@@ -203,6 +203,33 @@ fn kernel_step_imports_with_its_hierarchy() {
 
 /// Imports every kernel model from its `ext` file and compares it with its JSON (see
 /// [`kernel_iges_imports_with_its_hierarchy`]); returns the links found and the links there are.
+/// Every face of an imported kernel model keeps its bounds as trim loops (each at least three
+/// points), and every trim point lies on the face's surface within the G0 tolerance.
+fn trims_lie_on_their_surfaces(model: &hier_fair::Model, name: &str) {
+    let g0 = model.tolerances.g0;
+    for s in &model.surfaces {
+        assert!(!s.trim.is_empty(), "{name}: {} has no trim", s.name);
+        let mut projector =
+            nurbs_core::SurfaceProjector::new(&s.surface, nurbs_core::ProjectionParams::default());
+        for l in &s.trim {
+            assert!(
+                l.len() >= 3,
+                "{name}: {} has a loop of {} points",
+                s.name,
+                l.len()
+            );
+            for p in l {
+                let d = projector.project(p).distance;
+                assert!(
+                    d <= g0,
+                    "{name}: {} trim point {p:?} is {d:.3e} off",
+                    s.name
+                );
+            }
+        }
+    }
+}
+
 fn kernel_imports(ext: &str) -> (usize, usize) {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/occt");
     let params = nurbs_core::ProjectionParams::default();
@@ -225,6 +252,7 @@ fn kernel_imports(ext: &str) -> (usize, usize) {
             .unwrap();
         assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
         let ours = hier_fair::Model::from_json(&std::fs::read_to_string(&out).unwrap()).unwrap();
+        trims_lie_on_their_surfaces(&ours, name);
         let theirs = hier_fair::Model::from_json(
             &std::fs::read_to_string(dir.join(format!("{name}.json"))).unwrap(),
         )
@@ -402,6 +430,43 @@ fn fair_round_trips_iges() {
     assert!(links.iter().all(|l| l["met"] == true), "{links:?}");
     let back = nurbs_io::read_iges(&std::fs::read(&out).unwrap()).unwrap();
     assert_eq!(back.surfaces.len(), 10);
+}
+
+/// The trims an import keeps go through `fair` unchanged: data the fairing does not touch.
+#[test]
+fn fair_keeps_the_trims_of_an_imported_model() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/occt");
+    let tmp = tempfile::tempdir().unwrap();
+    let (model, out) = (tmp.path().join("m.json"), tmp.path().join("out.json"));
+    let step = dir.join("occt_plate_boss.step");
+    let o = bin()
+        .args([
+            "import",
+            step.to_str().unwrap(),
+            "-o",
+            model.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = bin()
+        .args([
+            "fair",
+            model.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--quiet",
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let read =
+        |p: &Path| hier_fair::Model::from_json(&std::fs::read_to_string(p).unwrap()).unwrap();
+    let (before, after) = (read(&model), read(&out));
+    assert!(before.surfaces.iter().any(|s| !s.trim.is_empty()));
+    for (a, b) in before.surfaces.iter().zip(&after.surfaces) {
+        assert_eq!(a.trim, b.trim, "{}", a.name);
+    }
 }
 
 /// A writer that gives a trimmed face's boundary (142) only its model-space curve: the face is

@@ -41,6 +41,7 @@ pub mod plots;
 pub mod render;
 pub mod report;
 pub mod synthetic;
+pub mod trim;
 
 pub use build::{BuildLog, build_hierarchy};
 pub use check::{

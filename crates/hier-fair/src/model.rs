@@ -11,7 +11,7 @@
 //! model of primaries named `surface` (or `surface0`, `surface1`, …) with no links.
 
 use nurbs_core::io::SurfaceRecord;
-use nurbs_core::{BSplineSurface, Continuity, Side};
+use nurbs_core::{BSplineSurface, Continuity, Point3, Side};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{Error, Result};
@@ -60,6 +60,10 @@ pub struct ModelSurface {
     /// this surface's own deviation tolerance (model units), when the file gives one; it wins
     /// over the role's and the model's ([`Model::deviation_of`])
     pub deviation: Option<f64>,
+    /// the face's trim as data: its boundary loops (outer first) as points on the surface in
+    /// order, where the surface is a trimmed face's box (imported from STEP or IGES); empty:
+    /// the whole surface is the face. Fairing keeps it as it is.
+    pub trim: Vec<Vec<Point3>>,
 }
 
 /// A continuity link: the slave's side lies on the master.
@@ -162,6 +166,8 @@ struct SurfaceEntry {
     surface: SurfaceRecord,
     #[serde(default, skip_serializing_if = "Option::is_none")]
     deviation: Option<f64>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    trim: Vec<Vec<[f64; 3]>>,
 }
 
 /// `tolerances.deviation`: one length for every surface, or one per role.
@@ -248,6 +254,25 @@ pub fn parse_continuity(s: &str) -> Option<Continuity> {
     }
 }
 
+/// A surface entry's `trim` loops as points: each loop at least three finite points.
+fn trim_loops(name: &str, loops: &[Vec<[f64; 3]>]) -> Result<Vec<Vec<Point3>>> {
+    loops
+        .iter()
+        .enumerate()
+        .map(|(k, l)| {
+            if l.len() < 3 || l.iter().flatten().any(|x| !x.is_finite()) {
+                return Err(Error::Format {
+                    detail: format!(
+                        "surface {name}: trim loop {k} needs at least three finite points, got {} point(s)",
+                        l.len()
+                    ),
+                });
+            }
+            Ok(l.iter().map(|p| Point3::new(p[0], p[1], p[2])).collect())
+        })
+        .collect()
+}
+
 /// True when the JSON value looks like a model (surfaces with names and roles).
 fn is_model(value: &serde_json::Value) -> bool {
     value
@@ -272,6 +297,7 @@ impl Model {
                 role: Role::Primary,
                 surface,
                 deviation: None,
+                trim: Vec::new(),
             })
             .collect();
         Self {
@@ -328,11 +354,13 @@ impl Model {
                     value: d,
                 });
             }
+            let trim = trim_loops(&entry.name, &entry.trim)?;
             surfaces.push(ModelSurface {
                 name: entry.name,
                 role,
                 surface,
                 deviation: entry.deviation,
+                trim,
             });
         }
         if surfaces.is_empty() {
@@ -456,6 +484,11 @@ impl Model {
                     role: s.role.name().into(),
                     surface: SurfaceRecord::from_surface(&s.surface),
                     deviation: s.deviation,
+                    trim: s
+                        .trim
+                        .iter()
+                        .map(|l| l.iter().map(|p| [p.x, p.y, p.z]).collect())
+                        .collect(),
                 })
                 .collect(),
             links: self

@@ -208,3 +208,22 @@ fn bad_deviations_are_named() {
     let e = Model::from_json(&text).unwrap_err().to_string();
     assert!(e.contains("connecting deviation"), "{e}");
 }
+
+/// A trim loop of fewer than three points, or with a non-finite coordinate, is one line naming
+/// the surface and the loop.
+#[test]
+fn a_bad_trim_loop_is_an_error_naming_the_surface() {
+    let s = patch(0.0, 0.0);
+    let mut p = entry("p", "primary", &s);
+    p["trim"] = json!([[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0]]]);
+    let text = json!({"surfaces": [p], "links": []}).to_string();
+    let e = Model::from_json(&text).unwrap_err().to_string();
+    assert!(e.contains("surface p: trim loop 0"), "{e}");
+    let mut p = entry("p", "primary", &s);
+    p["trim"] = json!([[[0.0, 0.0, 0.0], [1.0, 0.0, 0.0], [1.0, 1.0, 0.0]]]);
+    let text = json!({"surfaces": [p], "links": []}).to_string();
+    let m = Model::from_json(&text).unwrap();
+    assert_eq!(m.surfaces[0].trim[0].len(), 3);
+    let back = Model::from_json(&m.to_json()).unwrap();
+    assert_eq!(back.surfaces[0].trim, m.surfaces[0].trim);
+}

@@ -58,6 +58,9 @@ pub struct IgesSurface {
     pub param_range: [f64; 4],
     /// the entity's own surface where `surface` is cut from it to a trimmed face's box
     pub underlying: Option<BSplineSurface>,
+    /// a trimmed face's outer boundary as data: its points in order, on the surface (empty for
+    /// an untrimmed surface)
+    pub trim: Vec<Point3>,
 }
 
 /// A curve read from entity 126.
@@ -607,6 +610,7 @@ impl Reader<'_> {
             trimmed: false,
             param_range: [range[0], range[1], range[2], range[3]],
             underlying: None,
+            trim: Vec::new(),
         })
     }
 
@@ -738,6 +742,7 @@ impl Reader<'_> {
             trimmed: false,
             param_range,
             underlying: None,
+            trim: Vec::new(),
         })
     }
 
@@ -881,11 +886,13 @@ impl Reader<'_> {
         boundary: &DirEntry,
         face: &DirEntry,
         scale: f64,
-    ) -> Result<Option<BSplineSurface>, IgesError> {
+    ) -> Result<(Option<BSplineSurface>, Vec<Point3>), IgesError> {
         let (parametric, model) = self.curve_on_surface(boundary)?;
         if parametric == 0 && model == 0 {
-            return Ok(None);
+            return Ok((None, Vec::new()));
         }
+        // the boundary's points on the surface, in order (the face's trim as data)
+        let mut trim: Vec<Point3> = Vec::new();
         let (du, dv) = (surface.domain_u(), surface.domain_v());
         let mut b = [
             f64::INFINITY,
@@ -897,46 +904,20 @@ impl Reader<'_> {
             let curve = self.entry(parametric, boundary)?;
             for p in &self.boundary_samples(curve, 0, FACE_BOX_SAMPLES)? {
                 b = [b[0].min(p.x), b[1].max(p.x), b[2].min(p.y), b[3].max(p.y)];
+                if p.x.is_finite() && p.y.is_finite() {
+                    let (u, v) = (p.x.clamp(du.0, du.1), p.y.clamp(dv.0, dv.1));
+                    trim.push(surface.point(u, v));
+                }
             }
         }
         if parametric == 0 {
-            let curve = self.entry(model, boundary)?;
-            let mut pts = self.boundary_samples(curve, 0, FACE_BOX_SAMPLES)?;
-            if let Some(a) = self.transform(boundary)? {
-                pts = pts.iter().map(|p| a.apply(p)).collect();
-            }
-            // a point of the trim lies on the surface: one that projects farther than the
-            // rounding of the file is no point of this face (a broken curve) and is left out
-            let near = ON_SURFACE_RELATIVE * surface.size();
-            let mut projector =
-                nurbs_core::SurfaceProjector::new(surface, nurbs_core::ProjectionParams::default());
-            // consecutive samples are close: each starts from the last one's parameters, and
-            // from the sampled starts where that does not land on the surface
-            let mut last: Option<(f64, f64)> = None;
-            for p in &pts {
-                let p = Point3::from(p.coords / scale);
-                let mut pr = match last {
-                    Some(uv) => projector.project_from(&p, uv),
-                    None => projector.project(&p),
-                };
-                if pr.distance > near {
-                    pr = projector.project(&p);
-                }
-                if pr.distance <= near {
-                    b = [
-                        b[0].min(pr.u),
-                        b[1].max(pr.u),
-                        b[2].min(pr.v),
-                        b[3].max(pr.v),
-                    ];
-                    last = Some((pr.u, pr.v));
-                } else {
-                    last = None;
-                }
+            for (u, v) in self.model_space_feet(surface, model, boundary, scale)? {
+                b = [b[0].min(u), b[1].max(u), b[2].min(v), b[3].max(v)];
+                trim.push(surface.point(u, v));
             }
         }
         if !b.iter().all(|x| x.is_finite()) {
-            return Ok(None);
+            return Ok((None, trim));
         }
         let (u0, u1) = (b[0].max(du.0), b[1].min(du.1));
         let (v0, v1) = (b[2].max(dv.0), b[3].min(dv.1));
@@ -952,12 +933,73 @@ impl Reader<'_> {
         }
         let tiny = |a: f64, b: f64, d: (f64, f64)| (a - b).abs() <= BOX_RELATIVE * (d.1 - d.0);
         if tiny(u0, du.0, du) && tiny(u1, du.1, du) && tiny(v0, dv.0, dv) && tiny(v1, dv.1, dv) {
-            return Ok(None);
+            return Ok((None, trim));
         }
-        surface
+        let cut = surface
             .extract((u0, u1), (v0, v1))
-            .map(Some)
-            .map_err(Self::geometry_err(face))
+            .map_err(Self::geometry_err(face))?;
+        Ok((Some(cut), trim))
+    }
+
+    /// The feet on `surface` (parameters, in order) of the samples of the model-space curve
+    /// `model` of the boundary (142) `boundary`: a point of the trim lies on the surface, so one
+    /// that projects farther than the rounding of the file is no point of this face (a broken
+    /// curve) and is left out. Consecutive samples are close: each starts from the last one's
+    /// parameters, and from the sampled starts where that does not land on the surface.
+    fn model_space_feet(
+        &self,
+        surface: &BSplineSurface,
+        model: i64,
+        boundary: &DirEntry,
+        scale: f64,
+    ) -> Result<Vec<(f64, f64)>, IgesError> {
+        let curve = self.entry(model, boundary)?;
+        let mut pts = self.boundary_samples(curve, 0, FACE_BOX_SAMPLES)?;
+        if let Some(a) = self.transform(boundary)? {
+            pts = pts.iter().map(|p| a.apply(p)).collect();
+        }
+        let near = ON_SURFACE_RELATIVE * surface.size();
+        let mut projector =
+            nurbs_core::SurfaceProjector::new(surface, nurbs_core::ProjectionParams::default());
+        let mut last: Option<(f64, f64)> = None;
+        let mut feet = Vec::new();
+        for p in &pts {
+            let p = Point3::from(p.coords / scale);
+            let mut pr = match last {
+                Some(uv) => projector.project_from(&p, uv),
+                None => projector.project(&p),
+            };
+            if pr.distance > near {
+                pr = projector.project(&p);
+            }
+            if pr.distance <= near {
+                feet.push((pr.u, pr.v));
+                last = Some((pr.u, pr.v));
+            } else {
+                last = None;
+            }
+        }
+        Ok(feet)
+    }
+
+    /// The outer boundary (142) `boundary` of a face on `surface` (an exact surface read over
+    /// its own range: a revolution, a tabulated cylinder, a ruled surface) as points on it, from
+    /// the boundary's model-space curve; empty where the boundary has none.
+    fn model_trim(
+        &self,
+        surface: &BSplineSurface,
+        boundary: &DirEntry,
+        scale: f64,
+    ) -> Result<Vec<Point3>, IgesError> {
+        let (_, model) = self.curve_on_surface(boundary)?;
+        if model == 0 {
+            return Ok(Vec::new());
+        }
+        Ok(self
+            .model_space_feet(surface, model, boundary, scale)?
+            .into_iter()
+            .map(|(u, v)| surface.point(u, v))
+            .collect())
     }
 
     /// A plane (108) under a trimmed surface (144) whose outer boundary (142, its model-space
@@ -1072,6 +1114,7 @@ impl Reader<'_> {
             trimmed: true,
             param_range: [0.0, lu, 0.0, lv],
             underlying: None,
+            trim: pts.iter().map(|p| Point3::from(p.coords / scale)).collect(),
         })
     }
 
@@ -1184,6 +1227,8 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
     // the B-spline faces (144 over a 128): the entry, its surface's directory number, the
     // outer boundary
     let mut faces = Vec::new();
+    // faces on the exact surfaces read over their own range (120, 122, 118): their trim only
+    let mut exact_faces = Vec::new();
     for e in &reader.dir {
         match e.entity_type {
             128 => file.surfaces.push(reader.surface(e, scale)?),
@@ -1224,6 +1269,12 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
                     if outer != 0 {
                         faces.push((e, target.seq, reader.entry(outer, e)?));
                     }
+                } else if matches!(target.entity_type, 120 | 122 | 118) {
+                    let (_n1, _n2) = (c.int()?, c.int()?);
+                    let outer = c.int()?;
+                    if outer != 0 {
+                        exact_faces.push((target.seq, reader.entry(outer, e)?));
+                    }
                 } else if target.entity_type == 108 {
                     // a plane is as large as its face: bounded by the outer boundary
                     let (_n1, _n2) = (c.int()?, c.int()?);
@@ -1242,13 +1293,30 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
         }
     }
     for (e, target, boundary) in faces {
-        if let Some(k) = file.surfaces.iter().position(|s| s.de == target)
-            && !boxed.contains(&target)
-            && let Some(cut) = reader.face_box(&file.surfaces[k].surface, boundary, e, scale)?
-        {
+        let Some(k) = file.surfaces.iter().position(|s| s.de == target) else {
+            continue;
+        };
+        if boxed.contains(&target) {
+            continue;
+        }
+        let (cut, trim) = reader.face_box(&file.surfaces[k].surface, boundary, e, scale)?;
+        if trim.len() >= 3 {
+            file.surfaces[k].trim = trim;
+        }
+        if let Some(cut) = cut {
             let whole = std::mem::replace(&mut file.surfaces[k].surface, cut);
             file.surfaces[k].underlying = Some(whole);
             boxed.push(target);
+        }
+    }
+    for (target, boundary) in exact_faces {
+        if let Some(k) = file.surfaces.iter().position(|s| s.de == target)
+            && file.surfaces[k].trim.is_empty()
+        {
+            let trim = reader.model_trim(&file.surfaces[k].surface, boundary, scale)?;
+            if trim.len() >= 3 {
+                file.surfaces[k].trim = trim;
+            }
         }
     }
     grow_planes(&mut file.surfaces, &planes_read);

@@ -113,6 +113,9 @@ pub struct StepFace {
     pub surface: BSplineSurface,
     /// the entity type of the face's surface
     pub kind: String,
+    /// the face's bounds as data: each loop's points in order along it (the outer bound first),
+    /// on the surface
+    pub trim: Vec<Vec<Point3>>,
 }
 
 /// What a STEP file held.
@@ -638,7 +641,7 @@ pub fn read_step(text: &str) -> Result<StepFile, StepError> {
             *file.skipped.entry(skind).or_default() += 1;
             continue;
         };
-        let params = boundary_params(&m, id, p.get(1), &surface)?;
+        let (trim, params) = boundary_params(&m, id, p.get(1), &surface)?;
         if params.is_empty() {
             return Err(m.bad(id, "the face has no bounds"));
         }
@@ -663,19 +666,20 @@ pub fn read_step(text: &str) -> Result<StepFile, StepError> {
             name,
             surface: built,
             kind: skind,
+            trim,
         });
     }
     Ok(file)
 }
 
-/// The parameters on `surface` of the boundary points of face `id` (its `bounds` list): a
-/// B-spline's projector builds its grid of start points once per face, not once per point.
-fn boundary_params(
-    m: &Model,
-    id: u64,
-    bounds: Option<&Value>,
-    surface: &Surface,
-) -> R<Vec<(f64, f64)>> {
+/// A face's bound loops (points in order) and the parameters of their points on its surface.
+type Bounds = (Vec<Vec<Point3>>, Vec<(f64, f64)>);
+
+/// The bounds of face `id` (its `bounds` list) as loops of points in order, the outer bound
+/// first (a loop of fewer than three points, a vertex loop at a pole, is no trim loop), and the
+/// parameters of all those points on `surface`: a B-spline's projector builds its grid of start
+/// points once per face, not once per point.
+fn boundary_params(m: &Model, id: u64, bounds: Option<&Value>, surface: &Surface) -> R<Bounds> {
     // the face's boundary points, inverted on the surface (a B-spline's projector builds its
     // grid of start points once per face, not once per point)
     let mut params = Vec::new();
@@ -693,11 +697,19 @@ fn boundary_params(
         _ => 0.0,
     };
     let mut previous: Option<(f64, f64)> = None;
+    let mut loops: Vec<Vec<Point3>> = Vec::new();
     for b in m.list(id, bounds)? {
         let Value::Ref(bid) = b else { continue };
-        let fb = &m.get(*bid)?.parts[0].1;
+        let bound = m.get(*bid)?;
+        let fb = &bound.parts[0].1;
         let loop_id = m.reference(*bid, fb.get(1))?;
-        for pt in loop_points(m, loop_id)? {
+        let points = loop_points(m, loop_id)?;
+        if bound.parts[0].0 == "FACE_OUTER_BOUND" {
+            loops.insert(0, points.clone());
+        } else {
+            loops.push(points.clone());
+        }
+        for pt in points {
             params.push(match projector.as_mut() {
                 Some(pr) => {
                     let warm = previous
@@ -711,7 +723,8 @@ fn boundary_params(
             });
         }
     }
-    Ok(params)
+    loops.retain(|l| l.len() >= 3);
+    Ok((loops, params))
 }
 
 /// The surface of instance `sid`, `None` for a type that is not read.
@@ -892,19 +905,31 @@ fn spline_surface(m: &Model, sid: u64) -> R<BSplineSurface> {
     .map_err(g)
 }
 
-/// Points of an EDGE_LOOP (or POLY_LOOP, VERTEX_LOOP): each edge's vertices and points along
-/// its curve.
+/// Points of an EDGE_LOOP (or POLY_LOOP, VERTEX_LOOP) in order along it: each oriented edge
+/// from its start to its end with points along its curve, every joint once.
 fn loop_points(m: &Model, lid: u64) -> R<Vec<Point3>> {
     let kind = m.kind(lid)?;
     let p = m.part(lid, kind)?;
-    let mut out = Vec::new();
+    let mut out: Vec<Point3> = Vec::new();
     match kind {
         "EDGE_LOOP" => {
             for oe in m.list(lid, p.get(1))? {
                 let oe = m.reference(lid, Some(oe))?;
                 let o = m.part(oe, "ORIENTED_EDGE")?;
                 let edge = m.reference(oe, o.get(3))?;
-                out.extend(edge_points(m, edge)?);
+                let mut path = edge_points(m, edge)?;
+                if matches!(o.get(4), Some(Value::Enum(e)) if e == "F") {
+                    path.reverse();
+                }
+                // the joint of two edges once
+                for q in path {
+                    if out.last() != Some(&q) {
+                        out.push(q);
+                    }
+                }
+            }
+            if out.len() > 1 && out.first() == out.last() {
+                out.pop();
             }
         }
         "POLY_LOOP" => {
@@ -922,7 +947,7 @@ fn vertex(m: &Model, vid: u64) -> R<Point3> {
     m.point(m.reference(vid, m.part(vid, "VERTEX_POINT")?.get(1))?)
 }
 
-/// An EDGE_CURVE's vertices and points along its geometry between them.
+/// An EDGE_CURVE's points in order from its start vertex to its end vertex, along its geometry.
 fn edge_points(m: &Model, eid: u64) -> R<Vec<Point3>> {
     let p = m.part(eid, "EDGE_CURVE")?;
     let (a, b) = (
@@ -940,7 +965,7 @@ fn edge_points(m: &Model, eid: u64) -> R<Vec<Point3>> {
             break;
         }
     }
-    let mut out = vec![a, b];
+    let mut out = vec![a];
     let kind = m.kind(cid)?;
     let n = EDGE_SAMPLES;
     match kind {
@@ -965,10 +990,16 @@ fn edge_points(m: &Model, eid: u64) -> R<Vec<Point3>> {
                 t1 += std::f64::consts::TAU;
             }
             let n = n.max(((t1 - t0) / ARC_STEP).ceil() as usize + 1);
-            for k in 1..n - 1 {
-                let t = t0 + (t1 - t0) * k as f64 / (n - 1) as f64;
-                out.push(o + x * (r1 * t.cos()) + y * (r2 * t.sin()));
+            let mut between: Vec<Point3> = (1..n - 1)
+                .map(|k| {
+                    let t = t0 + (t1 - t0) * k as f64 / (n - 1) as f64;
+                    o + x * (r1 * t.cos()) + y * (r2 * t.sin())
+                })
+                .collect();
+            if !same {
+                between.reverse();
             }
+            out.extend(between);
         }
         "LINE" | "POLYLINE" => {}
         _ if m
@@ -984,12 +1015,12 @@ fn edge_points(m: &Model, eid: u64) -> R<Vec<Point3>> {
             let params = ProjectionParams::default();
             let ta = nurbs_core::project_to_curve(&c, &a, &params).t;
             let tb = nurbs_core::project_to_curve(&c, &b, &params).t;
-            let (t0, t1) = (ta.min(tb), ta.max(tb));
             let k = SPLINE_EDGE_SAMPLES;
-            out.extend((1..k - 1).map(|i| c.point(t0 + (t1 - t0) * i as f64 / (k - 1) as f64)));
+            out.extend((1..k - 1).map(|i| c.point(ta + (tb - ta) * i as f64 / (k - 1) as f64)));
         }
         _ => {}
     }
+    out.push(b);
     Ok(out)
 }
 
