@@ -2,7 +2,7 @@
 //! - `snapshots [--update]` — runs the regression pipeline over `fixtures/` and compares with the
 //!   insta snapshots (`--update` accepts the new values after review).
 //! - `regress [--external DIR]` — runs the framework on every fixture model and on the
-//!   third-party models of DIR (default `../shared/data`: car_shell1.model.json,
+//!   third-party models of DIR (default `fixtures/third_party`: car_shell1.model.json,
 //!   submarine_body.model.json, teapot.json) and prints one summary table.
 //! - `fixtures` — writes the analytic fixture models of `fixtures/models/` (see
 //!   `xtask::fixtures`).
@@ -36,7 +36,7 @@ fn main() -> ExitCode {
                 .position(|a| a == "--external")
                 .and_then(|k| args.get(k + 1))
                 .map(std::path::PathBuf::from)
-                .unwrap_or_else(|| xtask::root().join("../shared/data"));
+                .unwrap_or_else(|| xtask::root().join("fixtures/third_party"));
             match regress(&external) {
                 Ok(true) => ExitCode::SUCCESS,
                 Ok(false) => ExitCode::from(1),

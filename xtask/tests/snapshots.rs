@@ -19,18 +19,11 @@ fn fixture_surface_summaries() {
     }
 }
 
-/// Third-party models are read in place from `../shared/data` (never copied here); the test is
-/// skipped where that folder is absent.
+/// Third-party models live in `fixtures/third_party` (their licences and sources in its README).
 #[test]
 fn shared_model_summaries() {
-    let path = xtask::root().join("../shared/data/teapot.json");
-    if !path.exists() {
-        eprintln!(
-            "{} not found: skipping the teapot regression",
-            path.display()
-        );
-        return;
-    }
+    let path = xtask::root().join("fixtures/third_party/teapot.json");
+    assert!(path.exists(), "{} is in the repository", path.display());
     let summary = xtask::fixture_summary(&path).expect("teapot evaluates");
     insta::assert_json_snapshot!("teapot", summary);
 }

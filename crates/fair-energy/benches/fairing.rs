@@ -1,4 +1,4 @@
-//! Local and global energy fairing on [H]'s example: the 52×52 quartic of `shared/data/bench`
+//! Local and global energy fairing on [H]'s example: the 52×52 quartic of `fixtures/third_party/bench`
 //! (ε = 0.02, 10,000 iterations, [H] slide "Examples (1)"), the local scheme on the same net made
 //! rational (smooth weights in [0.75, 1.25], held fixed), and the global variant on 200×200.
 //!
@@ -19,7 +19,7 @@ const SEED_TOLERANCE: f64 = 0.02;
 fn seed_surface() -> BSplineSurface {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/data/bench/quartic_52x52_noisy.json"
+        "/../../fixtures/third_party/bench/quartic_52x52_noisy.json"
     );
     match std::fs::read_to_string(path) {
         Ok(text) => nurbs_core::io::surfaces_from_json(&text)

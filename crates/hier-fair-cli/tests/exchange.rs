@@ -53,10 +53,8 @@ fn export_then_import_keeps_geometry_and_names() {
 
 #[test]
 fn impeller_imports_as_primaries() {
-    let igs = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/impeller.igs");
-    if !igs.exists() {
-        return;
-    }
+    let igs = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/third_party/impeller.igs");
+    assert!(igs.exists(), "{} is in the repository", igs.display());
     let dir = tempfile::tempdir().unwrap();
     let model = dir.path().join("impeller.json");
     let o = bin()

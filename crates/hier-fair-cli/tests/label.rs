@@ -1,5 +1,5 @@
 //! `hier-fair label`: the contract's JSON, the SVG and the fitted surface, on a synthetic
-//! rectangle region and on the Neon side panel of `../shared/data` (skipped when absent).
+//! rectangle region and on the Neon side panel of `fixtures/third_party`.
 
 use std::process::Command;
 
@@ -110,12 +110,9 @@ fn bad_regions_get_one_line_errors() {
 
 #[test]
 fn the_neon_panel_is_labeled_and_fitted() {
-    let neon =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/neon_side.obj");
-    if !neon.exists() {
-        eprintln!("{} not found: skipped", neon.display());
-        return;
-    }
+    let neon = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fixtures/third_party/neon_side.obj");
+    assert!(neon.exists(), "{} is in the repository", neon.display());
     let dir = tempfile::tempdir().unwrap();
     let out = dir.path().join("l.json");
     let fit = dir.path().join("f.json");

@@ -1,4 +1,4 @@
-//! Bare multi-patch files (the Utah teapot, teacup and teaspoon of `../shared/data`, bicubic
+//! Bare multi-patch files (the Utah teapot, teacup and teaspoon of `fixtures/third_party`, bicubic
 //! Bézier patches): fairing keeps every shared edge's gap and normal angle within
 //! max(input, 0.01°), knots inserted where a patch has too few rows for its frames.
 
@@ -8,12 +8,10 @@ use nurbs_core::{BSplineSurface, Continuity};
 
 fn patches(name: &str) -> Option<Vec<BSplineSurface>> {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/data")
+        .join("../../fixtures/third_party")
         .join(name);
-    let Ok(text) = std::fs::read_to_string(&path) else {
-        eprintln!("skipping: {} is not available", path.display());
-        return None;
-    };
+    let text = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("{} is in the repository: {e}", path.display()));
     Some(nurbs_core::io::surfaces_from_json(&text).unwrap())
 }
 

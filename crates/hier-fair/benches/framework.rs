@@ -1,5 +1,5 @@
 //! Criterion benches of the hierarchical framework (issue 9 goals): the demo X-node ≤ 1 s,
-//! car_shell1 ≤ 2 s (read from `../shared/data`, skipped when absent), and synthetic grids of
+//! car_shell1 ≤ 2 s (`fixtures/third_party`), and synthetic grids of
 //! filleted blocks with 25, 49 and 99 surfaces (the largest ≤ 5 s, time linear in the count).
 
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -22,14 +22,11 @@ fn bench(c: &mut Criterion) {
     )
     .expect("model");
     g.bench_function("demo_x_node", |b| b.iter(|| run(&x_node)));
-    if let Ok(text) =
-        std::fs::read_to_string(format!("{root}/../shared/data/car_shell1.model.json"))
-    {
-        let car = Model::from_json(&text).expect("car shell model");
-        g.bench_function("car_shell1", |b| b.iter(|| run(&car)));
-    } else {
-        eprintln!("../shared/data/car_shell1.model.json not found: skipped");
-    }
+    let text =
+        std::fs::read_to_string(format!("{root}/fixtures/third_party/car_shell1.model.json"))
+            .expect("the car shell is in the repository");
+    let car = Model::from_json(&text).expect("car shell model");
+    g.bench_function("car_shell1", |b| b.iter(|| run(&car)));
     for (c, r) in [(3, 3), (4, 4), (5, 6)] {
         let model = block_grid(c, r).expect("grid");
         let n = model.surfaces.len();

@@ -1,6 +1,5 @@
-//! Real data from `../shared/data` (read in place, never copied): the car shell after
-//! `connect --target G1`, and the Utah teapot with perturbed rows restored to G1/G2.
-//! Each test skips (passes with a note) when the data folder is absent.
+//! Real data from `fixtures/third_party/` (their licences and sources in its README): the car
+//! shell after `connect --target G1`, and the Utah teapot with perturbed rows restored to G1/G2.
 
 use g_continuity::{ConnectParams, MeasureParams, SideLink, connect_slave, measure_link};
 use hier_fair::{ConnectOptions, Model, check_model, connect};
@@ -9,15 +8,11 @@ use nurbs_core::{Continuity, Side, Vector3};
 
 fn data(name: &str) -> Option<String> {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../../shared/data")
+        .join("../../fixtures/third_party")
         .join(name);
-    match std::fs::read_to_string(&path) {
-        Ok(text) => Some(text),
-        Err(_) => {
-            eprintln!("skipping: {} is not available", path.display());
-            None
-        }
-    }
+    let text = std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("{} is in the repository: {e}", path.display()));
+    Some(text)
 }
 
 #[test]

@@ -1,5 +1,5 @@
 //! Discrete fairing of noisy paraboloid caps with the boundary and 2 rings fixed: the 10k-vertex
-//! mesh of `shared/data/bench` (goal ≤ 30 ms) and a generated 100k-vertex one (goal ≤ 0.8 s),
+//! mesh of `fixtures/third_party/bench` (goal ≤ 30 ms) and a generated 100k-vertex one (goal ≤ 0.8 s),
 //! with each sparse solver/ordering (`faer_nd` is the default of `DiscreteFairingParams`).
 //! Run: `cargo bench -p nside-discrete`.
 
@@ -24,7 +24,7 @@ fn noisy_cap(n: usize) -> TriMesh {
 fn discrete(c: &mut Criterion) {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/data/bench/disk_paraboloid_10k.obj"
+        "/../../fixtures/third_party/bench/disk_paraboloid_10k.obj"
     );
     let small = std::fs::read_to_string(path)
         .ok()

@@ -1,4 +1,4 @@
-//! Grid and scattered evaluation of the 20×20 non-uniform bicubic of `shared/data/bench`.
+//! Grid and scattered evaluation of the 20×20 non-uniform bicubic of `fixtures/third_party/bench`.
 //!
 //! Run: `cargo bench -p nurbs-core --bench eval`. Goals (issue "Foundation"): 1000×1000 grid,
 //! single thread — points ≤ 15 ms, with first and second derivatives ≤ 40 ms, with normal and
@@ -14,7 +14,7 @@ use rand::{Rng, SeedableRng};
 fn bench_surface() -> BSplineSurface {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/data/bench/bicubic_20x20_nonuniform.json"
+        "/../../fixtures/third_party/bench/bicubic_20x20_nonuniform.json"
     );
     match std::fs::read_to_string(path) {
         Ok(text) => nurbs_core::io::surfaces_from_json(&text)

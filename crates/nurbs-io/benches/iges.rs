@@ -1,4 +1,4 @@
-//! Reading the impeller (`shared/data/impeller.igs`, 4 MB, 247 surfaces, 2342 curves) — goal
+//! Reading the impeller (`fixtures/third_party/impeller.igs`, 4 MB, 247 surfaces, 2342 curves) — goal
 //! ≤ 0.5 s — and writing it back. Run: `cargo bench -p nurbs-io`.
 
 use std::hint::black_box;
@@ -9,7 +9,7 @@ use nurbs_io::{IgesWriteParams, read_iges, write_iges};
 fn iges(c: &mut Criterion) {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/data/impeller.igs"
+        "/../../fixtures/third_party/impeller.igs"
     );
     let Ok(bytes) = std::fs::read(path) else {
         eprintln!("{path} not found: nothing to benchmark");

@@ -5,11 +5,13 @@ use nurbs_io::{IgesError, IgesWriteParams, check_structure, read_iges, write_ige
 use proptest::prelude::*;
 
 fn impeller() -> Option<Vec<u8>> {
-    std::fs::read(concat!(
-        env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/data/impeller.igs"
-    ))
-    .ok()
+    Some(
+        std::fs::read(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/../../fixtures/third_party/impeller.igs"
+        ))
+        .expect("the impeller is in the repository"),
+    )
 }
 
 fn sample_file() -> String {

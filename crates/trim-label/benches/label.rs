@@ -1,5 +1,5 @@
 //! Labeling (goal ≤ 1 s) and the labeled fit of the Neon side panel
-//! (`shared/data/neon_side.obj`, 15,896 vertices, 30,376 triangles); a synthetic grid region
+//! (`fixtures/third_party/neon_side.obj`, 15,896 vertices, 30,376 triangles); a synthetic grid region
 //! stands in when the file is absent. Run: `cargo bench -p trim-label -j 1`.
 
 use std::hint::black_box;
@@ -34,7 +34,7 @@ fn grid(n: usize) -> TriMesh {
 fn mesh() -> (&'static str, TriMesh) {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/data/neon_side.obj"
+        "/../../fixtures/third_party/neon_side.obj"
     );
     match std::fs::read_to_string(path)
         .ok()

@@ -1,4 +1,4 @@
-//! The Neon side panel (`shared/data/neon_side.obj`, a real car side panel with three openings):
+//! The Neon side panel (`fixtures/third_party/neon_side.obj`, a real car side panel with three openings):
 //! labels and fit. Skipped with a message when the file is absent.
 
 use std::time::Instant;
@@ -9,15 +9,11 @@ use trim_label::{LabelParams, label_region};
 fn neon() -> Option<TriMesh> {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
-        "/../../../shared/data/neon_side.obj"
+        "/../../fixtures/third_party/neon_side.obj"
     );
-    match std::fs::read_to_string(path) {
-        Ok(text) => Some(TriMesh::from_obj_str(&text).expect("neon_side.obj parses")),
-        Err(e) => {
-            eprintln!("skipping: {path} not readable ({e})");
-            None
-        }
-    }
+    let text = std::fs::read_to_string(path)
+        .unwrap_or_else(|e| panic!("{path} is in the repository: {e}"));
+    Some(TriMesh::from_obj_str(&text).expect("neon_side.obj parses"))
 }
 
 #[test]
