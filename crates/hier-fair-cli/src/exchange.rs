@@ -111,7 +111,7 @@ pub fn model_from_iges(input: &Path) -> Result<(Model, String, hier_fair::BuildL
     let file = read_iges(&bytes).map_err(|e| anyhow!("{}: {e}", input.display()))?;
     if file.surfaces.is_empty() {
         bail!(
-            "{}: the file holds no surface that is read (B-spline 128, revolution 120, tabulated cylinder 122, ruled 118, plane 108 under a 144){}",
+            "{}: the file holds no surface that is read (B-spline 128, revolution 120, tabulated cylinder 122, ruled 118, offset 140, plane 108 under a 144){}",
             input.display(),
             if file.refused.is_empty() {
                 String::new()

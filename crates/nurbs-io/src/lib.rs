@@ -23,6 +23,7 @@
 //! their faces' parameter boxes (module [`step`]).
 
 pub mod error;
+pub mod offset;
 pub mod params;
 pub mod reader;
 pub mod step;

@@ -1002,6 +1002,63 @@ impl Reader<'_> {
             .collect())
     }
 
+    /// An offset surface (140, [IGES] §4.16): S(u, v) + d N(u, v) over the base surface's
+    /// domain, N its unit normal, turned to the side of the offset indicator (NX, NY, NZ) where
+    /// that is given. An offset is not a NURBS surface in general, so it is approximated: a
+    /// polynomial B-spline of degree max(3, the base's) on the base's breakpoints, fitted by least
+    /// squares to the exact offset and refined (every span halved) until it lies within
+    /// [`crate::offset::OFFSET_TOLERANCE_RELATIVE`] of the base's size at points between the fitted ones, up to
+    /// [`crate::offset::OFFSET_MAX_NET`] control points per direction; otherwise, or where the base's normal
+    /// is undefined, the entity is refused with the error reached.
+    fn offset(&self, e: &DirEntry, scale: f64) -> Result<IgesSurface, IgesError> {
+        let err = |detail: String| IgesError::Entity {
+            de: e.seq,
+            entity_type: e.entity_type,
+            detail,
+        };
+        let params = entity_params(e, &self.p, &self.global)?;
+        let mut c = Cursor {
+            params: &params,
+            next: 1,
+            e,
+        };
+        let indicator = c.reals(4)?;
+        let base_de = c.int()?;
+        if self.transform(e)?.is_some() {
+            return Err(err(
+                "an offset surface with its own transformation is not read".into(),
+            ));
+        }
+        let base_entry = self.entry(base_de, e)?;
+        let base = match base_entry.entity_type {
+            128 => self.surface(base_entry, scale)?,
+            120 => self.revolution(base_entry, scale)?,
+            122 => self.tabulated(base_entry, scale)?,
+            118 => self.ruled(base_entry, scale)?,
+            other => return Err(err(format!("the offset of entity {other} is not read"))),
+        }
+        .surface;
+        let mut d = indicator[3] / scale;
+        let (du, dv) = (base.domain_u(), base.domain_v());
+        let mid = base.derivatives(0.5 * (du.0 + du.1), 0.5 * (dv.0 + dv.1));
+        let side = nurbs_core::Vector3::new(indicator[0], indicator[1], indicator[2]);
+        if let Some(n) = mid.normal()
+            && n.dot(&side) < 0.0
+        {
+            d = -d;
+        }
+        let surface = crate::offset::approximate_offset(&base, d).map_err(err)?;
+        Ok(IgesSurface {
+            de: e.seq,
+            name: Self::name(e),
+            surface,
+            trimmed: false,
+            param_range: [du.0, du.1, dv.0, dv.1],
+            underlying: None,
+            trim: Vec::new(),
+        })
+    }
+
     /// A plane (108) under a trimmed surface (144) whose outer boundary (142, its model-space
     /// curve) bounds it ([IGES] §4.12, §4.32): the bilinear 2 × 2 patch over the smallest
     /// rectangle in the plane that holds the boundary, its sides along one of the boundary's
@@ -1249,6 +1306,14 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
                 }
             }
             126 => file.curves.push(reader.curve(e, scale)?),
+            140 => match reader.offset(e, scale) {
+                Ok(s) => file.surfaces.push(s),
+                // an offset that cannot be read or approximated is named, the rest is read
+                Err(err @ (IgesError::Entity { .. } | IgesError::Geometry { .. })) => {
+                    file.refused.push(err.to_string());
+                }
+                Err(err) => return Err(err),
+            },
             144 => {
                 let params = entity_params(e, &reader.p, &reader.global)?;
                 let mut c = Cursor {
@@ -1269,7 +1334,7 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
                     if outer != 0 {
                         faces.push((e, target.seq, reader.entry(outer, e)?));
                     }
-                } else if matches!(target.entity_type, 120 | 122 | 118) {
+                } else if matches!(target.entity_type, 120 | 122 | 118 | 140) {
                     let (_n1, _n2) = (c.int()?, c.int()?);
                     let outer = c.int()?;
                     if outer != 0 {

@@ -478,3 +478,109 @@ fn ruled_surfaces_are_exact_or_named() {
     assert!((r.point(0.0, 1.0) - Point3::new(0.0, 3.0, 4.0)).norm() < 1e-12);
     assert!((r.point(0.0, 0.0) - Point3::new(1.0, 0.0, 0.0)).norm() < 1e-12);
 }
+
+/// `text` (an IGES file of one 128 at DE 1, as `write_iges` writes it) with an offset surface
+/// (140) of that surface by `d`, offset indicator `(nx, ny, nz)`, appended.
+fn with_offset(text: &str, d: f64, indicator: [f64; 3]) -> String {
+    let lines: Vec<&str> = text.lines().collect();
+    let count = |letter: char| {
+        lines
+            .iter()
+            .filter(|l| l.as_bytes().get(72) == Some(&(letter as u8)))
+            .count()
+    };
+    let (nd, np) = (count('D'), count('P'));
+    let de = nd + 1;
+    let p_seq = np + 1;
+    let params = format!(
+        "140,{:?},{:?},{:?},{:?},1;",
+        indicator[0], indicator[1], indicator[2], d
+    );
+    let p_line = format!("{params:<64}{de:>8}P{p_seq:>7}");
+    let d1 = format!(
+        "{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}D{:>7}",
+        140, p_seq, 0, 0, 0, 0, 0, 0, "00000000", de
+    );
+    let d2 = format!(
+        "{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}D{:>7}",
+        140,
+        0,
+        0,
+        1,
+        0,
+        "",
+        "",
+        "OFFSET",
+        0,
+        de + 1
+    );
+    let mut out = Vec::new();
+    for l in &lines {
+        match l.as_bytes().get(72) {
+            Some(b'P') if out.iter().all(|x: &String| x != &d2) => {
+                out.push(d1.clone());
+                out.push(d2.clone());
+                out.push(l.to_string());
+            }
+            Some(b'T') => {
+                out.push(p_line.clone());
+                let t = format!(
+                    "S{:>7}G{:>7}D{:>7}P{:>7}",
+                    count('S'),
+                    count('G'),
+                    nd + 2,
+                    np + 1
+                );
+                out.push(format!("{t:<72}T{:>7}", 1));
+            }
+            _ => out.push(l.to_string()),
+        }
+    }
+    out.join("\n") + "\n"
+}
+
+/// Offset surfaces (140) are read as polynomial B-splines within 1e-6 of the base's size of the
+/// exact offset: a rational quarter cylinder of radius 10 offset outward by 2.5 is a cylinder of
+/// radius 12.5 (closed form), inward by 2.5 one of radius 7.5 (the indicator picks the side).
+#[test]
+fn an_offset_surface_is_approximated_within_its_tolerance() {
+    let base = nurbs_core::shapes::cylinder(10.0, 20.0).unwrap();
+    let text = write_iges(&[("cyl", &base)], &[], &IgesWriteParams::default()).unwrap();
+    let (u, v) = (base.domain_u(), base.domain_v());
+    let mid = base.derivatives(0.5 * (u.0 + u.1), 0.5 * (v.0 + v.1));
+    let n = mid.normal().unwrap();
+    let outward = if (mid.point.coords.xy()).dot(&n.xy()) > 0.0 {
+        1.0
+    } else {
+        -1.0
+    };
+    for (sign, radius) in [(1.0, 12.5), (-1.0, 7.5)] {
+        let ind = n * (outward * sign);
+        let file = read_iges(with_offset(&text, 2.5, [ind.x, ind.y, ind.z]).as_bytes()).unwrap();
+        assert!(file.refused.is_empty(), "{:?}", file.refused);
+        let off = file
+            .surfaces
+            .iter()
+            .find(|s| s.surface.weights().is_none() && s.name.contains("OFFSET"))
+            .unwrap_or_else(|| {
+                panic!(
+                    "no offset surface in {:?}",
+                    file.surfaces.iter().map(|s| &s.name).collect::<Vec<_>>()
+                )
+            });
+        let s = &off.surface;
+        let tol = 1e-6 * base.size();
+        let ((a, b), (c, d)) = (s.domain_u(), s.domain_v());
+        for i in 0..=20 {
+            for j in 0..=20 {
+                let p = s.point(
+                    a + (b - a) * f64::from(i) / 20.0,
+                    c + (d - c) * f64::from(j) / 20.0,
+                );
+                let r = p.x.hypot(p.y);
+                assert!((r - radius).abs() <= tol, "radius {r} against {radius}");
+                assert!(p.z >= -tol && p.z <= 20.0 + tol);
+            }
+        }
+    }
+}
