@@ -1002,7 +1002,7 @@ impl Reader<'_> {
             .collect())
     }
 
-    /// An offset surface (140, [IGES] §4.16): S(u, v) + d N(u, v) over the base surface's
+    /// An offset surface ([IGES], entity 140): S(u, v) + d N(u, v) over the base surface's
     /// domain, N its unit normal, turned to the side of the offset indicator (NX, NY, NZ) where
     /// that is given. An offset is not a NURBS surface in general, so it is approximated: a
     /// polynomial B-spline of degree max(3, the base's) on the base's breakpoints, fitted by least
