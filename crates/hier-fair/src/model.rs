@@ -254,6 +254,109 @@ pub fn parse_continuity(s: &str) -> Option<Continuity> {
     }
 }
 
+/// The surfaces of a model record, validated (names unique, roles known, deviations positive).
+fn surfaces_of(entries: Vec<SurfaceEntry>) -> Result<Vec<ModelSurface>> {
+    let mut surfaces: Vec<ModelSurface> = Vec::with_capacity(entries.len());
+    for entry in entries {
+        if surfaces.iter().any(|s| s.name == entry.name) {
+            return Err(Error::DuplicateName { name: entry.name });
+        }
+        let role = Role::parse(&entry.role).ok_or_else(|| Error::UnknownRole {
+            name: entry.name.clone(),
+            role: entry.role.clone(),
+        })?;
+        let surface = entry
+            .surface
+            .to_surface()
+            .map_err(|source| Error::Surface {
+                name: entry.name.clone(),
+                source,
+            })?;
+        if let Some(d) = entry.deviation.filter(|d| !(d.is_finite() && *d > 0.0)) {
+            return Err(Error::BadTolerance {
+                name: "surface deviation",
+                value: d,
+            });
+        }
+        let trim = trim_loops(&entry.name, &entry.trim)?;
+        surfaces.push(ModelSurface {
+            name: entry.name,
+            role,
+            surface,
+            deviation: entry.deviation,
+            trim,
+        });
+    }
+    Ok(surfaces)
+}
+
+/// The links of a model record, by surface index (`find`: a name's index).
+fn links_of(records: &[LinkRecord], find: &dyn Fn(&str) -> Option<usize>) -> Result<Vec<Link>> {
+    let mut links: Vec<Link> = Vec::with_capacity(records.len());
+    for l in records {
+        let label = format!("{}.{} -> {}", l.slave, l.side, l.master);
+        let slave = find(&l.slave).ok_or_else(|| Error::UnknownSurface {
+            link: label.clone(),
+            name: l.slave.clone(),
+        })?;
+        let master = find(&l.master).ok_or_else(|| Error::UnknownSurface {
+            link: label.clone(),
+            name: l.master.clone(),
+        })?;
+        let side = Side::parse(&l.side).ok_or_else(|| Error::UnknownSide {
+            link: label.clone(),
+            side: l.side.clone(),
+        })?;
+        let continuity =
+            parse_continuity(&l.continuity).ok_or_else(|| Error::UnknownContinuity {
+                link: label.clone(),
+                continuity: l.continuity.clone(),
+            })?;
+        links.push(Link {
+            slave,
+            side,
+            master,
+            continuity,
+        });
+    }
+    Ok(links)
+}
+
+/// The corner groups of a model record, by surface index (`find`: a name's index).
+fn corners_of(
+    records: Vec<CornerRecord>,
+    find: &dyn Fn(&str) -> Option<usize>,
+) -> Result<Vec<CornerGroup>> {
+    let mut corners = Vec::with_capacity(records.len());
+    for c in records {
+        let mut patches = Vec::with_capacity(c.patches.len());
+        for p in &c.patches {
+            let k = find(p).ok_or_else(|| Error::BadCorner {
+                corner: c.name.clone(),
+                detail: format!("no surface is named {p:?}"),
+            })?;
+            if patches.contains(&k) {
+                return Err(Error::BadCorner {
+                    corner: c.name.clone(),
+                    detail: format!("{p} is listed twice"),
+                });
+            }
+            patches.push(k);
+        }
+        if patches.len() < 2 {
+            return Err(Error::BadCorner {
+                corner: c.name,
+                detail: format!("{} patches; a corner group needs at least 2", patches.len()),
+            });
+        }
+        corners.push(CornerGroup {
+            name: c.name,
+            patches,
+        });
+    }
+    Ok(corners)
+}
+
 /// A surface entry's `trim` loops as points: each loop at least three finite points.
 fn trim_loops(name: &str, loops: &[Vec<[f64; 3]>]) -> Result<Vec<Vec<Point3>>> {
     loops
@@ -332,97 +435,15 @@ impl Model {
     }
 
     fn from_record(record: ModelRecord) -> Result<Self> {
-        let mut surfaces: Vec<ModelSurface> = Vec::with_capacity(record.surfaces.len());
-        for entry in record.surfaces {
-            if surfaces.iter().any(|s| s.name == entry.name) {
-                return Err(Error::DuplicateName { name: entry.name });
-            }
-            let role = Role::parse(&entry.role).ok_or_else(|| Error::UnknownRole {
-                name: entry.name.clone(),
-                role: entry.role.clone(),
-            })?;
-            let surface = entry
-                .surface
-                .to_surface()
-                .map_err(|source| Error::Surface {
-                    name: entry.name.clone(),
-                    source,
-                })?;
-            if let Some(d) = entry.deviation.filter(|d| !(d.is_finite() && *d > 0.0)) {
-                return Err(Error::BadTolerance {
-                    name: "surface deviation",
-                    value: d,
-                });
-            }
-            let trim = trim_loops(&entry.name, &entry.trim)?;
-            surfaces.push(ModelSurface {
-                name: entry.name,
-                role,
-                surface,
-                deviation: entry.deviation,
-                trim,
-            });
-        }
+        let surfaces = surfaces_of(record.surfaces)?;
         if surfaces.is_empty() {
             return Err(Error::Format {
                 detail: "the model has no surfaces".into(),
             });
         }
         let find = |name: &str| surfaces.iter().position(|s| s.name == name);
-        let mut links: Vec<Link> = Vec::with_capacity(record.links.len());
-        for l in &record.links {
-            let label = format!("{}.{} -> {}", l.slave, l.side, l.master);
-            let slave = find(&l.slave).ok_or_else(|| Error::UnknownSurface {
-                link: label.clone(),
-                name: l.slave.clone(),
-            })?;
-            let master = find(&l.master).ok_or_else(|| Error::UnknownSurface {
-                link: label.clone(),
-                name: l.master.clone(),
-            })?;
-            let side = Side::parse(&l.side).ok_or_else(|| Error::UnknownSide {
-                link: label.clone(),
-                side: l.side.clone(),
-            })?;
-            let continuity =
-                parse_continuity(&l.continuity).ok_or_else(|| Error::UnknownContinuity {
-                    link: label.clone(),
-                    continuity: l.continuity.clone(),
-                })?;
-            links.push(Link {
-                slave,
-                side,
-                master,
-                continuity,
-            });
-        }
-        let mut corners = Vec::with_capacity(record.corners.len());
-        for c in record.corners {
-            let mut patches = Vec::with_capacity(c.patches.len());
-            for p in &c.patches {
-                let k = find(p).ok_or_else(|| Error::BadCorner {
-                    corner: c.name.clone(),
-                    detail: format!("no surface is named {p:?}"),
-                })?;
-                if patches.contains(&k) {
-                    return Err(Error::BadCorner {
-                        corner: c.name.clone(),
-                        detail: format!("{p} is listed twice"),
-                    });
-                }
-                patches.push(k);
-            }
-            if patches.len() < 2 {
-                return Err(Error::BadCorner {
-                    corner: c.name,
-                    detail: format!("{} patches; a corner group needs at least 2", patches.len()),
-                });
-            }
-            corners.push(CornerGroup {
-                name: c.name,
-                patches,
-            });
-        }
+        let links = links_of(&record.links, &find)?;
+        let corners = corners_of(record.corners, &find)?;
         let t = record.tolerances.unwrap_or_default();
         let d = ModelTolerances::default();
         let (all, roles) = match t.deviation {

@@ -138,6 +138,15 @@ pub fn report_markdown_in(report: &FairModelReport, title: &str, units: Option<&
         report.tolerance,
         report.seconds_total
     );
+    links_section(&mut md, report, unit);
+    surfaces_section(&mut md, report, unit);
+    groups_section(&mut md, report);
+    problems_section(&mut md, report);
+    md
+}
+
+/// The links table: before and after, met or not.
+fn links_section(md: &mut String, report: &FairModelReport, unit: &str) {
     if !report.links.is_empty() {
         let _ = writeln!(md, "## Links\n");
         let _ = writeln!(
@@ -164,6 +173,10 @@ pub fn report_markdown_in(report: &FairModelReport, title: &str, units: Option<&
         }
         md.push('\n');
     }
+}
+
+/// The surfaces table with the totals.
+fn surfaces_section(md: &mut String, report: &FairModelReport, unit: &str) {
     let _ = writeln!(md, "## Surfaces\n");
     let _ = writeln!(
         md,
@@ -215,6 +228,10 @@ pub fn report_markdown_in(report: &FairModelReport, title: &str, units: Option<&
             .sum::<usize>(),
         report.seconds_total
     );
+}
+
+/// The corner groups table, where there are groups.
+fn groups_section(md: &mut String, report: &FairModelReport) {
     if !report.groups.is_empty() {
         let _ = writeln!(md, "## Corner groups (n-sided mesh fairing and refit)\n");
         let _ = writeln!(
@@ -236,6 +253,10 @@ pub fn report_markdown_in(report: &FairModelReport, title: &str, units: Option<&
         }
         md.push('\n');
     }
+}
+
+/// The problems, one line each.
+fn problems_section(md: &mut String, report: &FairModelReport) {
     if !report.problems.is_empty() {
         let _ = writeln!(md, "## Problems\n");
         for p in &report.problems {
@@ -243,5 +264,4 @@ pub fn report_markdown_in(report: &FairModelReport, title: &str, units: Option<&
         }
         md.push('\n');
     }
-    md
 }
