@@ -161,6 +161,8 @@ impl RowSystem {
         let mut mvals = vec![0.0; q + 1];
         let mut tracker = MasterTracker::new(master, params.projection);
         let mut master_eval = master.evaluator();
+        // one buffer for every sample's coefficients
+        let mut cols: Vec<(usize, usize, f64)> = Vec::with_capacity(q + 1);
         for (r, &t) in ts.iter().enumerate() {
             let (u, v) = side.params(slave, t);
             let ds = slave_eval.evaluate(u, v, if step == Continuity::G2 { 2 } else { 1 });
@@ -168,11 +170,13 @@ impl RowSystem {
             let first = basis.row_basis(k, t, &mut mvals);
             // the sample's row coefficients, per movable point: (row position, column block,
             // a_k · M_j(t))
-            let cols: Vec<(usize, usize, f64)> = mvals
-                .iter()
-                .enumerate()
-                .filter_map(|(l, &mv)| column[first + l].map(|c| (first + l, c, a_k * mv)))
-                .collect();
+            cols.clear();
+            cols.extend(
+                mvals
+                    .iter()
+                    .enumerate()
+                    .filter_map(|(l, &mv)| column[first + l].map(|c| (first + l, c, a_k * mv))),
+            );
             match step {
                 Continuity::G0 => self.g0_sample(r, &cols, proj.point - ds.point),
                 Continuity::G1 => {

@@ -159,12 +159,7 @@ fn contact<'m>(
 fn bridges(s: &BSplineSurface, a: Side) -> (bool, f64, f64, f64) {
     let (t0, t1) = a.along_domain(s);
     let mid = 0.5 * (t0 + t1);
-    let b = match a {
-        Side::U0 => Side::U1,
-        Side::U1 => Side::U0,
-        Side::V0 => Side::V1,
-        Side::V1 => Side::V0,
-    };
+    let b = a.opposite();
     let (pa, pb) = (a.params(s, mid), b.params(s, mid));
     let (da, db) = (s.derivatives(pa.0, pa.1), s.derivatives(pb.0, pb.1));
     let width = (da.point - db.point).norm();
@@ -198,16 +193,6 @@ const CORNER_SIDES: [(Side, Side); 4] = [
     (Side::U0, Side::V1),
     (Side::U1, Side::V1),
 ];
-
-/// The side opposite `side`.
-fn opposite(side: Side) -> Side {
-    match side {
-        Side::U0 => Side::U1,
-        Side::U1 => Side::U0,
-        Side::V0 => Side::V1,
-        Side::V1 => Side::V0,
-    }
-}
 
 /// A corner of a surface whose two sides lie tangentially on two other surfaces: the corner
 /// point, those two surfaces, and the surface's two other sides.
@@ -248,7 +233,7 @@ fn corner_groups(
             };
             if x != y && x != k && y != k && eligible(x) && eligible(y) {
                 let p = s.point(a.boundary_param(s), b.boundary_param(s));
-                centres[k].push((p, [x, y], [opposite(a), opposite(b)]));
+                centres[k].push((p, [x, y], [a.opposite(), b.opposite()]));
             }
         }
     }

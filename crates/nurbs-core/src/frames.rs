@@ -70,6 +70,16 @@ impl Side {
         }
     }
 
+    /// The side across the surface from this one (`U0` ↔ `U1`, `V0` ↔ `V1`).
+    pub fn opposite(self) -> Side {
+        match self {
+            Side::U0 => Side::U1,
+            Side::U1 => Side::U0,
+            Side::V0 => Side::V1,
+            Side::V1 => Side::V0,
+        }
+    }
+
     /// True for the sides at the start of their cross direction (`U0`, `V0`).
     pub fn is_start(self) -> bool {
         matches!(self, Side::U0 | Side::V0)

@@ -59,10 +59,8 @@ fn fit_once(
     let ku = KnotVector::new(p, clamped(bu, p)).map_err(|e| e.to_string())?;
     let kv = KnotVector::new(q, clamped(bv, q)).map_err(|e| e.to_string())?;
     let (nu, nv) = (ku.num_basis(), kv.num_basis());
-    let template = BSplineSurface::new(ku, kv, vec![Point3::origin(); nu * nv], None)
-        .map_err(|e| e.to_string())?;
     // twice as many points per span as the degree needs, then checked halfway between them
-    let (us, vs) = (spread(bu, 2 * (p + 1), 0.0), spread(bv, 2 * (q + 1), 0.0));
+    let (us, vs) = (ku.span_samples(2 * (p + 1)), kv.span_samples(2 * (q + 1)));
     let mut params = Vec::with_capacity(us.len() * vs.len());
     let mut points = Vec::with_capacity(us.len() * vs.len());
     for &u in &us {
@@ -71,13 +69,15 @@ fn fit_once(
             points.push(exact(base, d, u, v)?);
         }
     }
+    let template = BSplineSurface::new(ku, kv, vec![Point3::origin(); nu * nv], None)
+        .map_err(|e| e.to_string())?;
     let mask = nurbs_core::ControlMask::all_free(nu, nv);
     let fit = nurbs_core::fit::FitParams::default();
     let (fit, _) = nurbs_core::fit::fit_surface(&template, &mask, &params, &points, &fit)
         .map_err(|e| e.to_string())?;
     let mut worst: f64 = 0.0;
-    for &u in &spread(bu, 2 * (p + 1), 0.5) {
-        for &v in &spread(bv, 2 * (q + 1), 0.5) {
+    for &u in &halfway(&us) {
+        for &v in &halfway(&vs) {
             worst = worst.max((fit.point(u, v) - exact(base, d, u, v)?).norm());
         }
     }
@@ -100,19 +100,9 @@ fn clamped(b: &[f64], deg: usize) -> Vec<f64> {
     k
 }
 
-/// `per` parameters in every span of the breakpoints `b`, at fractions (i + shift)/per; with
-/// shift 0 the last breakpoint too.
-fn spread(b: &[f64], per: usize, shift: f64) -> Vec<f64> {
-    let mut out = Vec::new();
-    for w in b.windows(2) {
-        for i in 0..per {
-            out.push(w[0] + (w[1] - w[0]) * (i as f64 + shift) / per as f64);
-        }
-    }
-    if shift == 0.0 {
-        out.push(b[b.len() - 1]);
-    }
-    out
+/// The points halfway between consecutive values of `xs`.
+fn halfway(xs: &[f64]) -> Vec<f64> {
+    xs.windows(2).map(|w| 0.5 * (w[0] + w[1])).collect()
 }
 
 /// The breakpoints with every span halved.
