@@ -6,20 +6,17 @@ use hier_fair::{ConnectOptions, Model, check_model, connect};
 use nurbs_core::BSplineSurface;
 use nurbs_core::{Continuity, Side, Vector3};
 
-fn data(name: &str) -> Option<String> {
+fn data(name: &str) -> String {
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
         .join("../../fixtures/third_party")
         .join(name);
-    let text = std::fs::read_to_string(&path)
-        .unwrap_or_else(|e| panic!("{} is in the repository: {e}", path.display()));
-    Some(text)
+    std::fs::read_to_string(&path)
+        .unwrap_or_else(|e| panic!("{} is in the repository: {e}", path.display()))
 }
 
 #[test]
 fn car_shell_connect_g1_meets_class_a_on_every_link() {
-    let Some(text) = data("car_shell1.model.json") else {
-        return;
-    };
+    let text = data("car_shell1.model.json");
     let model = Model::from_json(&text).unwrap();
     assert_eq!(model.links.len(), 9);
     let before = check_model(&model, &MeasureParams::default()).unwrap();
@@ -96,9 +93,7 @@ fn shared_side(a: &BSplineSurface, side: Side, b: &BSplineSurface) -> Option<Sid
 
 #[test]
 fn teapot_perturbed_rows_restored_to_g1_and_g2() {
-    let Some(text) = data("teapot.json") else {
-        return;
-    };
+    let text = data("teapot.json");
     let patches = nurbs_core::io::surfaces_from_json(&text).unwrap();
     // an upper-body patch and every body patch sharing one of its edges
     let a = 4;
@@ -222,9 +217,7 @@ fn teapot_perturbed_rows_restored_to_g1_and_g2() {
 /// deviation within the model's tolerance (the default 0.05: the file gives none).
 #[test]
 fn car_shell_fair_meets_g1_on_every_link_within_the_tolerance() {
-    let Some(text) = data("car_shell1.model.json") else {
-        return;
-    };
+    let text = data("car_shell1.model.json");
     let model = Model::from_json(&text).unwrap();
     let (out, report) = hier_fair::fair_model(
         &model,

@@ -6,19 +6,19 @@ use std::time::Instant;
 use nurbs_core::TriMesh;
 use trim_label::{LabelParams, label_region};
 
-fn neon() -> Option<TriMesh> {
+fn neon() -> TriMesh {
     let path = concat!(
         env!("CARGO_MANIFEST_DIR"),
         "/../../fixtures/third_party/neon_side.obj"
     );
     let text = std::fs::read_to_string(path)
         .unwrap_or_else(|e| panic!("{path} is in the repository: {e}"));
-    Some(TriMesh::from_obj_str(&text).expect("neon_side.obj parses"))
+    TriMesh::from_obj_str(&text).expect("neon_side.obj parses")
 }
 
 #[test]
 fn neon_side_labels() {
-    let Some(mesh) = neon() else { return };
+    let mesh = neon();
     let t = Instant::now();
     let l = label_region(&mesh, None, &LabelParams::default()).expect("labels");
     let secs = t.elapsed().as_secs_f64();
@@ -53,7 +53,7 @@ fn neon_side_labels() {
 
 #[test]
 fn neon_side_fit() {
-    let Some(mesh) = neon() else { return };
+    let mesh = neon();
     let l = label_region(&mesh, None, &LabelParams::default()).expect("labels");
     let t = Instant::now();
     let (surface, rep) =
