@@ -54,14 +54,14 @@
 //! displacements end ≤ the tolerance (model units), which bounds the surface deviation.
 
 use nurbs_core::{
-    BSplineSurface, ControlMask, Faired, FairingProblem, SurfaceBasis, SurfaceBasisEvaluator,
-    SurfaceFairing,
+    BSplineSurface, ControlMask, Faired, FairingProblem, KnotVector, SurfaceBasis,
+    SurfaceBasisEvaluator, SurfaceDerivatives, SurfaceFairing, Vector3,
 };
 
 use crate::coupled::CoupledSystem;
 use crate::error::{Result, check_fraction, check_param, check_tolerance};
 use crate::hessian::SampleGeometry;
-use crate::normal::{NormalSystem, apply, limit_to_tolerance, max_norm};
+use crate::normal::{Displacement, NormalSystem, apply, limit_to_tolerance, max_norm};
 use crate::quadric::{SampleFrame, osculating_shape};
 use crate::sampling::{Sampling, trapezoid_weights};
 use crate::smooth::smooth_grid;
@@ -221,9 +221,8 @@ pub fn fair_surface_greiner(
     mask.check_shape(surface)?;
     let us = params.sampling.params(surface.knots_u(), true);
     let vs = params.sampling.params(surface.knots_v(), false);
-    let (mu, mv) = (us.len(), vs.len());
     let mut report = GreinerReport {
-        samples: (mu, mv),
+        samples: (us.len(), vs.len()),
         singular_samples: 0,
         free_points: mask.free_count(),
         solves: 0,
@@ -237,155 +236,328 @@ pub fn fair_surface_greiner(
         return Ok((surface.clone(), report));
     }
     // 1. reference geometry
-    let derivatives = surface.eval_grid_derivatives(&us, &vs);
-    let geometry: Vec<Option<SampleGeometry>> =
-        derivatives.iter().map(SampleGeometry::new).collect();
+    let grid = ReferenceGrid::new(surface, us, vs);
     // 2. targets
-    let mut shape: Vec<Option<[f64; 4]>> = geometry.iter().map(|g| g.map(|g| g.shape)).collect();
-    match params.smoothing {
-        TargetSmoothing::Quadric { half_window_spans } => {
-            let half = |t: &[f64], knots: &nurbs_core::KnotVector| {
-                let spans = knots.spans().count().max(1) as f64;
-                ((half_window_spans * (t.len() - 1) as f64 / spans).ceil() as usize).max(1)
-            };
-            let (hu, hv) = (half(&us, surface.knots_u()), half(&vs, surface.knots_v()));
-            let mut window = Vec::new();
-            for a in 0..mu {
-                for b in 0..mv {
-                    let s = a * mv + b;
-                    let Some(g) = &geometry[s] else { continue };
-                    window.clear();
-                    for i in a.saturating_sub(hu)..=(a + hu).min(mu - 1) {
-                        for j in b.saturating_sub(hv)..=(b + hv).min(mv - 1) {
-                            window.push(derivatives[i * mv + j].point);
-                        }
-                    }
-                    let frame = SampleFrame {
-                        point: derivatives[s].point,
-                        du: g.tangents[0],
-                        dv: g.tangents[1],
-                        normal: g.normal,
-                    };
-                    shape[s] = osculating_shape(&frame, &window);
-                }
-            }
-        }
-        TargetSmoothing::Jacobi { sweeps, weight } => {
-            let mut values: Vec<[f64; 4]> = shape.iter().map(|x| x.unwrap_or([0.0; 4])).collect();
-            match params.target {
-                GreinerTarget::MeanCurvature => {
-                    let mut mean: Vec<[f64; 1]> =
-                        values.iter().map(|x| [(x[0] + x[3]) / 2.0]).collect();
-                    smooth_grid(&mut mean, mu, mv, sweeps, weight);
-                    for (v, m) in values.iter_mut().zip(&mean) {
-                        *v = [m[0], 0.0, 0.0, m[0]];
-                    }
-                }
-                GreinerTarget::Hessian => smooth_grid(&mut values, mu, mv, sweeps, weight),
-            }
-            for (x, v) in shape.iter_mut().zip(values) {
-                if x.is_some() {
-                    *x = Some(v);
-                }
-            }
-        }
-    }
+    let shape = target_shapes(surface, &grid, params);
     report.singular_samples = shape.iter().filter(|x| x.is_none()).count();
     // 3. rows
-    let (wu, wv) = (trapezoid_weights(&us), trapezoid_weights(&vs));
-    let mut system = NormalSystem::new(surface);
-    let mut coupled = CoupledSystem::new(surface);
-    let mut basis = SurfaceBasis::new(surface);
-    let mut eval = SurfaceBasisEvaluator::new(surface);
-    let len = basis.len();
-    let mut rows = vec![vec![0.0; len]; 3];
-    let mut coeffs = vec![nurbs_core::Vector3::zeros(); len];
-    let mut metric = vec![[[0.0; 3]; 3]; len];
-    for (a, &u) in us.iter().enumerate() {
-        for (b, &v) in vs.iter().enumerate() {
+    let system = curvature_rows(surface, &grid, &shape, params);
+    report.residual_before = system.mean_square_before().sqrt();
+    // 4. solve, stiffening the pull while the tolerance is exceeded
+    let mut solved = solve_within_tolerance(&system, mask, tolerance, params, &mut report)?;
+    report.residual_after = solved.mean_square_after.sqrt();
+    report.scale = limit_to_tolerance(&mut solved.delta, tolerance);
+    report.max_control_move = max_norm(&solved.delta);
+    Ok((apply(surface, mask.as_slice(), &solved.delta), report))
+}
+
+/// Step 1: the reference surface on the sample grid (row-major in u, v fastest).
+struct ReferenceGrid {
+    /// sample parameters in u
+    us: Vec<f64>,
+    /// sample parameters in v
+    vs: Vec<f64>,
+    /// point and derivatives at each sample
+    derivatives: Vec<SurfaceDerivatives>,
+    /// metric, normal and shape operator at each sample, `None` where the metric is singular
+    geometry: Vec<Option<SampleGeometry>>,
+}
+
+impl ReferenceGrid {
+    /// Samples `surface` at every (u, v) of `us` × `vs`.
+    fn new(surface: &BSplineSurface, us: Vec<f64>, vs: Vec<f64>) -> Self {
+        let derivatives = surface.eval_grid_derivatives(&us, &vs);
+        let geometry = derivatives.iter().map(SampleGeometry::new).collect();
+        Self {
+            us,
+            vs,
+            derivatives,
+            geometry,
+        }
+    }
+
+    /// Samples in u and v.
+    fn size(&self) -> (usize, usize) {
+        (self.us.len(), self.vs.len())
+    }
+}
+
+/// Step 2: the target shape operator at every sample as `params.smoothing` averages it, `None`
+/// where the reference is singular or the quadric fit degenerates.
+fn target_shapes(
+    surface: &BSplineSurface,
+    grid: &ReferenceGrid,
+    params: &GreinerParams,
+) -> Vec<Option<[f64; 4]>> {
+    let mut shape: Vec<Option<[f64; 4]>> =
+        grid.geometry.iter().map(|g| g.map(|g| g.shape)).collect();
+    match params.smoothing {
+        TargetSmoothing::Quadric { half_window_spans } => {
+            quadric_targets(surface, grid, half_window_spans, &mut shape);
+        }
+        TargetSmoothing::Jacobi { sweeps, weight } => {
+            jacobi_targets(grid.size(), params.target, sweeps, weight, &mut shape);
+        }
+    }
+    shape
+}
+
+/// Writes into `shape`, at every regular sample, the shape operator of the quadric fitted to the
+/// reference's samples within ±`half_window_spans` knot spans in each direction.
+fn quadric_targets(
+    surface: &BSplineSurface,
+    grid: &ReferenceGrid,
+    half_window_spans: f64,
+    shape: &mut [Option<[f64; 4]>],
+) {
+    let (mu, mv) = grid.size();
+    let half = |t: &[f64], knots: &KnotVector| {
+        let spans = knots.spans().count().max(1) as f64;
+        ((half_window_spans * (t.len() - 1) as f64 / spans).ceil() as usize).max(1)
+    };
+    let (hu, hv) = (
+        half(&grid.us, surface.knots_u()),
+        half(&grid.vs, surface.knots_v()),
+    );
+    let mut window = Vec::new();
+    for a in 0..mu {
+        for b in 0..mv {
             let s = a * mv + b;
-            let (Some(g), Some(target_shape)) = (&geometry[s], shape[s]) else {
+            let Some(g) = &grid.geometry[s] else { continue };
+            window.clear();
+            for i in a.saturating_sub(hu)..=(a + hu).min(mu - 1) {
+                for j in b.saturating_sub(hv)..=(b + hv).min(mv - 1) {
+                    window.push(grid.derivatives[i * mv + j].point);
+                }
+            }
+            let frame = SampleFrame {
+                point: grid.derivatives[s].point,
+                du: g.tangents[0],
+                dv: g.tangents[1],
+                normal: g.normal,
+            };
+            shape[s] = osculating_shape(&frame, &window);
+        }
+    }
+}
+
+/// Smooths the regular samples' shape operators in `shape` (an `mu` × `mv` grid) by Jacobi
+/// sweeps: only the mean curvature for [`GreinerTarget::MeanCurvature`], every entry otherwise.
+fn jacobi_targets(
+    (mu, mv): (usize, usize),
+    target: GreinerTarget,
+    sweeps: usize,
+    weight: f64,
+    shape: &mut [Option<[f64; 4]>],
+) {
+    let mut values: Vec<[f64; 4]> = shape.iter().map(|x| x.unwrap_or([0.0; 4])).collect();
+    match target {
+        GreinerTarget::MeanCurvature => {
+            let mut mean: Vec<[f64; 1]> = values.iter().map(|x| [(x[0] + x[3]) / 2.0]).collect();
+            smooth_grid(&mut mean, mu, mv, sweeps, weight);
+            for (v, m) in values.iter_mut().zip(&mean) {
+                *v = [m[0], 0.0, 0.0, m[0]];
+            }
+        }
+        GreinerTarget::Hessian => smooth_grid(&mut values, mu, mv, sweeps, weight),
+    }
+    for (x, v) in shape.iter_mut().zip(values) {
+        if x.is_some() {
+            *x = Some(v);
+        }
+    }
+}
+
+/// The least-squares system of step 3: scalar rows on the reference normal, coupling x, y, z
+/// ([`GreinerParams::normal_rows`]), or one row per coordinate.
+enum CurvatureRows<'a> {
+    /// n_R · Hess_R(S) = target, with the metric's first variation
+    Normal(CoupledSystem<'a>),
+    /// Hess_R(S_c) = target × n_c for each coordinate c
+    Coordinate(NormalSystem<'a>),
+}
+
+impl<'a> CurvatureRows<'a> {
+    /// An empty system over `surface`'s control net, of the kind `normal_rows` picks.
+    fn new(surface: &'a BSplineSurface, normal_rows: bool) -> Self {
+        if normal_rows {
+            CurvatureRows::Normal(CoupledSystem::new(surface))
+        } else {
+            CurvatureRows::Coordinate(NormalSystem::new(surface))
+        }
+    }
+
+    /// The displacements of the points with `free[k]` under the pull ρ.
+    fn solve(&self, free: &[bool], rho: f64) -> Result<Displacement> {
+        match self {
+            CurvatureRows::Normal(system) => system.solve(free, rho, "curvature approximation"),
+            CurvatureRows::Coordinate(system) => system.solve(free, rho, "curvature approximation"),
+        }
+    }
+
+    /// The weighted mean square row residual at δ = 0.
+    fn mean_square_before(&self) -> f64 {
+        match self {
+            CurvatureRows::Normal(system) => system.mean_square_before(),
+            CurvatureRows::Coordinate(system) => system.mean_square_before(),
+        }
+    }
+}
+
+/// Step 3: the curvature rows of every regular sample, weighted by its area element times the
+/// trapezoid weights.
+fn curvature_rows<'a>(
+    surface: &'a BSplineSurface,
+    grid: &ReferenceGrid,
+    shape: &[Option<[f64; 4]>],
+    params: &GreinerParams,
+) -> CurvatureRows<'a> {
+    let (wu, wv) = (trapezoid_weights(&grid.us), trapezoid_weights(&grid.vs));
+    let mut system = CurvatureRows::new(surface, params.normal_rows);
+    let mut sample = SampleRows::new(surface);
+    let mv = grid.vs.len();
+    for (a, &u) in grid.us.iter().enumerate() {
+        for (b, &v) in grid.vs.iter().enumerate() {
+            let s = a * mv + b;
+            let (Some(g), Some(target_shape)) = (&grid.geometry[s], shape[s]) else {
                 continue;
             };
             let weight = g.area * wu[a] * wv[b];
-            eval.eval(u, v, &mut basis);
-            for k in 0..len {
-                if params.normal_rows {
-                    metric[k] = g.metric_variation([basis.du[k], basis.dv[k]]);
-                }
-                let m = g.covariant(
-                    [basis.du[k], basis.dv[k]],
-                    [basis.duu[k], basis.duv[k], basis.dvv[k]],
-                );
-                match params.target {
-                    GreinerTarget::MeanCurvature => rows[0][k] = g.trace(m),
-                    GreinerTarget::Hessian => {
-                        let y = g.orthonormal(m);
-                        for r in 0..3 {
-                            rows[r][k] = y[r];
-                        }
+            sample.hessian_rows(g, u, v, params);
+            sample.add_to(&mut system, g, target_shape, weight, params.target);
+        }
+    }
+    system
+}
+
+/// One sample's rows of step 3, its buffers reused from sample to sample.
+struct SampleRows<'a> {
+    eval: SurfaceBasisEvaluator<'a>,
+    /// the basis functions and their derivatives at the sample
+    basis: SurfaceBasis,
+    /// per row (one for the mean curvature, three for the Hessian), each basis function's
+    /// coefficient
+    rows: Vec<Vec<f64>>,
+    /// the coefficient 3-vectors of one normal row
+    coeffs: Vec<Vector3>,
+    /// each basis function's first variation of the metric (normal rows only)
+    metric: Vec<[[f64; 3]; 3]>,
+}
+
+impl<'a> SampleRows<'a> {
+    /// Buffers for `surface`'s basis.
+    fn new(surface: &'a BSplineSurface) -> Self {
+        let basis = SurfaceBasis::new(surface);
+        let len = basis.len();
+        Self {
+            eval: SurfaceBasisEvaluator::new(surface),
+            basis,
+            rows: vec![vec![0.0; len]; 3],
+            coeffs: vec![Vector3::zeros(); len],
+            metric: vec![[[0.0; 3]; 3]; len],
+        }
+    }
+
+    /// Evaluates the basis at (u, v) and fills `rows` with each basis function's Hessian on the
+    /// reference `g` (its trace or its orthonormal entries), and `metric` for normal rows.
+    fn hessian_rows(&mut self, g: &SampleGeometry, u: f64, v: f64, params: &GreinerParams) {
+        let basis = &mut self.basis;
+        self.eval.eval(u, v, basis);
+        for k in 0..basis.len() {
+            if params.normal_rows {
+                self.metric[k] = g.metric_variation([basis.du[k], basis.dv[k]]);
+            }
+            let m = g.covariant(
+                [basis.du[k], basis.dv[k]],
+                [basis.duu[k], basis.duv[k], basis.dvv[k]],
+            );
+            match params.target {
+                GreinerTarget::MeanCurvature => self.rows[0][k] = g.trace(m),
+                GreinerTarget::Hessian => {
+                    let y = g.orthonormal(m);
+                    for r in 0..3 {
+                        self.rows[r][k] = y[r];
                     }
                 }
             }
-            // (row index, packed entries it combines, target)
-            let targets: Vec<(usize, &[usize], f64)> = match params.target {
-                GreinerTarget::MeanCurvature => {
-                    vec![(0, &[0, 2], target_shape[0] + target_shape[3])]
-                }
-                GreinerTarget::Hessian => {
-                    let t = g.orthonormal_mixed(target_shape);
-                    vec![(0, &[0], t[0]), (1, &[1], t[1]), (2, &[2], t[2])]
-                }
-            };
-            for (r, entries, t) in targets {
-                if params.normal_rows {
+        }
+    }
+
+    /// Adds the rows filled by [`Self::hessian_rows`] to `system`, each with its target from the
+    /// shape operator `target_shape` and the weight `weight`.
+    fn add_to(
+        &mut self,
+        system: &mut CurvatureRows,
+        g: &SampleGeometry,
+        target_shape: [f64; 4],
+        weight: f64,
+        target: GreinerTarget,
+    ) {
+        let len = self.basis.len();
+        for (r, entries, t) in row_targets(g, target_shape, target) {
+            match system {
+                CurvatureRows::Normal(coupled) => {
                     // n · M_R(S) − sym(L⁻¹ G(S) L⁻ᵀ Y_R) = target − 2 Y_R
                     for k in 0..len {
-                        let mut c = rows[r][k] * g.normal;
-                        for (d, m) in metric[k].iter().enumerate() {
+                        let mut c = self.rows[r][k] * g.normal;
+                        for (d, m) in self.metric[k].iter().enumerate() {
                             c[d] -= entries.iter().map(|&e| m[e]).sum::<f64>();
                         }
-                        coeffs[k] = c;
+                        self.coeffs[k] = c;
                     }
                     let constant = g.metric_constant();
                     let t = t - entries.iter().map(|&e| constant[e]).sum::<f64>();
-                    coupled.add_row(&basis, &coeffs, weight, t);
-                } else {
-                    system.add_row(&basis, &rows[r], weight, t * g.normal);
+                    coupled.add_row(&self.basis, &self.coeffs, weight, t);
+                }
+                CurvatureRows::Coordinate(system) => {
+                    system.add_row(&self.basis, &self.rows[r], weight, t * g.normal);
                 }
             }
         }
     }
-    let solve = |rho: f64| {
-        if params.normal_rows {
-            coupled.solve(mask.as_slice(), rho, "curvature approximation")
-        } else {
-            system.solve(mask.as_slice(), rho, "curvature approximation")
+}
+
+/// A sample's rows as (row index, packed entries of the metric variation it combines, target)
+/// for the target shape operator `target_shape`.
+fn row_targets(
+    g: &SampleGeometry,
+    target_shape: [f64; 4],
+    target: GreinerTarget,
+) -> Vec<(usize, &'static [usize], f64)> {
+    match target {
+        GreinerTarget::MeanCurvature => {
+            vec![(0, &[0, 2], target_shape[0] + target_shape[3])]
         }
-    };
-    report.residual_before = if params.normal_rows {
-        coupled.mean_square_before()
-    } else {
-        system.mean_square_before()
+        GreinerTarget::Hessian => {
+            let t = g.orthonormal_mixed(target_shape);
+            vec![(0, &[0], t[0]), (1, &[1], t[1]), (2, &[2], t[2])]
+        }
     }
-    .sqrt();
-    // 4. solve, stiffening the pull while the tolerance is exceeded
+}
+
+/// Step 4: solves with ρ = `deviation_weight`, growing ρ by `weight_growth` while a control
+/// point moves farther than `tolerance` (at most `weight_increases` times); the solves and the
+/// final ρ go to `report`.
+fn solve_within_tolerance(
+    system: &CurvatureRows,
+    mask: &ControlMask,
+    tolerance: f64,
+    params: &GreinerParams,
+    report: &mut GreinerReport,
+) -> Result<Displacement> {
     let mut rho = params.deviation_weight;
-    let mut solved = solve(rho)?;
+    let mut solved = system.solve(mask.as_slice(), rho)?;
     report.solves = 1;
     for _ in 0..params.weight_increases {
         if max_norm(&solved.delta) <= tolerance {
             break;
         }
         rho *= params.weight_growth;
-        solved = solve(rho)?;
+        solved = system.solve(mask.as_slice(), rho)?;
         report.solves += 1;
     }
     report.deviation_weight = rho;
-    report.residual_after = solved.mean_square_after.sqrt();
-    report.scale = limit_to_tolerance(&mut solved.delta, tolerance);
-    report.max_control_move = max_norm(&solved.delta);
-    Ok((apply(surface, mask.as_slice(), &solved.delta), report))
+    Ok(solved)
 }
 
 /// The curvature-approximation method (`greiner`) for the framework.

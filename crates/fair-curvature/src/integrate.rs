@@ -87,55 +87,64 @@ impl Integration<'_> {
         if nf == 0 {
             return Ok(out);
         }
-        // rows: three samples, three coefficients, weight, target
-        let mut triplets = Vec::new();
-        let mut rhs = DMatrix::<f64>::zeros(nf, 3);
-        let mut diag = vec![0.0; nf];
+        let mut normal = CurvatureNormal::new(nf);
         for line in lines {
             for i in 1..line.len.saturating_sub(1) {
-                let idx = [line.index(i - 1), line.index(i), line.index(i + 1)];
-                let (l0, l1) = (
-                    (self.points[idx[1]] - self.points[idx[0]]).norm(),
-                    (self.points[idx[2]] - self.points[idx[1]]).norm(),
-                );
-                let f = 2.0 / (l0 + l1);
-                let c = [f / l0, -f / l0 - f / l1, f / l1];
-                let w = self.measure[idx[1]];
-                if !(w > 0.0) || !c.iter().all(|c| c.is_finite()) {
-                    continue;
-                }
-                let target = line.delta[i];
-                for a in 0..3 {
-                    let ca = col[idx[a]];
-                    if ca == usize::MAX {
-                        continue;
-                    }
-                    for k in 0..3 {
-                        rhs[(ca, k)] += w * c[a] * target[k];
-                    }
-                    for b in 0..3 {
-                        let cb = col[idx[b]];
-                        if cb != usize::MAX {
-                            triplets.push((ca, cb, w * c[a] * c[b]));
-                            if ca == cb {
-                                diag[ca] += w * c[a] * c[b];
-                            }
-                        }
-                    }
+                if let Some((idx, c, w)) = self.second_difference(line, i) {
+                    normal.add_row(&col, idx, c, w, line.delta[i]);
                 }
             }
         }
-        let mean = diag.iter().sum::<f64>() / nf as f64;
-        let singular = |reason: String| CurvatureError::SingularSystem {
-            stage: "curvature integration",
-            reason,
-        };
+        let mean = normal.diag.iter().sum::<f64>() / nf as f64;
         if !(mean > 0.0) || !mean.is_finite() {
             return Err(singular(format!(
                 "no curvature rows reach the free samples (mean diagonal {mean})"
             )));
         }
-        let mut pull = vec![self.rho * mean; nf];
+        self.solve_in_balls(normal, &col, self.rho * mean, &mut out)?;
+        for (p, o) in out.iter_mut().zip(self.original) {
+            let off = *p - o;
+            let dist = off.norm();
+            if dist > self.radius {
+                *p = o + off * (self.radius / dist);
+            }
+        }
+        Ok(out)
+    }
+
+    /// The row L_i at vertex i of `line`: its three samples, their coefficients and the row's
+    /// weight; `None` where the weight vanishes or a chord collapses.
+    fn second_difference(&self, line: &Line, i: usize) -> Option<([usize; 3], [f64; 3], f64)> {
+        let idx = [line.index(i - 1), line.index(i), line.index(i + 1)];
+        let (l0, l1) = (
+            (self.points[idx[1]] - self.points[idx[0]]).norm(),
+            (self.points[idx[2]] - self.points[idx[1]]).norm(),
+        );
+        let f = 2.0 / (l0 + l1);
+        let c = [f / l0, -f / l0 - f / l1, f / l1];
+        let w = self.measure[idx[1]];
+        if !(w > 0.0) || !c.iter().all(|c| c.is_finite()) {
+            return None;
+        }
+        Some((idx, c, w))
+    }
+
+    /// Solves `normal` with the pull `pull` on every free sample (`col`: column of each sample,
+    /// `usize::MAX` when fixed), writing x + y into `out`; while a sample leaves its ball its
+    /// pull grows by [`BALL_PULL_GROWTH`] and the system is solved again (at most
+    /// [`BALL_RESOLVES`] times).
+    fn solve_in_balls(
+        &self,
+        normal: CurvatureNormal,
+        col: &[usize],
+        pull: f64,
+        out: &mut [Point3],
+    ) -> Result<()> {
+        let CurvatureNormal {
+            mut triplets, rhs, ..
+        } = normal;
+        let nf = rhs.nrows();
+        let mut pull = vec![pull; nf];
         let rows = triplets.len();
         for resolve in 0..=BALL_RESOLVES {
             triplets.truncate(rows);
@@ -149,8 +158,7 @@ impl Integration<'_> {
                 return Err(singular(format!("solution entry {k} is not finite")));
             }
             let mut outside = false;
-            for s in 0..n {
-                let c = col[s];
+            for (s, &c) in col.iter().enumerate() {
                 if c == usize::MAX {
                     continue;
                 }
@@ -165,13 +173,59 @@ impl Integration<'_> {
                 break;
             }
         }
-        for (p, o) in out.iter_mut().zip(self.original) {
-            let off = *p - o;
-            let dist = off.norm();
-            if dist > self.radius {
-                *p = o + off * (self.radius / dist);
+        Ok(())
+    }
+}
+
+/// The normal equations Σ w LᵀL y = Σ w Lᵀδ of the curvature rows over the free samples, before
+/// the pull is added.
+struct CurvatureNormal {
+    /// entries of Σ w LᵀL as (row, column, value), repeated entries summed by the solver
+    triplets: Vec<(usize, usize, f64)>,
+    /// Σ w Lᵀδ, one column per coordinate
+    rhs: DMatrix<f64>,
+    /// the diagonal of Σ w LᵀL
+    diag: Vec<f64>,
+}
+
+impl CurvatureNormal {
+    /// Empty equations over `nf` free samples.
+    fn new(nf: usize) -> Self {
+        Self {
+            triplets: Vec::new(),
+            rhs: DMatrix::<f64>::zeros(nf, 3),
+            diag: vec![0.0; nf],
+        }
+    }
+
+    /// Adds the row Σ_a c[a] y_{idx[a]} ≈ `target` with weight `w`; fixed samples (`col`
+    /// `usize::MAX`) drop out.
+    fn add_row(&mut self, col: &[usize], idx: [usize; 3], c: [f64; 3], w: f64, target: Vector3) {
+        for a in 0..3 {
+            let ca = col[idx[a]];
+            if ca == usize::MAX {
+                continue;
+            }
+            for k in 0..3 {
+                self.rhs[(ca, k)] += w * c[a] * target[k];
+            }
+            for b in 0..3 {
+                let cb = col[idx[b]];
+                if cb != usize::MAX {
+                    self.triplets.push((ca, cb, w * c[a] * c[b]));
+                    if ca == cb {
+                        self.diag[ca] += w * c[a] * c[b];
+                    }
+                }
             }
         }
-        Ok(out)
+    }
+}
+
+/// The error of a singular or failed integration solve.
+fn singular(reason: String) -> CurvatureError {
+    CurvatureError::SingularSystem {
+        stage: "curvature integration",
+        reason,
     }
 }

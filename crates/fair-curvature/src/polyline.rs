@@ -165,98 +165,134 @@ pub(crate) fn curvature_change(
         return true;
     }
     let w = work;
-    w.chords.clear();
-    w.chords
-        .extend(points.windows(2).map(|p| (p[1] - p[0]).norm()));
-    let total: f64 = w.chords.iter().sum();
-    if !(w.chords.iter().fold(f64::INFINITY, |m, &c| m.min(c)) > DEGENERATE_CHORD_REL * total) {
+    if !w.chords_and_tangents(points) {
         return false;
     }
-    w.tangents.clear();
-    w.tangents.extend(
-        points
-            .windows(2)
-            .zip(&w.chords)
-            .map(|(p, l)| (p[1] - p[0]) / *l),
-    );
     // 1. curvature vectors in the transported frame
-    w.frames.clear();
-    w.frames.resize(n, [Vector3::zeros(); 2]);
-    w.k.clear();
-    w.k.resize(n, [0.0; 2]);
-    let mut previous: Option<Vector3> = None;
-    for i in 1..n - 1 {
-        let (a, b) = (w.tangents[i - 1], w.tangents[i]);
-        let sum = a + b;
-        let len = sum.norm();
-        let t = if len > STRAIGHT_SIN { sum / len } else { b };
-        let m1 = match previous.and_then(|p| transport(&w.frames[i - 1][0], &p, &t)) {
-            Some(m) => (m - m.dot(&t) * t).normalize(),
-            None => perpendicular(&t),
-        };
-        w.frames[i] = [m1, t.cross(&m1)];
-        previous = Some(t);
-        let d = b - a;
-        let dn = d.norm();
-        if dn > STRAIGHT_SIN {
-            let kappa = 2.0 * a.cross(&b).norm() / (points[i + 1] - points[i - 1]).norm();
-            let kv = d * (kappa / dn);
-            w.k[i] = [kv.dot(&w.frames[i][0]), kv.dot(&w.frames[i][1])];
+    w.curvature_vectors(points);
+    w.original.clone_from(&w.k);
+    let fixed_ends = w.set_end_curvature(ends);
+    // 2. smoothing
+    w.smooth(params, fixed_ends);
+    for i in 1..=n - 2 {
+        let [m1, m2] = w.frames[i];
+        let o = w.original[i];
+        delta[i] = (w.k[i][0] - o[0]) * m1 + (w.k[i][1] - o[1]) * m2;
+    }
+    true
+}
+
+impl CurvatureWork {
+    /// Fills the chords ℓ_i and unit tangents t_i of `points`; `false` when a chord is shorter
+    /// than [`DEGENERATE_CHORD_REL`] of the length (a collapsed polyline).
+    fn chords_and_tangents(&mut self, points: &[Point3]) -> bool {
+        self.chords.clear();
+        self.chords
+            .extend(points.windows(2).map(|p| (p[1] - p[0]).norm()));
+        let total: f64 = self.chords.iter().sum();
+        if !(self.chords.iter().fold(f64::INFINITY, |m, &c| m.min(c))
+            > DEGENERATE_CHORD_REL * total)
+        {
+            return false;
+        }
+        self.tangents.clear();
+        self.tangents.extend(
+            points
+                .windows(2)
+                .zip(&self.chords)
+                .map(|(p, l)| (p[1] - p[0]) / *l),
+        );
+        true
+    }
+
+    /// Step 1: the transported frame (m₁, m₂) at every inner vertex of `points` and the
+    /// curvature vector's components k_i in it (zero at straight vertices and the ends).
+    fn curvature_vectors(&mut self, points: &[Point3]) {
+        let n = points.len();
+        self.frames.clear();
+        self.frames.resize(n, [Vector3::zeros(); 2]);
+        self.k.clear();
+        self.k.resize(n, [0.0; 2]);
+        let mut previous: Option<Vector3> = None;
+        for i in 1..n - 1 {
+            let (a, b) = (self.tangents[i - 1], self.tangents[i]);
+            let sum = a + b;
+            let len = sum.norm();
+            let t = if len > STRAIGHT_SIN { sum / len } else { b };
+            let m1 = match previous.and_then(|p| transport(&self.frames[i - 1][0], &p, &t)) {
+                Some(m) => (m - m.dot(&t) * t).normalize(),
+                None => perpendicular(&t),
+            };
+            self.frames[i] = [m1, t.cross(&m1)];
+            previous = Some(t);
+            let d = b - a;
+            let dn = d.norm();
+            if dn > STRAIGHT_SIN {
+                let kappa = 2.0 * a.cross(&b).norm() / (points[i + 1] - points[i - 1]).norm();
+                let kv = d * (kappa / dn);
+                self.k[i] = [kv.dot(&self.frames[i][0]), kv.dot(&self.frames[i][1])];
+            }
         }
     }
-    w.original.clone_from(&w.k);
-    let (lo, hi) = (1, n - 2);
-    let fixed_ends = match ends {
-        SmoothedEnds::Free => false,
-        SmoothedEnds::Fixed(EndCurvature::Keep) => true,
-        SmoothedEnds::Fixed(EndCurvature::Prescribed { start, end }) => {
-            for (i, value) in [(lo, start), (hi, end)] {
-                let m = (w.k[i][0] * w.k[i][0] + w.k[i][1] * w.k[i][1]).sqrt();
-                w.k[i] = if m > 0.0 {
-                    [w.k[i][0] / m * value, w.k[i][1] / m * value]
-                } else {
-                    [value, 0.0]
-                };
+
+    /// Sets the curvature at the first and last inner vertices as `ends` prescribes; whether
+    /// the smoothing keeps them.
+    fn set_end_curvature(&mut self, ends: SmoothedEnds) -> bool {
+        let (lo, hi) = (1, self.k.len() - 2);
+        match ends {
+            SmoothedEnds::Free => false,
+            SmoothedEnds::Fixed(EndCurvature::Keep) => true,
+            SmoothedEnds::Fixed(EndCurvature::Prescribed { start, end }) => {
+                for (i, value) in [(lo, start), (hi, end)] {
+                    let k = self.k[i];
+                    let m = (k[0] * k[0] + k[1] * k[1]).sqrt();
+                    self.k[i] = if m > 0.0 {
+                        [k[0] / m * value, k[1] / m * value]
+                    } else {
+                        [value, 0.0]
+                    };
+                }
+                true
             }
-            true
         }
-    };
-    // 2. smoothing
-    let omega = params.smoothing_weight;
-    w.next.clone_from(&w.k);
-    let (first, last) = if fixed_ends {
-        (lo + 1, hi)
-    } else {
-        (lo, hi + 1)
-    };
-    if hi > lo {
+    }
+
+    /// Step 2: Jacobi sweeps over the inner vertices' curvature, interpolating between the
+    /// neighbours in arc length; the vertices next to the ends are kept when `fixed_ends`,
+    /// otherwise smoothed with their one neighbour.
+    fn smooth(&mut self, params: &PolylineParams, fixed_ends: bool) {
+        let (lo, hi) = (1, self.k.len() - 2);
+        let omega = params.smoothing_weight;
+        self.next.clone_from(&self.k);
+        let (first, last) = if fixed_ends {
+            (lo + 1, hi)
+        } else {
+            (lo, hi + 1)
+        };
+        if hi <= lo {
+            return;
+        }
         for _ in 0..params.smoothing_iterations {
             for i in first..last {
                 let interp = if i == lo {
-                    w.k[i + 1]
+                    self.k[i + 1]
                 } else if i == hi {
-                    w.k[i - 1]
+                    self.k[i - 1]
                 } else {
-                    let (l0, l1) = (w.chords[i - 1], w.chords[i]);
-                    let (k0, k1) = (w.k[i - 1], w.k[i + 1]);
+                    let (l0, l1) = (self.chords[i - 1], self.chords[i]);
+                    let (k0, k1) = (self.k[i - 1], self.k[i + 1]);
                     [
                         (l1 * k0[0] + l0 * k1[0]) / (l0 + l1),
                         (l1 * k0[1] + l0 * k1[1]) / (l0 + l1),
                     ]
                 };
                 for c in 0..2 {
-                    w.next[i][c] = (1.0 - omega) * w.k[i][c] + omega * interp[c];
+                    self.next[i][c] = (1.0 - omega) * self.k[i][c] + omega * interp[c];
                 }
             }
-            std::mem::swap(&mut w.k, &mut w.next);
+            std::mem::swap(&mut self.k, &mut self.next);
         }
     }
-    for i in lo..=hi {
-        let [m1, m2] = w.frames[i];
-        let o = w.original[i];
-        delta[i] = (w.k[i][0] - o[0]) * m1 + (w.k[i][1] - o[1]) * m2;
-    }
-    true
 }
 
 /// Fairs the polyline `original` (see the module docs); every returned point lies within

@@ -51,73 +51,20 @@ pub struct SampleFrame {
 /// The shape operator g⁻¹ II (row-major, in the basis R_u, R_v, oriented by `frame.normal`) of
 /// the quadric fitted to `points` around `frame`, `None` when the fit or the frame degenerates.
 pub fn osculating_shape(frame: &SampleFrame, points: &[Point3]) -> Option<[f64; 4]> {
-    let e1 = frame.du.try_normalize(f64::MIN_POSITIVE)?;
-    let n = frame.normal;
-    let e2 = n.cross(&e1);
-    let scale = points
-        .iter()
-        .map(|p| (p - frame.point).norm())
-        .fold(0.0, f64::max);
-    if !(scale > 0.0) || !scale.is_finite() {
-        return None;
-    }
-    let rot = Matrix3::from_rows(&[e1.transpose(), e2.transpose(), n.transpose()]);
-    let mut ata = SMatrix::<f64, 9, 9>::zeros();
-    let mut atb = SVector::<f64, 9>::zeros();
-    for p in points {
-        let l = rot * ((p - frame.point) / scale);
-        let (x, y, z) = (l.x, l.y, l.z);
-        let row = SVector::<f64, 9>::from_column_slice(&[
-            1.0,
-            x,
-            y,
-            x * x,
-            2.0 * x * y,
-            y * y,
-            2.0 * x * z,
-            2.0 * y * z,
-            z * z,
-        ]);
-        ata.syger(1.0, &row, &row, 1.0);
-        atb -= z * row;
-    }
-    let eig = SymmetricEigen::new(ata);
-    let largest = eig.eigenvalues.amax();
-    if !(largest > 0.0) {
-        return None;
-    }
-    let mut sol = SVector::<f64, 9>::zeros();
-    for (k, &lambda) in eig.eigenvalues.iter().enumerate() {
-        if lambda > QUADRIC_RANK_REL * largest {
-            let v = eig.eigenvectors.column(k);
-            sol += v * (v.dot(&atb) / lambda);
-        }
-    }
-    let a = Matrix3::new(
-        sol[3], sol[4], sol[6], sol[4], sol[5], sol[7], sol[6], sol[7], sol[8],
-    );
-    let b = Vector3::new(sol[1], sol[2], 1.0);
-    let q = |p: &Vector3| sol[0] + b.dot(p) + p.dot(&(a * p));
-    let mut p = Vector3::zeros();
-    for _ in 0..PROJECTION_STEPS {
-        let grad = b + 2.0 * a * p;
-        let g2 = grad.norm_squared();
-        if !(g2 > 0.0) {
-            return None;
-        }
-        p -= q(&p) / g2 * grad;
-    }
+    let quadric = LocalQuadric::fit(frame, points)?;
+    let (a, b) = (quadric.a, quadric.b);
+    let p = quadric.foot_of_sample()?;
     let grad = b + 2.0 * a * p;
     let gn = grad.norm();
     // oriented like the reference: its normal is +z in the local frame
     let nq = if grad.z >= 0.0 { grad / gn } else { -grad / gn };
     let sign = if grad.z >= 0.0 { 1.0 } else { -1.0 };
     let project = |t: Vector3| {
-        let t = rot * t;
+        let t = quadric.rot * t;
         t - t.dot(&nq) * nq
     };
     let (ta, tb) = (project(frame.du), project(frame.dv));
-    let f = -2.0 * sign / (gn * scale);
+    let f = -2.0 * sign / (gn * quadric.scale);
     let ii = [
         f * ta.dot(&(a * ta)),
         f * ta.dot(&(a * tb)),
@@ -130,6 +77,106 @@ pub fn osculating_shape(frame: &SampleFrame, points: &[Point3]) -> Option<[f64; 
     }
     let shape = shape_operator([g / det, -ff / det, e / det], ii);
     shape.iter().all(|v| v.is_finite()).then_some(shape)
+}
+
+/// The quadric Q(p) = c + b·p + pᵀAp of the module docs in a sample's local frame, p the
+/// local coordinates rot (x − R) / scale.
+struct LocalQuadric {
+    /// rows e₁, e₂, n: model directions to local ones
+    rot: Matrix3<f64>,
+    /// the window's extent (model units)
+    scale: f64,
+    /// c
+    c: f64,
+    /// b = (b₁, b₂, 1)
+    b: Vector3,
+    /// A (symmetric)
+    a: Matrix3<f64>,
+}
+
+impl LocalQuadric {
+    /// Fits the quadric to `points` around `frame` by least squares; `None` when the frame or
+    /// the window degenerates.
+    fn fit(frame: &SampleFrame, points: &[Point3]) -> Option<Self> {
+        let e1 = frame.du.try_normalize(f64::MIN_POSITIVE)?;
+        let n = frame.normal;
+        let e2 = n.cross(&e1);
+        let scale = points
+            .iter()
+            .map(|p| (p - frame.point).norm())
+            .fold(0.0, f64::max);
+        if !(scale > 0.0) || !scale.is_finite() {
+            return None;
+        }
+        let rot = Matrix3::from_rows(&[e1.transpose(), e2.transpose(), n.transpose()]);
+        let mut ata = SMatrix::<f64, 9, 9>::zeros();
+        let mut atb = SVector::<f64, 9>::zeros();
+        for p in points {
+            let l = rot * ((p - frame.point) / scale);
+            let (x, y, z) = (l.x, l.y, l.z);
+            let row = SVector::<f64, 9>::from_column_slice(&[
+                1.0,
+                x,
+                y,
+                x * x,
+                2.0 * x * y,
+                y * y,
+                2.0 * x * z,
+                2.0 * y * z,
+                z * z,
+            ]);
+            ata.syger(1.0, &row, &row, 1.0);
+            atb -= z * row;
+        }
+        let sol = minimum_norm_solution(ata, &atb)?;
+        Some(Self {
+            rot,
+            scale,
+            c: sol[0],
+            b: Vector3::new(sol[1], sol[2], 1.0),
+            a: Matrix3::new(
+                sol[3], sol[4], sol[6], sol[4], sol[5], sol[7], sol[6], sol[7], sol[8],
+            ),
+        })
+    }
+
+    /// The sample (the local origin) projected onto the quadric by [`PROJECTION_STEPS`]
+    /// Newton steps along the gradient; `None` where the gradient vanishes.
+    fn foot_of_sample(&self) -> Option<Vector3> {
+        let (a, b) = (self.a, self.b);
+        let q = |p: &Vector3| self.c + b.dot(p) + p.dot(&(a * p));
+        let mut p = Vector3::zeros();
+        for _ in 0..PROJECTION_STEPS {
+            let grad = b + 2.0 * a * p;
+            let g2 = grad.norm_squared();
+            if !(g2 > 0.0) {
+                return None;
+            }
+            p -= q(&p) / g2 * grad;
+        }
+        Some(p)
+    }
+}
+
+/// The minimum-norm solution of the normal equations `ata` x = `atb`, eigenvalues below
+/// [`QUADRIC_RANK_REL`] × the largest taken as zero; `None` for a zero matrix.
+fn minimum_norm_solution(
+    ata: SMatrix<f64, 9, 9>,
+    atb: &SVector<f64, 9>,
+) -> Option<SVector<f64, 9>> {
+    let eig = SymmetricEigen::new(ata);
+    let largest = eig.eigenvalues.amax();
+    if !(largest > 0.0) {
+        return None;
+    }
+    let mut sol = SVector::<f64, 9>::zeros();
+    for (k, &lambda) in eig.eigenvalues.iter().enumerate() {
+        if lambda > QUADRIC_RANK_REL * largest {
+            let v = eig.eigenvectors.column(k);
+            sol += v * (v.dot(atb) / lambda);
+        }
+    }
+    Some(sol)
 }
 
 #[cfg(test)]
