@@ -186,6 +186,20 @@ impl Net {
         }
     }
 
+    /// Largest distance of a kept control point from its original in `input`.
+    fn max_move_from(&self, input: &BSplineSurface) -> f64 {
+        let out_nv = self.kept_v.len();
+        self.surface
+            .control_points()
+            .iter()
+            .enumerate()
+            .map(|(r, p)| {
+                let (i, j) = (self.kept_u[r / out_nv], self.kept_v[r % out_nv]);
+                (p - input.control_point(i, j)).norm()
+            })
+            .fold(0.0, f64::max)
+    }
+
     /// Drops row (u) or column (v) `index` from the mask and the index maps.
     fn drop_line(&mut self, direction: Direction, index: usize) {
         let (nu, nv) = self.shape();
@@ -250,34 +264,11 @@ pub fn fair_bezier_spline(
     // 2. exact removal of the joints that are C¹ already
     let knots_removed_before = net.remove_c1_joints(params.initial_removal)?;
     // 3. fairing with Φ; the origin of the ε-balls is the (bit-identical) kept input points
-    // with part of ε reserved for the joints: the smallest C¹ correction of the input, m, is
-    // about what the finish will need (the λ-terms shrink the jumps while fairing), so the
-    // fairing stays within ε − m and does not use up the balls the finish has to move in
+    // with part of ε reserved for the joints
     let origin = net.surface.clone();
     let (nu, nv) = (origin.num_u(), origin.num_v());
     let joints_left = surface_joints(&origin);
-    let reserve = {
-        let mut trial = origin.clone();
-        project_to_c1(
-            &joints_left,
-            trial.control_points_mut(),
-            origin.control_points(),
-            net.mask.as_slice(),
-            (nu, nv),
-            tolerance,
-        )?;
-        let m = trial
-            .control_points()
-            .iter()
-            .zip(origin.control_points())
-            .map(|(a, b)| (a - b).norm())
-            .fold(0.0, f64::max);
-        if m < JOINT_RESERVE_MAX * tolerance {
-            m
-        } else {
-            0.0
-        }
-    };
+    let reserve = joint_reserve(&origin, &joints_left, &net.mask, tolerance)?;
     let (mut faired, fairing) =
         fair_surface(&origin, &net.mask, tolerance - reserve, &params.energy)?;
     // 4. the C¹ finish
@@ -293,40 +284,12 @@ pub fn fair_bezier_spline(
         (nu, nv),
         tolerance,
     )?;
-    let mut joints_made_c1 = 0;
-    let mut open_joints = Vec::new();
-    for (joint, &before) in joints_left.iter().zip(&was_c1) {
-        let (jump, scale) = joint.measure(faired.control_points(), nu, nv);
-        if jump <= C1_JUMP_REL * scale {
-            joints_made_c1 += usize::from(!before);
-        } else {
-            open_joints.push(JointGap {
-                direction: joint.direction,
-                knot: joint.joint.knot,
-                jump,
-                relative_jump: if scale > 0.0 {
-                    jump / scale
-                } else {
-                    f64::INFINITY
-                },
-            });
-        }
-    }
+    let (joints_made_c1, open_joints) = joints_after_finish(&joints_left, &was_c1, &faired);
     // 5. optional exact removal of the now-C¹ joints
     net.surface = faired;
     let knots_removed_after = net.remove_c1_joints(params.final_removal)?;
     let energy_after = thin_plate_energy(&net.surface);
-    let out_nv = net.kept_v.len();
-    let max_control_move = net
-        .surface
-        .control_points()
-        .iter()
-        .enumerate()
-        .map(|(r, p)| {
-            let (i, j) = (net.kept_u[r / out_nv], net.kept_v[r % out_nv]);
-            (p - surface.control_point(i, j)).norm()
-        })
-        .fold(0.0, f64::max);
+    let max_control_move = net.max_move_from(surface);
     let report = BezierSplineReport {
         joints,
         knots_removed_before,
@@ -343,6 +306,68 @@ pub fn fair_bezier_spline(
         kept_v: net.kept_v,
     };
     Ok((net.surface, net.mask, report))
+}
+
+/// The share of ε reserved for the C¹ finish: the largest move m of the smallest C¹ correction
+/// of `origin`, which is about what the finish will need (the λ-terms shrink the jumps while
+/// fairing), so that the fairing stays within ε − m and does not use up the balls the finish
+/// has to move in; 0 when m ≥ [`JOINT_RESERVE_MAX`] ε.
+fn joint_reserve(
+    origin: &BSplineSurface,
+    joints: &[SurfaceJoint],
+    mask: &ControlMask,
+    tolerance: f64,
+) -> Result<f64> {
+    let mut trial = origin.clone();
+    project_to_c1(
+        joints,
+        trial.control_points_mut(),
+        origin.control_points(),
+        mask.as_slice(),
+        (origin.num_u(), origin.num_v()),
+        tolerance,
+    )?;
+    let m = trial
+        .control_points()
+        .iter()
+        .zip(origin.control_points())
+        .map(|(a, b)| (a - b).norm())
+        .fold(0.0, f64::max);
+    Ok(if m < JOINT_RESERVE_MAX * tolerance {
+        m
+    } else {
+        0.0
+    })
+}
+
+/// After the finish: how many of `joints` that were not C¹ (`was_c1`) are C¹ on `faired`, and
+/// the joints left open with their remaining jump.
+fn joints_after_finish(
+    joints: &[SurfaceJoint],
+    was_c1: &[bool],
+    faired: &BSplineSurface,
+) -> (usize, Vec<JointGap>) {
+    let (nu, nv) = (faired.num_u(), faired.num_v());
+    let mut joints_made_c1 = 0;
+    let mut open_joints = Vec::new();
+    for (joint, &before) in joints.iter().zip(was_c1) {
+        let (jump, scale) = joint.measure(faired.control_points(), nu, nv);
+        if jump <= C1_JUMP_REL * scale {
+            joints_made_c1 += usize::from(!before);
+        } else {
+            open_joints.push(JointGap {
+                direction: joint.direction,
+                knot: joint.joint.knot,
+                jump,
+                relative_jump: if scale > 0.0 {
+                    jump / scale
+                } else {
+                    f64::INFINITY
+                },
+            });
+        }
+    }
+    (joints_made_c1, open_joints)
 }
 
 /// The Bézier-spline flow as a framework method (`energy-bezier`). The fairing contract keeps

@@ -76,17 +76,42 @@ pub(crate) fn project_to_c1(
     (nu, nv): (usize, usize),
     tolerance: f64,
 ) -> Result<()> {
+    let e = tolerance * BALL_SHRINK;
+    let mut local = vec![usize::MAX; nu * nv];
+    for constraints in &constraint_groups(joints, free, (nu, nv)) {
+        let group = Group::new(joints, constraints, free, nv, &mut local);
+        group.project(points, origin, e, &local)?;
+        for &r in &group.members {
+            local[r] = usize::MAX;
+        }
+    }
+    Ok(())
+}
+
+impl Constraint {
+    /// The net indices of the constraint's three points.
+    fn triple(&self, joints: &[SurfaceJoint], nv: usize) -> [usize; 3] {
+        joints[self.joint].triple(self.line, nv)
+    }
+}
+
+/// Every line of every joint as a constraint, grouped into connected components through shared
+/// free points; constraints on three fixed points are left out (nothing can change them).
+fn constraint_groups(
+    joints: &[SurfaceJoint],
+    free: &[bool],
+    (nu, nv): (usize, usize),
+) -> Vec<Vec<Constraint>> {
     let n = nu * nv;
     let constraints: Vec<Constraint> = joints
         .iter()
         .enumerate()
         .flat_map(|(joint, jt)| (0..jt.lines(nu, nv)).map(move |line| Constraint { joint, line }))
         .collect();
-    let triple = |c: &Constraint| joints[c.joint].triple(c.line, nv);
     // components through shared free points
     let mut parent: Vec<usize> = (0..n).collect();
     for c in &constraints {
-        let t = triple(c);
+        let t = c.triple(joints, nv);
         let frees: Vec<usize> = t.into_iter().filter(|&r| free[r]).collect();
         for w in frees.windows(2) {
             let (a, b) = (find(&mut parent, w[0]), find(&mut parent, w[1]));
@@ -98,7 +123,7 @@ pub(crate) fn project_to_c1(
     let mut groups: Vec<Vec<Constraint>> = Vec::new();
     let mut group_of = vec![usize::MAX; n];
     for c in &constraints {
-        let Some(&r) = triple(c).iter().find(|&&r| free[r]) else {
+        let Some(&r) = c.triple(joints, nv).iter().find(|&&r| free[r]) else {
             continue; // all three points fixed: nothing can change this jump
         };
         let root = find(&mut parent, r);
@@ -108,55 +133,63 @@ pub(crate) fn project_to_c1(
         }
         groups[group_of[root]].push(*c);
     }
-    let e = tolerance * BALL_SHRINK;
-    let mut local = vec![usize::MAX; n];
-    for group in &groups {
-        // the group's free points, in first-seen order
+    groups
+}
+
+/// One connected group of constraints and the free points they move.
+struct Group<'a> {
+    joints: &'a [SurfaceJoint],
+    constraints: &'a [Constraint],
+    free: &'a [bool],
+    nv: usize,
+    /// the group's free points, in first-seen order
+    members: Vec<usize>,
+}
+
+impl<'a> Group<'a> {
+    /// The group of `constraints`; writes each member's index among the members into `local`.
+    fn new(
+        joints: &'a [SurfaceJoint],
+        constraints: &'a [Constraint],
+        free: &'a [bool],
+        nv: usize,
+        local: &mut [usize],
+    ) -> Self {
         let mut members: Vec<usize> = Vec::new();
-        for c in group {
-            for r in triple(c) {
+        for c in constraints {
+            for r in c.triple(joints, nv) {
                 if free[r] && local[r] == usize::MAX {
                     local[r] = members.len();
                     members.push(r);
                 }
             }
         }
+        Self {
+            joints,
+            constraints,
+            free,
+            nv,
+            members,
+        }
+    }
+
+    /// The active-set loop of the module docs: steps the active members towards zero jumps as
+    /// far as their balls of radius `e` around `origin` allow, freezing those that reach them.
+    fn project(
+        &self,
+        points: &mut [Point3],
+        origin: &[Point3],
+        e: f64,
+        local: &[usize],
+    ) -> Result<()> {
+        let members = &self.members;
         let mut active = vec![true; members.len()];
         for _round in 0..=members.len() {
             let cols: Vec<usize> = (0..members.len()).filter(|&q| active[q]).collect();
             if cols.is_empty() {
                 break;
             }
-            let mut col_of = vec![usize::MAX; members.len()];
-            for (a, &q) in cols.iter().enumerate() {
-                col_of[q] = a;
-            }
-            let m = group.len();
-            let mut a = DMatrix::zeros(m, cols.len());
-            let mut rhs = DMatrix::zeros(m, 3);
-            for (row, c) in group.iter().enumerate() {
-                let jt = &joints[c.joint];
-                let jump = jt.jump(points, c.line, nv);
-                for d in 0..3 {
-                    rhs[(row, d)] = -jump[d];
-                }
-                for (&r, &coef) in jt.triple(c.line, nv).iter().zip(&jt.joint.c) {
-                    if free[r] && col_of[local[r]] != usize::MAX {
-                        a[(row, col_of[local[r]])] = coef;
-                    }
-                }
-            }
-            let svd = a.svd(true, true);
-            let sigma_max = svd.singular_values.iter().cloned().fold(0.0, f64::max);
-            let delta = svd.solve(&rhs, RANK_REL * sigma_max).map_err(|reason| {
-                EnergyError::SolveFailed {
-                    solver: "nalgebra SVD",
-                    reason: reason.to_string(),
-                }
-            })?;
-            let step: Vec<Vector3> = (0..cols.len())
-                .map(|k| Vector3::new(delta[(k, 0)], delta[(k, 1)], delta[(k, 2)]))
-                .collect();
+            let step = self.minimum_norm_step(points, &cols, local)?;
             let limits: Vec<f64> = cols
                 .iter()
                 .zip(&step)
@@ -179,11 +212,48 @@ pub(crate) fn project_to_c1(
                 }
             }
         }
-        for &r in &members {
-            local[r] = usize::MAX;
-        }
+        Ok(())
     }
-    Ok(())
+
+    /// Δ = argmin |Δ| subject to A Δ = −J over the members `cols` (indices into `members`),
+    /// one 3-vector per column: the minimum-norm least-squares solution by SVD.
+    fn minimum_norm_step(
+        &self,
+        points: &[Point3],
+        cols: &[usize],
+        local: &[usize],
+    ) -> Result<Vec<Vector3>> {
+        let mut col_of = vec![usize::MAX; self.members.len()];
+        for (a, &q) in cols.iter().enumerate() {
+            col_of[q] = a;
+        }
+        let m = self.constraints.len();
+        let mut a = DMatrix::zeros(m, cols.len());
+        let mut rhs = DMatrix::zeros(m, 3);
+        for (row, c) in self.constraints.iter().enumerate() {
+            let jt = &self.joints[c.joint];
+            let jump = jt.jump(points, c.line, self.nv);
+            for d in 0..3 {
+                rhs[(row, d)] = -jump[d];
+            }
+            for (&r, &coef) in jt.triple(c.line, self.nv).iter().zip(&jt.joint.c) {
+                if self.free[r] && col_of[local[r]] != usize::MAX {
+                    a[(row, col_of[local[r]])] = coef;
+                }
+            }
+        }
+        let svd = a.svd(true, true);
+        let sigma_max = svd.singular_values.iter().cloned().fold(0.0, f64::max);
+        let delta =
+            svd.solve(&rhs, RANK_REL * sigma_max)
+                .map_err(|reason| EnergyError::SolveFailed {
+                    solver: "nalgebra SVD",
+                    reason: reason.to_string(),
+                })?;
+        Ok((0..cols.len())
+            .map(|k| Vector3::new(delta[(k, 0)], delta[(k, 1)], delta[(k, 2)]))
+            .collect())
+    }
 }
 
 #[cfg(test)]

@@ -85,6 +85,20 @@ impl Default for GlobalParams {
     }
 }
 
+impl GlobalParams {
+    /// Bad input unless `deviation_weight` is finite and > 0.
+    fn check(&self) -> Result<()> {
+        if !(self.deviation_weight.is_finite() && self.deviation_weight > 0.0) {
+            return Err(EnergyError::InvalidParameter {
+                name: "deviation_weight",
+                value: self.deviation_weight,
+                expected: "finite and > 0",
+            });
+        }
+        Ok(())
+    }
+}
+
 /// What a global run achieved (thin-plate energies).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct GlobalReport {
@@ -150,13 +164,7 @@ pub fn fair_surface_global(
     params: &GlobalParams,
 ) -> Result<(BSplineSurface, GlobalReport)> {
     check_tolerance(tolerance)?;
-    if !(params.deviation_weight.is_finite() && params.deviation_weight > 0.0) {
-        return Err(EnergyError::InvalidParameter {
-            name: "deviation_weight",
-            value: params.deviation_weight,
-            expected: "finite and > 0",
-        });
-    }
+    params.check()?;
     mask.check_shape(surface)?;
     if surface.is_rational() {
         return Err(EnergyError::Rational { what: "surface" });
@@ -189,11 +197,52 @@ pub fn fair_surface_global(
     if nf == 0 {
         return Ok((out, report));
     }
-    let mut col = vec![usize::MAX; n];
+    let w = params.deviation_weight * order.iter().map(|&r| diag[r]).sum::<f64>() / nf as f64;
+    let (a, rhs) = normal_equations(&k, &order, &movable, w, &g, nv);
+    let delta = solve(params.solver, a, rhs)?;
+    let step_points = clamped_step(&delta, &order, n, tolerance, &mut report.clamped_points);
+    let (t, lin, quad) = line_search(&k, &step_points, &g);
+    report.step = t;
+    {
+        let points = out.control_points_mut();
+        for &r in &order {
+            points[r] = origin[r] + t * step_points[r].coords;
+        }
+    }
+    // E(t) = E₀ + 2t Δ·g + t² ΔᵀKΔ
+    report.energy_after = energy_before + 2.0 * t * lin + t * t * quad;
+    if params.polish_iterations > 0 {
+        let settings = LocalSettings {
+            tolerance,
+            max_iterations: params.polish_iterations,
+            min_relative_decrease: 0.0,
+        };
+        let outcome = run_local(&k, origin, out.control_points_mut(), &movable, settings);
+        if outcome.stop != StopReason::NothingFree {
+            report.polish_iterations = outcome.iterations;
+            report.energy_after = outcome.energy_after;
+        }
+    }
+    report.max_control_move = nurbs_core::fairing::max_displacement(origin, out.control_points());
+    Ok((out, report))
+}
+
+/// The normal equations (K_ff + w I) δ_f = −g_f over the movable points, unknowns in `order`
+/// (the elimination order): the matrix in compressed columns and one right-hand side per
+/// coordinate.
+fn normal_equations(
+    k: &SeparableStiffness,
+    order: &[usize],
+    movable: &[bool],
+    w: f64,
+    g: &[Vector3],
+    nv: usize,
+) -> (Csc, DMatrix<f64>) {
+    let nf = order.len();
+    let mut col = vec![usize::MAX; movable.len()];
     for (c, &r) in order.iter().enumerate() {
         col[r] = c;
     }
-    let w = params.deviation_weight * order.iter().map(|&r| diag[r]).sum::<f64>() / nf as f64;
     let (wu, wv) = k.stencil();
     let stencil = (2 * wu + 1) * (2 * wv + 1);
     let mut a = Csc {
@@ -234,25 +283,40 @@ pub fn fair_surface_global(
             rhs[(c, d)] = -g[r][d];
         }
     }
-    let delta = solve(params.solver, a, rhs)?;
-    // the clamped displacement Δ
+    (a, rhs)
+}
+
+/// The clamped displacement Δ as points of the net (zero off `order`): each solved δ shortened
+/// to the ball ε · [`BALL_SHRINK`]; `clamped` counts the shortened ones.
+fn clamped_step(
+    delta: &DMatrix<f64>,
+    order: &[usize],
+    n: usize,
+    tolerance: f64,
+    clamped: &mut usize,
+) -> Vec<Point3> {
     let mut step_points = vec![Point3::origin(); n];
     for (c, &r) in order.iter().enumerate() {
         let v = Vector3::new(delta[(c, 0)], delta[(c, 1)], delta[(c, 2)]);
         let len = v.norm();
         let v = if len > tolerance * BALL_SHRINK {
-            report.clamped_points += 1;
+            *clamped += 1;
             v * (tolerance * BALL_SHRINK / len)
         } else {
             v
         };
         step_points[r] = Point3::from(v);
     }
-    let mut kd = vec![Vector3::zeros(); n];
-    k.multiply(&step_points, &mut kd);
+    step_points
+}
+
+/// The step t ∈ [0, 1] minimizing E(o + t Δ) = E₀ + 2t Δ·g + t² ΔᵀKΔ, with Δ·g and ΔᵀKΔ.
+fn line_search(k: &SeparableStiffness, step_points: &[Point3], g: &[Vector3]) -> (f64, f64, f64) {
+    let mut kd = vec![Vector3::zeros(); step_points.len()];
+    k.multiply(step_points, &mut kd);
     let lin: f64 = step_points
         .iter()
-        .zip(&g)
+        .zip(g)
         .map(|(p, v)| p.coords.dot(v))
         .sum();
     let quad: f64 = step_points
@@ -267,29 +331,7 @@ pub fn fair_surface_global(
     } else {
         0.0
     };
-    report.step = t;
-    {
-        let points = out.control_points_mut();
-        for &r in &order {
-            points[r] = origin[r] + t * step_points[r].coords;
-        }
-    }
-    // E(t) = E₀ + 2t Δ·g + t² ΔᵀKΔ
-    report.energy_after = energy_before + 2.0 * t * lin + t * t * quad;
-    if params.polish_iterations > 0 {
-        let settings = LocalSettings {
-            tolerance,
-            max_iterations: params.polish_iterations,
-            min_relative_decrease: 0.0,
-        };
-        let outcome = run_local(&k, origin, out.control_points_mut(), &movable, settings);
-        if outcome.stop != StopReason::NothingFree {
-            report.polish_iterations = outcome.iterations;
-            report.energy_after = outcome.energy_after;
-        }
-    }
-    report.max_control_move = nurbs_core::fairing::max_displacement(origin, out.control_points());
-    Ok((out, report))
+    (t, lin, quad)
 }
 
 /// The global energy fairing method (`energy-global`) for the framework.

@@ -160,36 +160,10 @@ pub(crate) fn run_local<K: LocalStiffness>(
     free: &[bool],
     s: LocalSettings,
 ) -> LocalOutcome {
-    let (nu, nv) = k.shape();
-    let n = nu * nv;
-    let mut g = vec![Vector3::zeros(); n];
-    k.multiply(current, &mut g);
-    let energy_before: f64 = current.iter().zip(&g).map(|(p, v)| p.coords.dot(v)).sum();
-    let diag: Vec<f64> = (0..n).map(|r| k.diagonal(r)).collect();
-    let diag_cut = NULL_DIAGONAL_REL * diag.iter().cloned().fold(0.0, f64::max);
-    let movable: Vec<bool> = (0..n).map(|r| free[r] && diag[r] > diag_cut).collect();
-    let inv_diag: Vec<f64> = diag
-        .iter()
-        .map(|&d| if d > diag_cut { 1.0 / d } else { 0.0 })
-        .collect();
-    let mut tree = Ranks::new(n);
-    for r in (0..n).filter(|&r| movable[r]) {
-        let (_, z) = candidate(
-            &current[r],
-            &g[r],
-            diag[r],
-            inv_diag[r],
-            &origin[r],
-            s.tolerance,
-        );
-        tree.set(r, z);
-    }
-    tree.rebuild();
+    let mut run = LocalRun::new(k, origin, current, free, s.tolerance);
+    let energy_before = run.energy_before;
     let threshold = s.min_relative_decrease * energy_before.max(0.0);
-    let (wu, wv) = k.half_widths();
-    let mut stencil = k.new_stencil();
-    let mut block_ranges: Vec<(usize, usize)> = Vec::with_capacity(2 * wu + 1);
-    let mut stop = if movable.iter().any(|&m| m) {
+    let mut stop = if run.movable.iter().any(|&m| m) {
         StopReason::IterationLimit
     } else {
         StopReason::NothingFree
@@ -197,7 +171,7 @@ pub(crate) fn run_local<K: LocalStiffness>(
     let mut iterations = 0;
     let mut energy = energy_before;
     while iterations < s.max_iterations && stop == StopReason::IterationLimit {
-        let Some((r, z)) = tree.arg_max() else {
+        let Some((r, z)) = run.tree.arg_max() else {
             stop = StopReason::Converged;
             break;
         };
@@ -205,64 +179,160 @@ pub(crate) fn run_local<K: LocalStiffness>(
             stop = StopReason::Converged;
             break;
         }
-        let (new, _) = candidate(
-            &current[r],
-            &g[r],
-            diag[r],
-            inv_diag[r],
-            &origin[r],
-            s.tolerance,
-        );
-        let delta = new - current[r];
-        current[r] = new;
+        run.move_point(r);
         iterations += 1;
-        let (kr, lr) = (r / nv, r % nv);
-        k.load(kr, lr, &mut stencil);
-        let (i0, i1) = (kr.saturating_sub(wu), (kr + wu).min(nu - 1));
-        let (j0, j1) = (lr.saturating_sub(wv), (lr + wv).min(nv - 1));
-        // one pass over the stencil: update g, then each point's candidate and rank
-        for (di, i) in (i0..=i1).enumerate() {
-            let (lo, hi) = (i * nv + j0, i * nv + j1 + 1);
-            let rows = g[lo..hi]
-                .iter_mut()
-                .zip(&current[lo..hi])
-                .zip(&origin[lo..hi]);
-            let data = diag[lo..hi]
-                .iter()
-                .zip(&inv_diag[lo..hi])
-                .zip(&movable[lo..hi])
-                .zip(k.row(&stencil, di));
-            for (idx, (((gj, dj), oj), ((kj, ikj), mj), kij)) in
-                (lo..hi).zip(rows.zip(data).map(|(a, (b, c))| (a, b, c)))
-            {
-                *gj += kij * delta;
-                if *mj {
-                    tree.set(idx, candidate(dj, gj, *kj, *ikj, oj, s.tolerance).1);
-                }
-            }
-            tree.refresh_blocks(lo, hi - 1);
-        }
-        // the block ranges of the stencil rows, merged where they touch, then one level-by-level
-        // refresh of the block tree
-        block_ranges.clear();
-        for i in i0..=i1 {
-            let (lo, hi) = ((i * nv + j0) / RANK_BLOCK, (i * nv + j1) / RANK_BLOCK);
-            match block_ranges.last_mut() {
-                Some(last) if lo <= last.1 + 1 => last.1 = last.1.max(hi),
-                _ => block_ranges.push((lo, hi)),
-            }
-        }
-        tree.blocks.refresh_ranges(&mut block_ranges);
         energy -= z;
     }
     // tracked as E₀ − Σ z (exact in exact arithmetic; rounding stays far below 1e-9 E₀)
     let energy_after = energy.max(0.0);
-    let max_control_move = nurbs_core::fairing::max_displacement(origin, current);
+    let max_control_move = nurbs_core::fairing::max_displacement(origin, run.current);
     LocalOutcome {
         iterations,
         energy_before,
         energy_after,
         max_control_move,
         stop,
+    }
+}
+
+/// The state of one local run: the points, g = K d, the diagonal, the ranks and the scratch of
+/// one stencil update.
+struct LocalRun<'a, K: LocalStiffness> {
+    k: &'a K,
+    origin: &'a [Point3],
+    current: &'a mut [Point3],
+    /// ε (model units)
+    tolerance: f64,
+    /// net shape (n_u, n_v)
+    shape: (usize, usize),
+    /// g = K d
+    g: Vec<Vector3>,
+    /// K_rr
+    diag: Vec<f64>,
+    /// 1 / K_rr, 0 where K_rr counts as zero
+    inv_diag: Vec<f64>,
+    /// free points that influence the functional
+    movable: Vec<bool>,
+    /// E before the run
+    energy_before: f64,
+    tree: Ranks,
+    stencil: K::Stencil,
+    /// block ranges of one stencil update
+    block_ranges: Vec<(usize, usize)>,
+}
+
+impl<'a, K: LocalStiffness> LocalRun<'a, K> {
+    /// Measures g, E and the diagonal at `current` and ranks every movable point.
+    fn new(
+        k: &'a K,
+        origin: &'a [Point3],
+        current: &'a mut [Point3],
+        free: &[bool],
+        tolerance: f64,
+    ) -> Self {
+        let (nu, nv) = k.shape();
+        let n = nu * nv;
+        let mut g = vec![Vector3::zeros(); n];
+        k.multiply(current, &mut g);
+        let energy_before: f64 = current.iter().zip(&g).map(|(p, v)| p.coords.dot(v)).sum();
+        let diag: Vec<f64> = (0..n).map(|r| k.diagonal(r)).collect();
+        let diag_cut = NULL_DIAGONAL_REL * diag.iter().cloned().fold(0.0, f64::max);
+        let movable: Vec<bool> = (0..n).map(|r| free[r] && diag[r] > diag_cut).collect();
+        let inv_diag: Vec<f64> = diag
+            .iter()
+            .map(|&d| if d > diag_cut { 1.0 / d } else { 0.0 })
+            .collect();
+        let (wu, _) = k.half_widths();
+        let mut run = Self {
+            k,
+            origin,
+            current,
+            tolerance,
+            shape: (nu, nv),
+            g,
+            diag,
+            inv_diag,
+            movable,
+            energy_before,
+            tree: Ranks::new(n),
+            stencil: k.new_stencil(),
+            block_ranges: Vec::with_capacity(2 * wu + 1),
+        };
+        for r in (0..n).filter(|&r| run.movable[r]) {
+            let (_, z) = run.candidate(r);
+            run.tree.set(r, z);
+        }
+        run.tree.rebuild();
+        run
+    }
+
+    /// The constrained optimum of point r and its energy decrease.
+    fn candidate(&self, r: usize) -> (Point3, f64) {
+        candidate(
+            &self.current[r],
+            &self.g[r],
+            self.diag[r],
+            self.inv_diag[r],
+            &self.origin[r],
+            self.tolerance,
+        )
+    }
+
+    /// Moves point r to its constrained optimum and updates g and the ranks inside its stencil.
+    fn move_point(&mut self, r: usize) {
+        let (new, _) = self.candidate(r);
+        let delta = new - self.current[r];
+        self.current[r] = new;
+        let (nu, nv) = self.shape;
+        let (wu, wv) = self.k.half_widths();
+        let (kr, lr) = (r / nv, r % nv);
+        self.k.load(kr, lr, &mut self.stencil);
+        let (i0, i1) = (kr.saturating_sub(wu), (kr + wu).min(nu - 1));
+        let (j0, j1) = (lr.saturating_sub(wv), (lr + wv).min(nv - 1));
+        // one pass over the stencil: update g, then each point's candidate and rank
+        for (di, i) in (i0..=i1).enumerate() {
+            self.update_row(di, i * nv + j0, i * nv + j1 + 1, delta);
+        }
+        self.refresh_block_tree((i0, i1), (j0, j1));
+    }
+
+    /// Adds K's couplings in stencil row `di` (points lo..hi) times `delta` to g and re-ranks
+    /// those points.
+    #[inline]
+    fn update_row(&mut self, di: usize, lo: usize, hi: usize, delta: Vector3) {
+        let rows = self.g[lo..hi]
+            .iter_mut()
+            .zip(&self.current[lo..hi])
+            .zip(&self.origin[lo..hi]);
+        let data = self.diag[lo..hi]
+            .iter()
+            .zip(&self.inv_diag[lo..hi])
+            .zip(&self.movable[lo..hi])
+            .zip(self.k.row(&self.stencil, di));
+        for (idx, (((gj, dj), oj), ((kj, ikj), mj), kij)) in
+            (lo..hi).zip(rows.zip(data).map(|(a, (b, c))| (a, b, c)))
+        {
+            *gj += kij * delta;
+            if *mj {
+                let z = candidate(dj, gj, *kj, *ikj, oj, self.tolerance).1;
+                self.tree.set(idx, z);
+            }
+        }
+        self.tree.refresh_blocks(lo, hi - 1);
+    }
+
+    /// Refreshes the block tree over the stencil rows i0..=i1, columns j0..=j1: their block
+    /// ranges merged where they touch, then one level-by-level refresh.
+    fn refresh_block_tree(&mut self, (i0, i1): (usize, usize), (j0, j1): (usize, usize)) {
+        let nv = self.shape.1;
+        self.block_ranges.clear();
+        for i in i0..=i1 {
+            let (lo, hi) = ((i * nv + j0) / RANK_BLOCK, (i * nv + j1) / RANK_BLOCK);
+            match self.block_ranges.last_mut() {
+                Some(last) if lo <= last.1 + 1 => last.1 = last.1.max(hi),
+                _ => self.block_ranges.push((lo, hi)),
+            }
+        }
+        self.tree.blocks.refresh_ranges(&mut self.block_ranges);
     }
 }
