@@ -176,68 +176,32 @@ pub fn fair_curve(
     if curve.is_rational() {
         return Err(KrrError::Rational { what: "curve" });
     }
-    let jumps = KnotJumps::new(curve.knots());
-    let origin = curve.control_points();
+    let run = CurveRun {
+        jumps: KnotJumps::new(curve.knots()),
+        origin: curve.control_points(),
+        free,
+        tolerance,
+        solve: params.solve,
+    };
     let mut out = curve.clone();
     let mut taboo: Vec<usize> = Vec::with_capacity(params.taboo + 1);
-    let before = max_jump(&jumps, origin, free);
+    let before = max_jump(&run.jumps, run.origin, free);
     let threshold = params.min_relative_jump * before;
-    let fairable: Vec<usize> = (0..n)
-        .filter(|&j| {
-            jumps
-                .stencil(j)
-                .is_some_and(|(first, _)| (first..first + curve.degree() + 2).any(|k| free[k]))
-        })
-        .collect();
+    let fairable = run.fairable(curve.degree());
     let mut stop = if fairable.is_empty() {
         KrrStop::NothingFree
     } else {
         KrrStop::IterationLimit
     };
     let mut iterations = 0;
-    let min_move = MIN_MOVE_REL * tolerance;
     while iterations < params.max_iterations && stop == KrrStop::IterationLimit {
         let p = out.control_points_mut();
-        let mut best: Option<(usize, f64)> = None;
-        for &j in &fairable {
-            if taboo.contains(&j) {
-                continue;
-            }
-            let Some(jump) = jumps.jump(j, |k| p[k]) else {
-                continue;
-            };
-            let size = jump.norm();
-            if best.is_some_and(|(_, b)| b >= size) {
-                continue;
-            }
-            let can_move = match params.solve {
-                KrrSolve::SinglePoint => {
-                    free[j]
-                        && jumps.target(j, |k| p[k]).is_some_and(|t| {
-                            (clamp_to_ball(t, &origin[j], tolerance) - p[j]).norm() > min_move
-                        })
-                }
-                KrrSolve::LeastSquares => {
-                    least_squares_step(&jumps, j, p, free, origin, tolerance, false)
-                }
-            };
-            if can_move {
-                best = Some((j, size));
-            }
-        }
+        let best = run.best_knot(p, &fairable, &taboo);
         let Some((j, _)) = best.filter(|&(_, s)| s > threshold) else {
             stop = KrrStop::Converged;
             break;
         };
-        match params.solve {
-            KrrSolve::SinglePoint => {
-                let t = jumps.target(j, |k| p[k]).unwrap_or(p[j]);
-                p[j] = clamp_to_ball(t, &origin[j], tolerance);
-            }
-            KrrSolve::LeastSquares => {
-                least_squares_step(&jumps, j, p, free, origin, tolerance, true);
-            }
-        }
+        run.step(p, j);
         iterations += 1;
         taboo.push(j);
         if taboo.len() > params.taboo {
@@ -248,9 +212,91 @@ pub fn fair_curve(
     let report = KrrReport {
         iterations,
         max_jump_before: before,
-        max_jump_after: max_jump(&jumps, p, free),
-        max_control_move: nurbs_core::fairing::max_displacement(origin, p),
+        max_jump_after: max_jump(&run.jumps, p, free),
+        max_control_move: nurbs_core::fairing::max_displacement(run.origin, p),
         stop,
     };
     Ok((out, report))
+}
+
+/// What one curve run works with: the knots' jump solves, the original points, the mask, ε and
+/// the solve.
+struct CurveRun<'a> {
+    jumps: KnotJumps,
+    origin: &'a [Point3],
+    free: &'a [bool],
+    tolerance: f64,
+    solve: KrrSolve,
+}
+
+impl CurveRun<'_> {
+    /// The points whose knot has a free point in its stencil (p + 2 points for degree p).
+    fn fairable(&self, degree: usize) -> Vec<usize> {
+        (0..self.origin.len())
+            .filter(|&j| {
+                self.jumps
+                    .stencil(j)
+                    .is_some_and(|(first, _)| (first..first + degree + 2).any(|k| self.free[k]))
+            })
+            .collect()
+    }
+
+    /// The knot (by its point) with the largest jump at `p` among `fairable` that is not in
+    /// `taboo` and whose step moves a point, with that jump's size.
+    fn best_knot(
+        &self,
+        p: &mut [Point3],
+        fairable: &[usize],
+        taboo: &[usize],
+    ) -> Option<(usize, f64)> {
+        let mut best: Option<(usize, f64)> = None;
+        for &j in fairable {
+            if taboo.contains(&j) {
+                continue;
+            }
+            let Some(jump) = self.jumps.jump(j, |k| p[k]) else {
+                continue;
+            };
+            let size = jump.norm();
+            if best.is_some_and(|(_, b)| b >= size) {
+                continue;
+            }
+            if self.can_move(p, j) {
+                best = Some((j, size));
+            }
+        }
+        best
+    }
+
+    /// Whether the step at the knot of point j moves some point by more than
+    /// [`MIN_MOVE_REL`] × ε.
+    fn can_move(&self, p: &mut [Point3], j: usize) -> bool {
+        let (origin, tolerance) = (self.origin, self.tolerance);
+        match self.solve {
+            KrrSolve::SinglePoint => {
+                let min_move = MIN_MOVE_REL * tolerance;
+                self.free[j]
+                    && self.jumps.target(j, |k| p[k]).is_some_and(|t| {
+                        (clamp_to_ball(t, &origin[j], tolerance) - p[j]).norm() > min_move
+                    })
+            }
+            KrrSolve::LeastSquares => {
+                least_squares_step(&self.jumps, j, p, self.free, origin, tolerance, false)
+            }
+        }
+    }
+
+    /// Removes the jump at the knot of point j, every move clamped to its ball.
+    fn step(&self, p: &mut [Point3], j: usize) {
+        let (origin, tolerance) = (self.origin, self.tolerance);
+        match self.solve {
+            KrrSolve::SinglePoint => {
+                let t = self.jumps.target(j, |k| p[k]).unwrap_or(p[j]);
+                p[j] = clamp_to_ball(t, &origin[j], tolerance);
+            }
+            KrrSolve::LeastSquares => {
+                least_squares_step(&self.jumps, j, p, self.free, origin, tolerance, true);
+            }
+        }
+    }
 }

@@ -117,13 +117,11 @@ pub fn fair_surface(
     if surface.is_rational() {
         return Err(KrrError::Rational { what: "surface" });
     }
-    let (nu, nv) = (surface.num_u(), surface.num_v());
-    let n = nu * nv;
     let origin = surface.control_points();
     let ranker = Ranker {
         ju: KnotJumps::new(surface.knots_u()),
         jv: KnotJumps::new(surface.knots_v()),
-        nv,
+        nv: surface.num_v(),
         direction: params.direction,
         origin,
         tolerance,
@@ -132,29 +130,8 @@ pub fn fair_surface(
     let mut out = surface.clone();
     let before = ranker.max_jump(origin, free);
     let threshold = params.min_relative_jump * before;
-    let min_move = MIN_MOVE_REL * tolerance;
-    let mut target = origin.to_vec();
-    let mut tree = MaxTree::new(n);
-    let mut in_taboo = vec![false; n];
-    let mut taboo: Vec<usize> = Vec::with_capacity(params.taboo + 1);
-    let rank = |p: &[Point3], r: usize, target: &mut [Point3]| -> f64 {
-        match ranker.evaluate(p, r) {
-            Some((size, t)) if (t - p[r]).norm() > min_move => {
-                target[r] = t;
-                size
-            }
-            _ => NEVER,
-        }
-    };
-    let mut fairable = 0;
-    for r in (0..n).filter(|&r| free[r]) {
-        if ranker.evaluate(origin, r).is_some() {
-            fairable += 1;
-        }
-        tree.set_leaf(r, rank(origin, r, &mut target));
-    }
-    tree.rebuild();
-    let (p_deg, q_deg) = (surface.degree_u(), surface.degree_v());
+    let mut run = SurfaceRun::new(ranker, surface, free, params.taboo);
+    let fairable = run.rank_all(origin);
     let mut stop = if fairable == 0 {
         KrrStop::NothingFree
     } else {
@@ -162,64 +139,145 @@ pub fn fair_surface(
     };
     let mut iterations = 0;
     while iterations < params.max_iterations && stop == KrrStop::IterationLimit {
-        let best = tree.arg_max().filter(|&(_, s)| s > threshold);
+        let best = run.tree.arg_max().filter(|&(_, s)| s > threshold);
         let Some((r, _)) = best else {
             stop = KrrStop::Converged;
             break;
         };
         let points = out.control_points_mut();
-        points[r] = target[r];
+        points[r] = run.target[r];
         iterations += 1;
-        taboo.push(r);
-        in_taboo[r] = true;
-        let released = if taboo.len() > params.taboo {
-            Some(taboo.remove(0))
-        } else {
-            None
-        };
-        if let Some(q) = released {
-            in_taboo[q] = false;
-        }
-        let (i, j) = (r / nv, r % nv);
-        let (a0, a1) = (i.saturating_sub(p_deg + 1), (i + p_deg + 1).min(nu - 1));
-        let (b0, b1) = (j.saturating_sub(q_deg + 1), (j + q_deg + 1).min(nv - 1));
-        for a in a0..=a1 {
-            let s = a * nv + j;
-            if free[s] {
-                let v = if in_taboo[s] {
-                    NEVER
-                } else {
-                    rank(points, s, &mut target)
-                };
-                tree.update(s, v);
-            }
-        }
-        for b in b0..=b1 {
-            let s = i * nv + b;
-            if free[s] {
-                let v = if in_taboo[s] {
-                    NEVER
-                } else {
-                    rank(points, s, &mut target)
-                };
-                tree.set_leaf(s, v);
-            }
-        }
-        tree.refresh(i * nv + b0, i * nv + b1);
-        if let Some(q) = released.filter(|&q| free[q]) {
-            let v = rank(points, q, &mut target);
-            tree.update(q, v);
-        }
+        let released = run.make_taboo(r);
+        run.rerank_around(points, r, released);
     }
     let p = out.control_points();
     let report = KrrReport {
         iterations,
         max_jump_before: before,
-        max_jump_after: ranker.max_jump(p, free),
+        max_jump_after: run.ranker.max_jump(p, free),
         max_control_move: nurbs_core::fairing::max_displacement(origin, p),
         stop,
     };
     Ok((out, report))
+}
+
+/// The state of one surface run: the ranks in a [`MaxTree`], each point's clamped target and
+/// the taboo list.
+struct SurfaceRun<'a> {
+    ranker: Ranker<'a>,
+    free: &'a [bool],
+    /// net shape (n_u, n_v)
+    shape: (usize, usize),
+    /// degrees (p, q)
+    degrees: (usize, usize),
+    /// moves shorter than this count as none (model units)
+    min_move: f64,
+    /// each ranked point's clamped target
+    target: Vec<Point3>,
+    tree: MaxTree,
+    /// the last moved points, oldest first
+    taboo: Vec<usize>,
+    /// at most this many of them
+    taboo_len: usize,
+    in_taboo: Vec<bool>,
+}
+
+impl<'a> SurfaceRun<'a> {
+    /// An unranked run over `surface`'s net.
+    fn new(ranker: Ranker<'a>, surface: &BSplineSurface, free: &'a [bool], taboo: usize) -> Self {
+        let n = surface.num_u() * surface.num_v();
+        Self {
+            min_move: MIN_MOVE_REL * ranker.tolerance,
+            target: ranker.origin.to_vec(),
+            ranker,
+            free,
+            shape: (surface.num_u(), surface.num_v()),
+            degrees: (surface.degree_u(), surface.degree_v()),
+            tree: MaxTree::new(n),
+            taboo: Vec::with_capacity(taboo + 1),
+            taboo_len: taboo,
+            in_taboo: vec![false; n],
+        }
+    }
+
+    /// Rank of point r at `p`: its jump when its clamped target (stored) moves it, [`NEVER`]
+    /// otherwise.
+    fn rank(&mut self, p: &[Point3], r: usize) -> f64 {
+        match self.ranker.evaluate(p, r) {
+            Some((size, t)) if (t - p[r]).norm() > self.min_move => {
+                self.target[r] = t;
+                size
+            }
+            _ => NEVER,
+        }
+    }
+
+    /// [`Self::rank`], or [`NEVER`] for a taboo point.
+    fn rank_unless_taboo(&mut self, p: &[Point3], r: usize) -> f64 {
+        if self.in_taboo[r] {
+            NEVER
+        } else {
+            self.rank(p, r)
+        }
+    }
+
+    /// Ranks every free point at `origin` and builds the tree; returns how many free points
+    /// have a knot to fair.
+    fn rank_all(&mut self, origin: &[Point3]) -> usize {
+        let mut fairable = 0;
+        for r in (0..origin.len()).filter(|&r| self.free[r]) {
+            if self.ranker.evaluate(origin, r).is_some() {
+                fairable += 1;
+            }
+            let z = self.rank(origin, r);
+            self.tree.set_leaf(r, z);
+        }
+        self.tree.rebuild();
+        fairable
+    }
+
+    /// Puts the moved point r on the taboo list; returns the point that leaves it.
+    fn make_taboo(&mut self, r: usize) -> Option<usize> {
+        self.taboo.push(r);
+        self.in_taboo[r] = true;
+        let released = if self.taboo.len() > self.taboo_len {
+            Some(self.taboo.remove(0))
+        } else {
+            None
+        };
+        if let Some(q) = released {
+            self.in_taboo[q] = false;
+        }
+        released
+    }
+
+    /// Re-ranks the free points whose jumps the move of point r changed (p + 1 rows along its
+    /// column, q + 1 columns along its row) and the point `released` from the taboo list.
+    fn rerank_around(&mut self, points: &[Point3], r: usize, released: Option<usize>) {
+        let ((nu, nv), (p_deg, q_deg)) = (self.shape, self.degrees);
+        let (i, j) = (r / nv, r % nv);
+        let (a0, a1) = (i.saturating_sub(p_deg + 1), (i + p_deg + 1).min(nu - 1));
+        let (b0, b1) = (j.saturating_sub(q_deg + 1), (j + q_deg + 1).min(nv - 1));
+        for a in a0..=a1 {
+            let s = a * nv + j;
+            if self.free[s] {
+                let v = self.rank_unless_taboo(points, s);
+                self.tree.update(s, v);
+            }
+        }
+        for b in b0..=b1 {
+            let s = i * nv + b;
+            if self.free[s] {
+                let v = self.rank_unless_taboo(points, s);
+                self.tree.set_leaf(s, v);
+            }
+        }
+        self.tree.refresh(i * nv + b0, i * nv + b1);
+        if let Some(q) = released.filter(|&q| self.free[q]) {
+            let v = self.rank(points, q);
+            self.tree.update(q, v);
+        }
+    }
 }
 
 /// The KRR method (`krr`) for the framework.
