@@ -276,31 +276,8 @@ pub fn fair_mesh_with_layout(
     let start = Instant::now();
     let topology = MeshTopology::new(mesh)?;
     let n = mesh.positions.len();
-    if layout.len() != n {
-        return Err(NsideError::CountMismatch {
-            what: "layout positions",
-            expected: n,
-            got: layout.len(),
-        });
-    }
-    if let Some(index) = layout
-        .iter()
-        .position(|p| !p.coords.iter().all(|c| c.is_finite()))
-    {
-        return Err(NsideError::NonFinite { index });
-    }
-    let dist = ring_distance(&topology);
-    let mut fixed: Vec<bool> = dist.iter().map(|&d| d <= params.fixed_rings).collect();
-    for &index in extra_fixed {
-        if index >= n {
-            return Err(NsideError::FixedIndex { index, count: n });
-        }
-        fixed[index] = true;
-    }
-    // vertices cut off from any boundary stay where they are unless something else is fixed
-    if !fixed.iter().any(|&f| f) {
-        return Err(NsideError::NothingFixed);
-    }
+    check_layout(layout, n)?;
+    let fixed = fixed_vertices(&topology, params.fixed_rings, extra_fixed)?;
     let mut col = vec![usize::MAX; n];
     let mut nf = 0;
     for v in 0..n {
@@ -309,72 +286,16 @@ pub fn fair_mesh_with_layout(
             nf += 1;
         }
     }
-    // the umbrella rows, one per vertex with a closed one-ring, in compressed form: entry k of
-    // row r is vertex `row_vertex[k]` with weight `row_weight[k]` (the vertex itself first)
-    let mut row_start = Vec::with_capacity(n + 1);
-    let mut row_vertex = Vec::with_capacity(7 * n);
-    let mut row_weight = Vec::with_capacity(7 * n);
-    row_start.push(0);
-    let mut row: Vec<(usize, f64)> = Vec::with_capacity(16);
-    for (i, ring) in topology.rings.iter().enumerate() {
-        if topology.boundary[i] || ring.is_empty() {
-            continue;
-        }
-        row.clear();
-        row.push((i, -1.0));
-        match params.weights {
-            UmbrellaWeights::Uniform => {
-                let w = 1.0 / ring.len() as f64;
-                row.extend(ring.iter().map(|&j| (j, w)));
-            }
-            UmbrellaWeights::MeanValue => mean_value_row(layout, i, ring, &mut row),
-            UmbrellaWeights::Cotangent => cotangent_row(layout, i, ring, &mut row),
-        }
-        for &(j, w) in &row {
-            row_vertex.push(j);
-            row_weight.push(w);
-        }
-        row_start.push(row_vertex.len());
-    }
-    let rows = row_start.len() - 1;
+    let rows = UmbrellaRows::new(&topology, layout, params.weights);
     let energy = |positions: &[Point3]| match params.weights {
         UmbrellaWeights::Uniform => umbrella_energy(positions, &topology),
-        UmbrellaWeights::MeanValue | UmbrellaWeights::Cotangent => (0..rows)
-            .map(|r| {
-                (row_start[r]..row_start[r + 1])
-                    .fold(Vector3::zeros(), |acc, k| {
-                        acc + row_weight[k] * positions[row_vertex[k]].coords
-                    })
-                    .norm_squared()
-            })
-            .sum(),
+        UmbrellaWeights::MeanValue | UmbrellaWeights::Cotangent => rows.energy(positions),
     };
     let energy_before = energy(&mesh.positions);
     let mut out = mesh.clone();
     if nf > 0 {
-        let (system, rhs) = normal_equations(
-            &mesh.positions,
-            &col,
-            nf,
-            &row_start,
-            &row_vertex,
-            &row_weight,
-            params.data_weight,
-        )?;
-        let x = if params.solver == SpdSolver::Faer(FillOrdering::NestedDissection) {
-            // the free vertices' layout positions give the nested dissection its cuts
-            let mut coords = vec![[0.0; 3]; nf];
-            for v in 0..n {
-                if col[v] != usize::MAX {
-                    let p = layout[v];
-                    coords[col[v]] = [p.x, p.y, p.z];
-                }
-            }
-            let order = system.nested_dissection(&coords)?;
-            system.solve_ordered(&rhs, &order)?
-        } else {
-            system.solve(&rhs, params.solver)?
-        };
+        let (system, rhs) = normal_equations(&mesh.positions, &col, nf, &rows, params.data_weight)?;
+        let x = solve_free(&system, &rhs, layout, &col, params.solver)?;
         for v in 0..n {
             if col[v] != usize::MAX {
                 let k = col[v];
@@ -399,6 +320,205 @@ pub fn fair_mesh_with_layout(
     ))
 }
 
+/// Bad input unless `layout` holds `n` finite positions.
+fn check_layout(layout: &[Point3], n: usize) -> Result<()> {
+    if layout.len() != n {
+        return Err(NsideError::CountMismatch {
+            what: "layout positions",
+            expected: n,
+            got: layout.len(),
+        });
+    }
+    if let Some(index) = layout
+        .iter()
+        .position(|p| !p.coords.iter().all(|c| c.is_finite()))
+    {
+        return Err(NsideError::NonFinite { index });
+    }
+    Ok(())
+}
+
+/// The vertices that keep their positions: within `fixed_rings` rings of the boundary and
+/// `extra_fixed`; bad input when an index is out of range or nothing is fixed.
+fn fixed_vertices(
+    topology: &MeshTopology,
+    fixed_rings: usize,
+    extra_fixed: &[usize],
+) -> Result<Vec<bool>> {
+    let dist = ring_distance(topology);
+    let n = dist.len();
+    let mut fixed: Vec<bool> = dist.iter().map(|&d| d <= fixed_rings).collect();
+    for &index in extra_fixed {
+        if index >= n {
+            return Err(NsideError::FixedIndex { index, count: n });
+        }
+        fixed[index] = true;
+    }
+    // vertices cut off from any boundary stay where they are unless something else is fixed
+    if !fixed.iter().any(|&f| f) {
+        return Err(NsideError::NothingFixed);
+    }
+    Ok(fixed)
+}
+
+/// The umbrella rows, one per vertex with a closed one-ring, in compressed form: entry k of
+/// row r is vertex `vertex[k]` with weight `weight[k]` (the vertex itself first).
+struct UmbrellaRows {
+    /// row r holds entries start[r]..start[r + 1]
+    start: Vec<usize>,
+    vertex: Vec<usize>,
+    weight: Vec<f64>,
+}
+
+impl UmbrellaRows {
+    /// The rows of `topology` with `weights` (mean-value and cotangent ones from `layout`).
+    fn new(topology: &MeshTopology, layout: &[Point3], weights: UmbrellaWeights) -> Self {
+        let n = topology.rings.len();
+        let mut rows = Self {
+            start: Vec::with_capacity(n + 1),
+            vertex: Vec::with_capacity(7 * n),
+            weight: Vec::with_capacity(7 * n),
+        };
+        rows.start.push(0);
+        let mut row: Vec<(usize, f64)> = Vec::with_capacity(16);
+        for (i, ring) in topology.rings.iter().enumerate() {
+            if topology.boundary[i] || ring.is_empty() {
+                continue;
+            }
+            row.clear();
+            row.push((i, -1.0));
+            match weights {
+                UmbrellaWeights::Uniform => {
+                    let w = 1.0 / ring.len() as f64;
+                    row.extend(ring.iter().map(|&j| (j, w)));
+                }
+                UmbrellaWeights::MeanValue => mean_value_row(layout, i, ring, &mut row),
+                UmbrellaWeights::Cotangent => cotangent_row(layout, i, ring, &mut row),
+            }
+            for &(j, w) in &row {
+                rows.vertex.push(j);
+                rows.weight.push(w);
+            }
+            rows.start.push(rows.vertex.len());
+        }
+        rows
+    }
+
+    /// Number of rows.
+    fn len(&self) -> usize {
+        self.start.len() - 1
+    }
+
+    /// Σ_r |row r · positions|².
+    fn energy(&self, positions: &[Point3]) -> f64 {
+        (0..self.len())
+            .map(|r| {
+                (self.start[r]..self.start[r + 1])
+                    .fold(Vector3::zeros(), |acc, k| {
+                        acc + self.weight[k] * positions[self.vertex[k]].coords
+                    })
+                    .norm_squared()
+            })
+            .sum()
+    }
+}
+
+/// Solves `system` for the free vertices (`col` their columns) with `solver`; faer's nested
+/// dissection takes its cuts from the free vertices' `layout` positions.
+fn solve_free(
+    system: &SparseSpd,
+    rhs: &DMatrix<f64>,
+    layout: &[Point3],
+    col: &[usize],
+    solver: SpdSolver,
+) -> Result<DMatrix<f64>> {
+    Ok(
+        if solver == SpdSolver::Faer(FillOrdering::NestedDissection) {
+            let mut coords = vec![[0.0; 3]; rhs.nrows()];
+            for (v, &c) in col.iter().enumerate() {
+                if c != usize::MAX {
+                    let p = layout[v];
+                    coords[c] = [p.x, p.y, p.z];
+                }
+            }
+            let order = system.nested_dissection(&coords)?;
+            system.solve_ordered(rhs, &order)?
+        } else {
+            system.solve(rhs, solver)?
+        },
+    )
+}
+
+/// The umbrella rows restricted to the free vertices, and their transpose.
+struct FreeRows {
+    /// row r holds entries start[r]..start[r + 1] of `entry`
+    start: Vec<usize>,
+    /// (free column, weight)
+    entry: Vec<(usize, f64)>,
+    /// Σ w p over each row's fixed vertices
+    fixed_part: Vec<Vector3>,
+    /// free vertex c is held by entries t_start[c]..t_start[c + 1] of `t_entry`
+    t_start: Vec<usize>,
+    /// (row, weight), in row order per free vertex
+    t_entry: Vec<(usize, f64)>,
+}
+
+impl FreeRows {
+    /// Splits `rows` at `positions` into free entries (`col`: free column of each vertex,
+    /// `usize::MAX` when fixed; `nf` free) and fixed parts; rows without a free entry are
+    /// dropped.
+    fn new(rows: &UmbrellaRows, positions: &[Point3], col: &[usize], nf: usize) -> Self {
+        let mut start = Vec::with_capacity(rows.len() + 1);
+        let mut entry: Vec<(usize, f64)> = Vec::with_capacity(rows.vertex.len());
+        let mut fixed_part = Vec::with_capacity(rows.len());
+        start.push(0);
+        // the free entries transposed: how many rows hold each free vertex
+        let mut t_start = vec![0usize; nf + 1];
+        for r in 0..rows.len() {
+            let mut fixed = Vector3::zeros();
+            let before = entry.len();
+            for k in rows.start[r]..rows.start[r + 1] {
+                let (v, w) = (rows.vertex[k], rows.weight[k]);
+                let c = col[v];
+                if c == usize::MAX {
+                    fixed += w * positions[v].coords;
+                } else {
+                    entry.push((c, w));
+                    t_start[c + 1] += 1;
+                }
+            }
+            if entry.len() > before {
+                start.push(entry.len());
+                fixed_part.push(fixed);
+            }
+        }
+        for c in 0..nf {
+            t_start[c + 1] += t_start[c];
+        }
+        // the rows holding each free vertex, in row order, with its weight there
+        let mut next = t_start[..nf].to_vec();
+        let mut t_entry: Vec<(usize, f64)> = vec![(0, 0.0); t_start[nf]];
+        for r in 0..start.len() - 1 {
+            for &(c, w) in &entry[start[r]..start[r + 1]] {
+                t_entry[next[c]] = (r, w);
+                next[c] += 1;
+            }
+        }
+        Self {
+            start,
+            entry,
+            fixed_part,
+            t_start,
+            t_entry,
+        }
+    }
+
+    /// The free entries of row r.
+    fn row(&self, r: usize) -> &[(usize, f64)] {
+        &self.entry[self.start[r]..self.start[r + 1]]
+    }
+}
+
 /// The normal equations A_fᵀ A_f x_f = −A_fᵀ A_c x_c of the umbrella rows (see the module
 /// documentation), assembled column by column straight into compressed sparse columns: column a
 /// of A_fᵀ A_f is Σ_r w_ra · (row r restricted to the free vertices) over the rows r holding a,
@@ -407,51 +527,10 @@ fn normal_equations(
     positions: &[Point3],
     col: &[usize],
     nf: usize,
-    row_start: &[usize],
-    row_vertex: &[usize],
-    row_weight: &[f64],
+    rows: &UmbrellaRows,
     data_weight: f64,
 ) -> Result<(SparseSpd, DMatrix<f64>)> {
-    let rows = row_start.len() - 1;
-    // the free entries of the rows (free column, weight) and the fixed part Σ w p of each row;
-    // rows without a free entry are dropped
-    let mut free_start = Vec::with_capacity(rows + 1);
-    let mut free_entry: Vec<(usize, f64)> = Vec::with_capacity(row_vertex.len());
-    let mut fixed_part = Vec::with_capacity(rows);
-    free_start.push(0);
-    // the free entries transposed: how many rows hold each free vertex
-    let mut t_start = vec![0usize; nf + 1];
-    for r in 0..rows {
-        let mut fixed = Vector3::zeros();
-        let before = free_entry.len();
-        for k in row_start[r]..row_start[r + 1] {
-            let (v, w) = (row_vertex[k], row_weight[k]);
-            let c = col[v];
-            if c == usize::MAX {
-                fixed += w * positions[v].coords;
-            } else {
-                free_entry.push((c, w));
-                t_start[c + 1] += 1;
-            }
-        }
-        if free_entry.len() > before {
-            free_start.push(free_entry.len());
-            fixed_part.push(fixed);
-        }
-    }
-    for c in 0..nf {
-        t_start[c + 1] += t_start[c];
-    }
-    // the rows holding each free vertex, in row order, with its weight there
-    let mut next = t_start[..nf].to_vec();
-    let mut t_entry: Vec<(usize, f64)> = vec![(0, 0.0); t_start[nf]];
-    for r in 0..free_start.len() - 1 {
-        for &(c, w) in &free_entry[free_start[r]..free_start[r + 1]] {
-            t_entry[next[c]] = (r, w);
-            next[c] += 1;
-        }
-    }
-    drop(next);
+    let free = FreeRows::new(rows, positions, col, nf);
     // the data term: w = data_weight × mean diagonal of LᵀL on every free vertex
     let mut vertex_of = vec![0usize; nf];
     for (v, &c) in col.iter().enumerate() {
@@ -460,7 +539,7 @@ fn normal_equations(
         }
     }
     let data = if data_weight > 0.0 && nf > 0 {
-        let diagonal: f64 = free_entry.iter().map(|&(_, w)| w * w).sum();
+        let diagonal: f64 = free.entry.iter().map(|&(_, w)| w * w).sum();
         data_weight * diagonal / nf as f64
     } else {
         0.0
@@ -477,9 +556,9 @@ fn normal_equations(
     for a in 0..nf {
         pattern.clear();
         let mut b_a = Vector3::zeros();
-        for &(r, wa) in &t_entry[t_start[a]..t_start[a + 1]] {
-            b_a -= wa * fixed_part[r];
-            for &(b, wb) in &free_entry[free_start[r]..free_start[r + 1]] {
+        for &(r, wa) in &free.t_entry[free.t_start[a]..free.t_start[a + 1]] {
+            b_a -= wa * free.fixed_part[r];
+            for &(b, wb) in free.row(r) {
                 if mark[b] != a {
                     mark[b] = a;
                     acc[b] = 0.0;

@@ -79,6 +79,37 @@ pub fn refit_quads(
     positions: &[Point3],
     neighbours: &[Option<Neighbour<'_>>],
 ) -> Result<(Vec<BSplineSurface>, RefitReport)> {
+    check_refit_input(quads, sampled, positions, neighbours)?;
+    let fit = FitParams::default();
+    let centre = positions[sampled.centre];
+    let mut report = RefitReport::default();
+    // 1. internal curves
+    let (mut curves, curve_max_error) =
+        fit_internal_curves(quads, sampled, positions, centre, &fit)?;
+    report.curve_max_error = curve_max_error;
+    // 2. centre tangent plane
+    report.centre_plane_move = onto_centre_plane(&mut curves, centre);
+    // 3. quads with the positional frame fixed
+    let mut out = Vec::with_capacity(quads.len());
+    for (k, q) in quads.iter().enumerate() {
+        out.push(fit_quad(q, k, &curves, sampled, positions, &fit)?);
+    }
+    // 4. cross rows
+    report.cross_row_move = align_cross_rows(&mut out);
+    (report.max_error, report.rms_error) = sample_errors(&out, sampled, positions);
+    report.max_internal_angle_deg = internal_angle_deg(&out);
+    report.max_boundary_angle_deg = boundary_angle_deg(&out, neighbours)?;
+    Ok((out, report))
+}
+
+/// Bad input unless there is one sample grid and one neighbour entry per quad and `positions`
+/// are finite and as many as the mesh's vertices.
+fn check_refit_input(
+    quads: &[BSplineSurface],
+    sampled: &SampledCorner,
+    positions: &[Point3],
+    neighbours: &[Option<Neighbour<'_>>],
+) -> Result<()> {
     let n = quads.len();
     if sampled.grids.len() != n {
         return Err(NsideError::CountMismatch {
@@ -107,12 +138,20 @@ pub fn refit_quads(
     {
         return Err(NsideError::NonFinite { index });
     }
-    let fit = FitParams::default();
-    let centre = positions[sampled.centre];
-    let mut report = RefitReport::default();
+    Ok(())
+}
 
-    // 1. internal curves
-    let mut curves = Vec::with_capacity(n);
+/// Step 1: each internal curve I_k fitted to the faired samples along side U1 of quad k, from
+/// M_k to `centre`; with the largest fit error.
+fn fit_internal_curves(
+    quads: &[BSplineSurface],
+    sampled: &SampledCorner,
+    positions: &[Point3],
+    centre: Point3,
+    fit: &FitParams,
+) -> Result<(Vec<BSplineCurve>, f64)> {
+    let mut curves = Vec::with_capacity(quads.len());
+    let mut max_error: f64 = 0.0;
     for (k, q) in quads.iter().enumerate() {
         let (nu, nv) = (q.num_u(), q.num_v());
         let mut pts: Vec<Point3> = (0..nv).map(|j| q.control_point(nu - 1, j)).collect();
@@ -125,14 +164,18 @@ pub fn refit_quads(
         let mv = g.vs.len();
         let a = g.us.len() - 1;
         let data: Vec<Point3> = (0..mv).map(|b| positions[g.vertices[a * mv + b]]).collect();
-        let (curve, rep) = fit_curve(&template, &free, &g.vs, &data, &fit)?;
-        report.curve_max_error = report.curve_max_error.max(rep.max_error);
+        let (curve, rep) = fit_curve(&template, &free, &g.vs, &data, fit)?;
+        max_error = max_error.max(rep.max_error);
         curves.push(curve);
     }
+    Ok((curves, max_error))
+}
 
-    // 2. centre tangent plane
+/// Step 2: moves the second-to-last point of every curve onto the plane through `centre` that
+/// fits them best; returns the largest move.
+fn onto_centre_plane(curves: &mut [BSplineCurve], centre: Point3) -> f64 {
     let mut scatter = Matrix3::zeros();
-    for c in &curves {
+    for c in curves.iter() {
         let p = c.control_points();
         let d = p[p.len() - 2] - centre;
         scatter += d * d.transpose();
@@ -140,45 +183,63 @@ pub fn refit_quads(
     let eig = SymmetricEigen::new(scatter);
     let imin = eig.eigenvalues.imin();
     let n_c: Vector3 = eig.eigenvectors.column(imin).into_owned();
-    for c in &mut curves {
+    let mut worst: f64 = 0.0;
+    for c in curves.iter_mut() {
         let pts = c.control_points_mut();
         let m = pts.len();
         let d = pts[m - 2] - centre;
         let off = d.dot(&n_c);
-        report.centre_plane_move = report.centre_plane_move.max(off.abs());
+        worst = worst.max(off.abs());
         pts[m - 2] -= off * n_c;
     }
+    worst
+}
 
-    // 3. quads with the positional frame fixed
-    let mut out = Vec::with_capacity(n);
-    for (k, q) in quads.iter().enumerate() {
-        let prev = (k + n - 1) % n;
-        let (nu, nv) = (q.num_u(), q.num_v());
-        let mut net = q.control_points().to_vec();
-        for (j, p) in curves[k].control_points().iter().enumerate() {
-            net[(nu - 1) * nv + j] = *p;
-        }
-        for (i, p) in curves[prev].control_points().iter().enumerate() {
-            net[i * nv + nv - 1] = *p;
-        }
-        let template = BSplineSurface::new(q.knots_u().clone(), q.knots_v().clone(), net, None)?;
-        let mask = ControlMask::with_boundary_frame(&template, Frame::Positional);
-        let g = &sampled.grids[k];
-        let mv = g.vs.len();
-        let mut params = Vec::with_capacity(g.vertices.len());
-        let mut data = Vec::with_capacity(g.vertices.len());
-        for (a, &u) in g.us.iter().enumerate() {
-            for (b, &v) in g.vs.iter().enumerate() {
-                params.push((u, v));
-                data.push(positions[g.vertices[a * mv + b]]);
-            }
-        }
-        let (surface, _) = fit_surface(&template, &mask, &params, &data, &fit)?;
-        out.push(surface);
+/// Step 3: quad k fitted to its faired samples with its positional frame fixed: the outer
+/// rows as they are, the rows on I_k and I_{k−1} copied from `curves`.
+fn fit_quad(
+    q: &BSplineSurface,
+    k: usize,
+    curves: &[BSplineCurve],
+    sampled: &SampledCorner,
+    positions: &[Point3],
+    fit: &FitParams,
+) -> Result<BSplineSurface> {
+    let n = curves.len();
+    let prev = (k + n - 1) % n;
+    let (nu, nv) = (q.num_u(), q.num_v());
+    let mut net = q.control_points().to_vec();
+    for (j, p) in curves[k].control_points().iter().enumerate() {
+        net[(nu - 1) * nv + j] = *p;
     }
-    report.cross_row_move = align_cross_rows(&mut out);
+    for (i, p) in curves[prev].control_points().iter().enumerate() {
+        net[i * nv + nv - 1] = *p;
+    }
+    let template = BSplineSurface::new(q.knots_u().clone(), q.knots_v().clone(), net, None)?;
+    let mask = ControlMask::with_boundary_frame(&template, Frame::Positional);
+    let g = &sampled.grids[k];
+    let mv = g.vs.len();
+    let mut params = Vec::with_capacity(g.vertices.len());
+    let mut data = Vec::with_capacity(g.vertices.len());
+    for (a, &u) in g.us.iter().enumerate() {
+        for (b, &v) in g.vs.iter().enumerate() {
+            params.push((u, v));
+            data.push(positions[g.vertices[a * mv + b]]);
+        }
+    }
+    let (surface, _) = fit_surface(&template, &mask, &params, &data, fit)?;
+    Ok(surface)
+}
+
+/// The largest and the root mean square distance between the faired samples and their quads
+/// at the samples' parameters.
+fn sample_errors(
+    quads: &[BSplineSurface],
+    sampled: &SampledCorner,
+    positions: &[Point3],
+) -> (f64, f64) {
     let (mut sum2, mut count, mut max_error) = (0.0, 0usize, 0.0f64);
-    for (k, q) in out.iter().enumerate() {
+    for (k, q) in quads.iter().enumerate() {
         let g = &sampled.grids[k];
         let mv = g.vs.len();
         let mut eval = q.evaluator();
@@ -191,117 +252,141 @@ pub fn refit_quads(
             }
         }
     }
-    report.max_error = max_error;
-    report.rms_error = (sum2 / count.max(1) as f64).sqrt();
-    report.max_internal_angle_deg = internal_angle_deg(&out);
-    report.max_boundary_angle_deg = boundary_angle_deg(&out, neighbours)?;
-    Ok((out, report))
+    (max_error, (sum2 / count.max(1) as f64).sqrt())
 }
 
 /// Singular values below this fraction of the largest count as zero in the minimum-norm
 /// least-squares solve of the cross-row alignment (rounding of the assembled matrix).
 const ALIGN_RCOND: f64 = 1e-10;
 
+/// The common normal n(t) along a curve at [`ANGLE_SAMPLES`] parameters t (where defined).
+type CommonNormals = Vec<(f64, Vector3)>;
+
 /// Step 4 of the module docs; returns the largest move.
 fn align_cross_rows(quads: &mut [BSplineSurface]) -> f64 {
     let n = quads.len();
     // common normals along every internal curve I_k, from the fits before alignment
-    let mut normals: Vec<Vec<(f64, Vector3)>> = Vec::with_capacity(n);
-    for k in 0..n {
-        let (q, r) = (&quads[k], &quads[(k + 1) % n]);
-        let list = (0..ANGLE_SAMPLES)
-            .filter_map(|s| {
-                let t = s as f64 / (ANGLE_SAMPLES - 1) as f64;
-                let (a, b) = (unit_normal(q, 1.0, t)?, unit_normal(r, t, 1.0)?);
-                // quads of opposite orientation (a caller's patches need not agree): their
-                // normals are the same line; the mean of a and −a would be noise
-                let b = if a.dot(&b) < 0.0 { -b } else { b };
-                Some((t, (a + b).try_normalize(0.0)?))
-            })
-            .collect();
-        normals.push(list);
-    }
+    let normals: Vec<CommonNormals> = (0..n)
+        .map(|k| common_normals(&quads[k], &quads[(k + 1) % n]))
+        .collect();
     let mut worst: f64 = 0.0;
     for k in 0..n {
         let prev = (k + n - 1) % n;
-        let q = &mut quads[k];
-        let (nu, nv) = (q.num_u(), q.num_v());
-        // unknowns: inner points next to U1 (nu−2, 2..=nv−2) and V1 (2..=nu−2, nv−2); the
-        // twists (nu−2, 1) and (1, nv−2) belong to the outer sides' tangential frames
-        let mut unknowns: Vec<(usize, usize)> = (2..nv - 1).map(|j| (nu - 2, j)).collect();
-        unknowns.extend((2..nu - 2).map(|i| (i, nv - 2)));
-        let col = |i: usize, j: usize| unknowns.iter().position(|&x| x == (i, j));
-        let mut rows: Vec<(Vec<(usize, Vector3)>, f64)> = Vec::new();
-        // side U1 (u = 1, along v, curve I_k) and side V1 (v = 1, along u, curve I_{k−1})
-        for (along_u, list) in [(false, &normals[k]), (true, &normals[prev])] {
-            let kv = if along_u { q.knots_u() } else { q.knots_v() };
+        worst = worst.max(align_quad(&mut quads[k], &normals[k], &normals[prev]));
+    }
+    worst
+}
+
+/// The mean unit normal of quad `q` along its side U1 and quad `r` along its side V1 (the
+/// internal curve they share), at [`ANGLE_SAMPLES`] parameters.
+fn common_normals(q: &BSplineSurface, r: &BSplineSurface) -> CommonNormals {
+    (0..ANGLE_SAMPLES)
+        .filter_map(|s| {
+            let t = s as f64 / (ANGLE_SAMPLES - 1) as f64;
+            let (a, b) = (unit_normal(q, 1.0, t)?, unit_normal(r, t, 1.0)?);
+            // quads of opposite orientation (a caller's patches need not agree): their
+            // normals are the same line; the mean of a and −a would be noise
+            let b = if a.dot(&b) < 0.0 { -b } else { b };
+            Some((t, (a + b).try_normalize(0.0)?))
+        })
+        .collect()
+}
+
+/// Moves the inner points of `q` next to its sides U1 (common normals `along_v`) and V1
+/// (`along_u`) by the minimum-norm least-squares displacements along the common normal;
+/// returns the largest move (0 when the solve fails and nothing moves).
+fn align_quad(q: &mut BSplineSurface, along_v: &CommonNormals, along_u: &CommonNormals) -> f64 {
+    let (nu, nv) = (q.num_u(), q.num_v());
+    // unknowns: inner points next to U1 (nu−2, 2..=nv−2) and V1 (2..=nu−2, nv−2); the
+    // twists (nu−2, 1) and (1, nv−2) belong to the outer sides' tangential frames
+    let mut unknowns: Vec<(usize, usize)> = (2..nv - 1).map(|j| (nu - 2, j)).collect();
+    unknowns.extend((2..nu - 2).map(|i| (i, nv - 2)));
+    let rows = cross_rows(q, &unknowns, along_v, along_u);
+    // each inner point moves along the common normal at its Greville abscissa only: with
+    // free 3D moves the tangential components enter only through the variation of n(t)
+    // (singular values ~1e-3 of the largest), and a least-squares solve fits the rows'
+    // inconsistencies with them — millimetre moves on the five-sided fixture
+    let directions: Vec<Vector3> = unknowns
+        .iter()
+        .map(|&(i, j)| {
+            let (kv, index, list) = if i == nu - 2 {
+                (q.knots_v(), j, along_v)
+            } else {
+                (q.knots_u(), i, along_u)
+            };
             let p = kv.degree();
-            let mut basis = nurbs_core::BasisEvaluator::new(p);
-            let mut vals = vec![0.0; p + 1];
-            for &(t, normal) in list {
-                let span = kv.span(t);
-                basis.values(kv.knots(), span, t, &mut vals);
-                let mut coeffs = Vec::with_capacity(p + 1);
-                let mut rhs = 0.0;
-                for a in 0..=p {
-                    let idx = span - p + a;
-                    let (on, inner) = if along_u {
-                        ((idx, nv - 1), (idx, nv - 2))
-                    } else {
-                        ((nu - 1, idx), (nu - 2, idx))
-                    };
-                    let d = q.control_point(on.0, on.1) - q.control_point(inner.0, inner.1);
-                    rhs += vals[a] * d.dot(&normal);
-                    if let Some(c) = col(inner.0, inner.1) {
-                        coeffs.push((c, vals[a] * normal));
-                    }
-                }
-                rows.push((coeffs, rhs));
-            }
+            let g = kv.knots()[index + 1..=index + p].iter().sum::<f64>() / p as f64;
+            list.iter()
+                .min_by(|x, y| (x.0 - g).abs().total_cmp(&(y.0 - g).abs()))
+                .map_or_else(Vector3::zeros, |&(_, n)| n)
+        })
+        .collect();
+    let mut a = nalgebra::DMatrix::<f64>::zeros(rows.len(), unknowns.len());
+    let mut b = nalgebra::DVector::<f64>::zeros(rows.len());
+    for (r, (coeffs, rhs)) in rows.iter().enumerate() {
+        for &(c, v) in coeffs {
+            a[(r, c)] += v.dot(&directions[c]);
         }
-        // each inner point moves along the common normal at its Greville abscissa only: with
-        // free 3D moves the tangential components enter only through the variation of n(t)
-        // (singular values ~1e-3 of the largest), and a least-squares solve fits the rows'
-        // inconsistencies with them — millimetre moves on the five-sided fixture
-        let directions: Vec<Vector3> = unknowns
-            .iter()
-            .map(|&(i, j)| {
-                let (kv, index, list) = if i == nu - 2 {
-                    (q.knots_v(), j, &normals[k])
-                } else {
-                    (q.knots_u(), i, &normals[prev])
-                };
-                let p = kv.degree();
-                let g = kv.knots()[index + 1..=index + p].iter().sum::<f64>() / p as f64;
-                list.iter()
-                    .min_by(|x, y| (x.0 - g).abs().total_cmp(&(y.0 - g).abs()))
-                    .map_or_else(Vector3::zeros, |&(_, n)| n)
-            })
-            .collect();
-        let mut a = nalgebra::DMatrix::<f64>::zeros(rows.len(), unknowns.len());
-        let mut b = nalgebra::DVector::<f64>::zeros(rows.len());
-        for (r, (coeffs, rhs)) in rows.iter().enumerate() {
-            for &(c, v) in coeffs {
-                a[(r, c)] += v.dot(&directions[c]);
-            }
-            b[r] = *rhs;
-        }
-        // moving the inner point Q by β d changes (R − Q)·n by −β d·n: A β = b
-        let svd = a.svd(true, true);
-        let eps = ALIGN_RCOND * svd.singular_values.max();
-        let Ok(beta) = svd.solve(&b, eps) else {
-            continue;
-        };
-        let pts = q.control_points_mut();
-        for (c, &(i, j)) in unknowns.iter().enumerate() {
-            let d = directions[c] * beta[c];
-            if d.iter().all(|x| x.is_finite()) {
-                pts[i * nv + j] += d;
-                worst = worst.max(d.norm());
-            }
+        b[r] = *rhs;
+    }
+    // moving the inner point Q by β d changes (R − Q)·n by −β d·n: A β = b
+    let svd = a.svd(true, true);
+    let eps = ALIGN_RCOND * svd.singular_values.max();
+    let Ok(beta) = svd.solve(&b, eps) else {
+        return 0.0;
+    };
+    let mut worst: f64 = 0.0;
+    let pts = q.control_points_mut();
+    for (c, &(i, j)) in unknowns.iter().enumerate() {
+        let d = directions[c] * beta[c];
+        if d.iter().all(|x| x.is_finite()) {
+            pts[i * nv + j] += d;
+            worst = worst.max(d.norm());
         }
     }
     worst
+}
+
+/// The constraints Σ_j N_j(t) (R_j − Q_j − w_j)·n(t) = 0 along side U1 (at `along_v`'s
+/// samples) and side V1 (`along_u`) of `q`, as (the unknowns' coefficient vectors, indexed
+/// into `unknowns`; Σ_j N_j(t) (R_j − Q_j)·n(t)).
+fn cross_rows(
+    q: &BSplineSurface,
+    unknowns: &[(usize, usize)],
+    along_v: &CommonNormals,
+    along_u: &CommonNormals,
+) -> Vec<(Vec<(usize, Vector3)>, f64)> {
+    let (nu, nv) = (q.num_u(), q.num_v());
+    let col = |i: usize, j: usize| unknowns.iter().position(|&x| x == (i, j));
+    let mut rows: Vec<(Vec<(usize, Vector3)>, f64)> = Vec::new();
+    // side U1 (u = 1, along v, curve I_k) and side V1 (v = 1, along u, curve I_{k−1})
+    for (side_v1, list) in [(false, along_v), (true, along_u)] {
+        let kv = if side_v1 { q.knots_u() } else { q.knots_v() };
+        let p = kv.degree();
+        let mut basis = nurbs_core::BasisEvaluator::new(p);
+        let mut vals = vec![0.0; p + 1];
+        for &(t, normal) in list {
+            let span = kv.span(t);
+            basis.values(kv.knots(), span, t, &mut vals);
+            let mut coeffs = Vec::with_capacity(p + 1);
+            let mut rhs = 0.0;
+            for a in 0..=p {
+                let idx = span - p + a;
+                let (on, inner) = if side_v1 {
+                    ((idx, nv - 1), (idx, nv - 2))
+                } else {
+                    ((nu - 1, idx), (nu - 2, idx))
+                };
+                let d = q.control_point(on.0, on.1) - q.control_point(inner.0, inner.1);
+                rhs += vals[a] * d.dot(&normal);
+                if let Some(c) = col(inner.0, inner.1) {
+                    coeffs.push((c, vals[a] * normal));
+                }
+            }
+            rows.push((coeffs, rhs));
+        }
+    }
+    rows
 }
 
 /// Unit normal S_u × S_v of `s` at (u, v), `None` where it is singular.

@@ -218,29 +218,7 @@ pub fn sample_quads(
             detail: "must be at least 1",
         });
     }
-    let mut positions: Vec<Point3> = Vec::new();
-    let mut origins = Vec::new();
-    let mut grids: Vec<QuadGrid> = Vec::with_capacity(n);
-    // own vertices: every (a, b) with b < last (the U1 column I_k included, the centre not)
-    for (k, q) in quads.iter().enumerate() {
-        let us = q.knots_u().span_samples(params.samples_per_span);
-        let vs = q.knots_v().span_samples(params.samples_per_span);
-        let (mu, mv) = (us.len(), vs.len());
-        let mut vertices = vec![usize::MAX; mu * mv];
-        let mut eval = q.evaluator();
-        for a in 0..mu {
-            for b in 0..mv - 1 {
-                vertices[a * mv + b] = positions.len();
-                positions.push(eval.point(us[a], vs[b]));
-                origins.push(VertexOrigin::Quad {
-                    quad: k,
-                    u: us[a],
-                    v: vs[b],
-                });
-            }
-        }
-        grids.push(QuadGrid { us, vs, vertices });
-    }
+    let (mut positions, mut origins, mut grids) = sample_grids(quads, params.samples_per_span);
     let centre = positions.len();
     let q0 = &quads[0];
     let (u1, v1) = (q0.domain_u().1, q0.domain_v().1);
@@ -250,55 +228,14 @@ pub fn sample_quads(
         u: u1,
         v: v1,
     });
-    // V1 row of quad k = U1 column of quad k − 1
-    for k in 0..n {
-        let prev = (k + n - 1) % n;
-        let (mu, mv) = (grids[k].us.len(), grids[k].vs.len());
-        let pmv = grids[prev].vs.len();
-        for a in 0..mu {
-            grids[k].vertices[a * mv + mv - 1] = if a + 1 == mu {
-                centre
-            } else {
-                grids[prev].vertices[(grids[prev].us.len() - 1) * pmv + a]
-            };
-        }
-    }
-    let mut faces = Vec::new();
-    for g in &grids {
-        let mv = g.vs.len();
-        for a in 0..g.us.len() - 1 {
-            for b in 0..mv - 1 {
-                let p00 = g.vertices[a * mv + b];
-                let p10 = g.vertices[(a + 1) * mv + b];
-                let p11 = g.vertices[(a + 1) * mv + b + 1];
-                let p01 = g.vertices[a * mv + b + 1];
-                faces.push([p00, p10, p11]);
-                faces.push([p00, p11, p01]);
-            }
-        }
-    }
+    weld_internal_curves(&mut grids, centre);
+    let mut faces = grid_faces(&grids);
+    let side_chains = side_chains(&grids);
     let mut patch_boundary = vec![false; positions.len()];
-    // side k: quad k's V0 row (V_k → M_k), then quad k + 1's U0 column backwards (M_k → V_{k+1})
-    let mut side_chains = Vec::with_capacity(n);
-    for k in 0..n {
-        let next = (k + 1) % n;
-        let g = &grids[k];
-        let mv = g.vs.len();
-        let mut chain: Vec<usize> = (0..g.us.len()).map(|a| g.vertices[a * mv]).collect();
-        let h = &grids[next];
-        chain.extend((0..h.vs.len() - 1).rev().map(|b| h.vertices[b]));
-        for &v in &chain {
-            patch_boundary[v] = true;
-        }
-        side_chains.push(chain);
+    for &v in side_chains.iter().flatten() {
+        patch_boundary[v] = true;
     }
-    let mut newell = Vector3::zeros();
-    for chain in &side_chains {
-        for w in chain.windows(2) {
-            newell += positions[w[0]].coords.cross(&positions[w[1]].coords);
-        }
-    }
-    let loop_normal = newell.try_normalize(0.0).unwrap_or_else(Vector3::z);
+    let loop_normal = newell_normal(&positions, &side_chains);
     let mut fixed = patch_boundary.clone();
     for (k, nb) in neighbours.iter().enumerate() {
         let Some(nb) = nb else { continue };
@@ -330,6 +267,103 @@ pub fn sample_quads(
         side_chains,
         loop_normal,
     })
+}
+
+/// Each quad's own vertices, `samples_per_span` per knot span: every sample (a, b) but those of
+/// its V1 row (the U1 column, internal curve I_k, included; the centre not), with their origins
+/// and the quads' grids (V1 rows left unset).
+fn sample_grids(
+    quads: &[BSplineSurface],
+    samples_per_span: usize,
+) -> (Vec<Point3>, Vec<VertexOrigin>, Vec<QuadGrid>) {
+    let mut positions: Vec<Point3> = Vec::new();
+    let mut origins = Vec::new();
+    let mut grids: Vec<QuadGrid> = Vec::with_capacity(quads.len());
+    for (k, q) in quads.iter().enumerate() {
+        let us = q.knots_u().span_samples(samples_per_span);
+        let vs = q.knots_v().span_samples(samples_per_span);
+        let (mu, mv) = (us.len(), vs.len());
+        let mut vertices = vec![usize::MAX; mu * mv];
+        let mut eval = q.evaluator();
+        for a in 0..mu {
+            for b in 0..mv - 1 {
+                vertices[a * mv + b] = positions.len();
+                positions.push(eval.point(us[a], vs[b]));
+                origins.push(VertexOrigin::Quad {
+                    quad: k,
+                    u: us[a],
+                    v: vs[b],
+                });
+            }
+        }
+        grids.push(QuadGrid { us, vs, vertices });
+    }
+    (positions, origins, grids)
+}
+
+/// Sets the V1 row of quad k to the vertices of the U1 column of quad k − 1, ending at
+/// `centre`.
+fn weld_internal_curves(grids: &mut [QuadGrid], centre: usize) {
+    let n = grids.len();
+    for k in 0..n {
+        let prev = (k + n - 1) % n;
+        let (mu, mv) = (grids[k].us.len(), grids[k].vs.len());
+        let pmv = grids[prev].vs.len();
+        for a in 0..mu {
+            grids[k].vertices[a * mv + mv - 1] = if a + 1 == mu {
+                centre
+            } else {
+                grids[prev].vertices[(grids[prev].us.len() - 1) * pmv + a]
+            };
+        }
+    }
+}
+
+/// Two triangles per cell of every grid.
+fn grid_faces(grids: &[QuadGrid]) -> Vec<[usize; 3]> {
+    let mut faces = Vec::new();
+    for g in grids {
+        let mv = g.vs.len();
+        for a in 0..g.us.len() - 1 {
+            for b in 0..mv - 1 {
+                let p00 = g.vertices[a * mv + b];
+                let p10 = g.vertices[(a + 1) * mv + b];
+                let p11 = g.vertices[(a + 1) * mv + b + 1];
+                let p01 = g.vertices[a * mv + b + 1];
+                faces.push([p00, p10, p11]);
+                faces.push([p00, p11, p01]);
+            }
+        }
+    }
+    faces
+}
+
+/// The boundary vertices of every side k in loop order: quad k's V0 row (V_k → M_k), then quad
+/// k + 1's U0 column backwards (M_k → V_{k+1}).
+fn side_chains(grids: &[QuadGrid]) -> Vec<Vec<usize>> {
+    let n = grids.len();
+    let mut side_chains = Vec::with_capacity(n);
+    for k in 0..n {
+        let next = (k + 1) % n;
+        let g = &grids[k];
+        let mv = g.vs.len();
+        let mut chain: Vec<usize> = (0..g.us.len()).map(|a| g.vertices[a * mv]).collect();
+        let h = &grids[next];
+        chain.extend((0..h.vs.len() - 1).rev().map(|b| h.vertices[b]));
+        side_chains.push(chain);
+    }
+    side_chains
+}
+
+/// The unit normal of the boundary loop by Newell's formula (+z when it vanishes).
+fn newell_normal(positions: &[Point3], side_chains: &[Vec<usize>]) -> Vector3 {
+    let mut newell = Vector3::zeros();
+    for chain in side_chains {
+        for w in chain.windows(2) {
+            newell += positions[w[0]].coords.cross(&positions[w[1]].coords);
+        }
+    }
+    newell.try_normalize(0.0).unwrap_or_else(Vector3::z)
 }
 
 /// Parameters of neighbour `nb` at the side parameter `t` moved `offset` (parameter units)

@@ -107,6 +107,68 @@ pub fn central_split(
     cross_tangents: Option<&[Option<Vector3>]>,
     params: &CentralSplitParams,
 ) -> Result<(Vec<BSplineSurface>, CentralSplitReport)> {
+    check_split_input(boundaries, cross_tangents, params)?;
+    let n = boundaries.len();
+    let all: Vec<Point3> = boundaries
+        .iter()
+        .flat_map(|c| c.control_points().iter().copied())
+        .collect();
+    let size = nurbs_core::homogeneous::bounding_diagonal(&all);
+    let closure_gap = closure_gap(boundaries, params.closure_tolerance * size)?;
+    let loop_normal = check_loop(boundaries, size)?;
+    let mut halves = Halves::new(boundaries)?;
+    let midpoints = &halves.midpoints;
+    let c0 = Point3::from(midpoints.iter().map(|m| m.coords).sum::<Vector3>() / n as f64);
+    let zero = ZERO_LENGTH_REL * size.max(f64::MIN_POSITIVE);
+    let inward = halves.inward(c0, cross_tangents, loop_normal, zero);
+    let mut lift = Vector3::zeros();
+    for k in 0..n {
+        let chord = c0 - midpoints[k];
+        let l = chord.norm();
+        let Some(e) = chord.try_normalize(zero) else {
+            continue;
+        };
+        let cosine = inward[k].dot(&e).max(MIN_LIFT_COSINE);
+        lift += 0.5 * l * inward[k].dot(&loop_normal) / cosine * loop_normal;
+    }
+    let centre = c0 + lift / n as f64;
+    halves.snap();
+    let internal_knots = halves.internal_knots(params.min_spans);
+    let frame = CentreFrame {
+        centre,
+        loop_normal,
+        zero,
+    };
+    let mut internal = Vec::with_capacity(n);
+    for k in 0..n {
+        let m = halves.midpoints[k];
+        internal.push(frame.internal_curve(m, inward[k], &internal_knots[k])?);
+    }
+    let mut quads = Vec::with_capacity(n);
+    for k in 0..n {
+        let prev = (k + n - 1) % n;
+        let v0 = refine_to(&halves.first[k], &internal_knots[prev], k)?;
+        let u0 = refine_to(&halves.second_rev[prev], &internal_knots[k], k)?;
+        quads.push(coons(&v0, &internal[prev], &u0, &internal[k])?);
+    }
+    Ok((
+        quads,
+        CentralSplitReport {
+            closure_gap,
+            centre,
+            midpoints: halves.midpoints,
+            loop_normal,
+        },
+    ))
+}
+
+/// Bad input unless there are 3…8 polynomial boundaries of degree ≤ 3, one cross tangent
+/// entry per side when given, and a finite closure tolerance ≥ 0.
+fn check_split_input(
+    boundaries: &[BSplineCurve],
+    cross_tangents: Option<&[Option<Vector3>]>,
+    params: &CentralSplitParams,
+) -> Result<()> {
     let n = boundaries.len();
     if !(MIN_SIDES..=MAX_SIDES).contains(&n) {
         return Err(NsideError::SideCount {
@@ -145,12 +207,13 @@ pub fn central_split(
             });
         }
     }
-    let all: Vec<Point3> = boundaries
-        .iter()
-        .flat_map(|c| c.control_points().iter().copied())
-        .collect();
-    let size = nurbs_core::homogeneous::bounding_diagonal(&all);
-    let tolerance = params.closure_tolerance * size;
+    Ok(())
+}
+
+/// The largest end-to-start gap between consecutive boundaries; an open loop error where one
+/// exceeds `tolerance` (model units).
+fn closure_gap(boundaries: &[BSplineCurve], tolerance: f64) -> Result<f64> {
+    let n = boundaries.len();
     let mut closure_gap: f64 = 0.0;
     for k in 0..n {
         let next = (k + 1) % n;
@@ -167,117 +230,134 @@ pub fn central_split(
         }
         closure_gap = closure_gap.max(gap);
     }
-    let loop_normal = check_loop(boundaries, size)?;
+    Ok(closure_gap)
+}
 
-    // halves on [0, 1], cubic: first[k] runs V_k → M_k, second_rev[k] runs V_{k+1} → M_k
-    let mut first = Vec::with_capacity(n);
-    let mut second_rev = Vec::with_capacity(n);
-    let mut midpoints = Vec::with_capacity(n);
-    let mut tangents = Vec::with_capacity(n);
-    for (k, c) in boundaries.iter().enumerate() {
-        let (a, b) = c.domain();
-        let tm = 0.5 * (a + b);
-        first.push(unit_cubic(c, a, tm, false, k)?);
-        second_rev.push(unit_cubic(c, tm, b, true, k)?);
-        let d = c.derivatives(tm, 1);
-        midpoints.push(Point3::from(d.d[0]));
-        tangents.push(d.d[1]);
-    }
-    let c0 = Point3::from(midpoints.iter().map(|m| m.coords).sum::<Vector3>() / n as f64);
-    // inward directions d_k ⊥ side tangent
-    let zero = ZERO_LENGTH_REL * size.max(f64::MIN_POSITIVE);
-    let mut inward = Vec::with_capacity(n);
-    for k in 0..n {
-        let t = tangents[k]
-            .try_normalize(0.0)
-            .unwrap_or_else(Vector3::zeros);
-        let chord = c0 - midpoints[k];
-        let given = cross_tangents.and_then(|ct| ct[k]);
-        let raw = given.unwrap_or(chord);
-        let mut d = raw - raw.dot(&t) * t;
-        if d.norm() <= zero {
-            d = chord - chord.dot(&t) * t;
-        }
-        let mut d = d.try_normalize(0.0).unwrap_or_else(|| {
-            chord
-                .try_normalize(0.0)
-                .unwrap_or_else(|| loop_normal.cross(&t))
-        });
-        if d.dot(&chord) < 0.0 {
-            d = -d;
-        }
-        inward.push(d);
-    }
-    let mut lift = Vector3::zeros();
-    for k in 0..n {
-        let chord = c0 - midpoints[k];
-        let l = chord.norm();
-        let Some(e) = chord.try_normalize(zero) else {
-            continue;
+/// The boundary curves split at their parametric midpoints, as cubics on [0, 1].
+struct Halves {
+    /// first[k] runs V_k → M_k
+    first: Vec<BSplineCurve>,
+    /// second_rev[k] runs V_{k+1} → M_k
+    second_rev: Vec<BSplineCurve>,
+    /// M_k
+    midpoints: Vec<Point3>,
+    /// c_k′ at the midpoint
+    tangents: Vec<Vector3>,
+}
+
+impl Halves {
+    /// Splits every boundary at its parametric midpoint.
+    fn new(boundaries: &[BSplineCurve]) -> Result<Self> {
+        let n = boundaries.len();
+        let mut halves = Self {
+            first: Vec::with_capacity(n),
+            second_rev: Vec::with_capacity(n),
+            midpoints: Vec::with_capacity(n),
+            tangents: Vec::with_capacity(n),
         };
-        let cosine = inward[k].dot(&e).max(MIN_LIFT_COSINE);
-        lift += 0.5 * l * inward[k].dot(&loop_normal) / cosine * loop_normal;
-    }
-    let centre = c0 + lift / n as f64;
-
-    // snap: V_k = start of c_k; M_k shared bit-exactly by both halves
-    for k in 0..n {
-        let prev = (k + n - 1) % n;
-        let vk = first[k].control_points()[0];
-        set_first(&mut second_rev[prev], vk);
-        let mk = midpoints[k];
-        set_last(&mut first[k], mk);
-        set_last(&mut second_rev[k], mk);
+        for (k, c) in boundaries.iter().enumerate() {
+            let (a, b) = c.domain();
+            let tm = 0.5 * (a + b);
+            halves.first.push(unit_cubic(c, a, tm, false, k)?);
+            halves.second_rev.push(unit_cubic(c, tm, b, true, k)?);
+            let d = c.derivatives(tm, 1);
+            halves.midpoints.push(Point3::from(d.d[0]));
+            halves.tangents.push(d.d[1]);
+        }
+        Ok(halves)
     }
 
-    // knot vectors of the internal curves: I_k ∥ reversed second half of c_{k−1} and first half
-    // of c_{k+1}
-    let mut internal_knots = Vec::with_capacity(n);
-    for k in 0..n {
-        let prev = (k + n - 1) % n;
-        let next = (k + 1) % n;
-        let mut knots = merge_interior(second_rev[prev].knots(), first[next].knots());
-        ensure_spans(&mut knots, params.min_spans);
-        internal_knots.push(knots);
+    /// The inward directions d_k at the midpoints, ⊥ the side tangent: from `cross_tangents`
+    /// where given and not along the side, else towards `c0`, turned to point towards `c0`.
+    fn inward(
+        &self,
+        c0: Point3,
+        cross_tangents: Option<&[Option<Vector3>]>,
+        loop_normal: Vector3,
+        zero: f64,
+    ) -> Vec<Vector3> {
+        let n = self.midpoints.len();
+        let mut inward = Vec::with_capacity(n);
+        for k in 0..n {
+            let t = self.tangents[k]
+                .try_normalize(0.0)
+                .unwrap_or_else(Vector3::zeros);
+            let chord = c0 - self.midpoints[k];
+            let given = cross_tangents.and_then(|ct| ct[k]);
+            let raw = given.unwrap_or(chord);
+            let mut d = raw - raw.dot(&t) * t;
+            if d.norm() <= zero {
+                d = chord - chord.dot(&t) * t;
+            }
+            let mut d = d.try_normalize(0.0).unwrap_or_else(|| {
+                chord
+                    .try_normalize(0.0)
+                    .unwrap_or_else(|| loop_normal.cross(&t))
+            });
+            if d.dot(&chord) < 0.0 {
+                d = -d;
+            }
+            inward.push(d);
+        }
+        inward
     }
-    let mut internal = Vec::with_capacity(n);
-    for k in 0..n {
-        let m = midpoints[k];
+
+    /// Snaps the halves: V_k = start of c_k; M_k shared bit-exactly by both halves.
+    fn snap(&mut self) {
+        let n = self.midpoints.len();
+        for k in 0..n {
+            let prev = (k + n - 1) % n;
+            let vk = self.first[k].control_points()[0];
+            set_first(&mut self.second_rev[prev], vk);
+            let mk = self.midpoints[k];
+            set_last(&mut self.first[k], mk);
+            set_last(&mut self.second_rev[k], mk);
+        }
+    }
+
+    /// The interior knots of every internal curve I_k: those of the reversed second half of
+    /// c_{k−1} and the first half of c_{k+1} (parallel to it), with at least `min_spans` spans.
+    fn internal_knots(&self, min_spans: usize) -> Vec<Vec<f64>> {
+        let n = self.midpoints.len();
+        let mut internal_knots = Vec::with_capacity(n);
+        for k in 0..n {
+            let prev = (k + n - 1) % n;
+            let next = (k + 1) % n;
+            let mut knots = merge_interior(self.second_rev[prev].knots(), self.first[next].knots());
+            ensure_spans(&mut knots, min_spans);
+            internal_knots.push(knots);
+        }
+        internal_knots
+    }
+}
+
+/// The centre C with the loop normal n̂ that the internal curves' end tangents are ⊥ to.
+struct CentreFrame {
+    centre: Point3,
+    loop_normal: Vector3,
+    /// length below which a direction counts as zero (model units)
+    zero: f64,
+}
+
+impl CentreFrame {
+    /// The internal curve from the midpoint `m` (leaving along `inward`) to C, refined by the
+    /// interior knots `knots`, with its ends exactly M and C.
+    fn internal_curve(&self, m: Point3, inward: Vector3, knots: &[f64]) -> Result<BSplineCurve> {
+        let (centre, loop_normal, zero) = (self.centre, self.loop_normal, self.zero);
         let chord = centre - m;
         let l = chord.norm();
         let flat = chord - chord.dot(&loop_normal) * loop_normal;
         let tau = flat
             .try_normalize(zero)
             .or_else(|| chord.try_normalize(zero))
-            .unwrap_or(inward[k]);
-        let pts = vec![
-            m,
-            m + inward[k] * (l / 3.0),
-            centre - tau * (l / 3.0),
-            centre,
-        ];
+            .unwrap_or(inward);
+        let pts = vec![m, m + inward * (l / 3.0), centre - tau * (l / 3.0), centre];
         let bez = BSplineCurve::new(KnotVector::bezier(QUAD_DEGREE)?, pts, None)?;
-        let mut curve = bez.refine(&internal_knots[k])?;
+        let mut curve = bez.refine(knots)?;
         set_first(&mut curve, m);
         set_last(&mut curve, centre);
-        internal.push(curve);
+        Ok(curve)
     }
-    let mut quads = Vec::with_capacity(n);
-    for k in 0..n {
-        let prev = (k + n - 1) % n;
-        let v0 = refine_to(&first[k], &internal_knots[prev], k)?;
-        let u0 = refine_to(&second_rev[prev], &internal_knots[k], k)?;
-        quads.push(coons(&v0, &internal[prev], &u0, &internal[k])?);
-    }
-    Ok((
-        quads,
-        CentralSplitReport {
-            closure_gap,
-            centre,
-            midpoints,
-            loop_normal,
-        },
-    ))
 }
 
 /// The part of `c` over [a, b] mapped affinely to [0, 1] (reversed when asked), degree 3.
