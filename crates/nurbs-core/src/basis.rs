@@ -100,25 +100,9 @@ impl BasisEvaluator {
         if n == 0 {
             return;
         }
-        // N_{i,d} = d (N_{i,d−1}/(t_{i+d} − t_i) − N_{i+1,d−1}/(t_{i+d+1} − t_{i+1})),
-        // where N_{i,d−1} with i = span − d + 1 + r is entry r of the degree-(d−1) row.
         let first = span - p; // index of the first function of degree p
-        let div = |x: f64, d: f64| if d == 0.0 { 0.0 } else { x / d };
         // first derivatives of degree p from degree p − 1 (row lower1, functions span−p+1..=span)
-        for r in 0..=p {
-            let i = first + r;
-            let a = if r >= 1 {
-                div(lower1[r - 1], knots[i + p] - knots[i])
-            } else {
-                0.0
-            };
-            let b = if r < p {
-                div(lower1[r], knots[i + p + 1] - knots[i + 1])
-            } else {
-                0.0
-            };
-            out[p1 + r] = p as f64 * (a - b);
-        }
+        differentiate(knots, first, p, lower1, &mut out[p1..2 * p1]);
         if n == 1 {
             return;
         }
@@ -126,37 +110,11 @@ impl BasisEvaluator {
             out[2 * p1..3 * p1].fill(0.0);
             return;
         }
-        // first derivatives of degree p − 1 (functions span−p+1..=span) from degree p − 2
-        let q = p - 1;
+        // first derivatives of degree p − 1 (functions span−p+1..=span) from degree p − 2, then
+        // of degree p from those
         let d1 = &mut self.a[..p];
-        for r in 0..p {
-            let i = first + 1 + r;
-            let a = if r >= 1 {
-                div(lower2[r - 1], knots[i + q] - knots[i])
-            } else {
-                0.0
-            };
-            let b = if r < q {
-                div(lower2[r], knots[i + q + 1] - knots[i + 1])
-            } else {
-                0.0
-            };
-            d1[r] = q as f64 * (a - b);
-        }
-        for r in 0..=p {
-            let i = first + r;
-            let a = if r >= 1 {
-                div(d1[r - 1], knots[i + p] - knots[i])
-            } else {
-                0.0
-            };
-            let b = if r < p {
-                div(d1[r], knots[i + p + 1] - knots[i + 1])
-            } else {
-                0.0
-            };
-            out[2 * p1 + r] = p as f64 * (a - b);
-        }
+        differentiate(knots, first + 1, p - 1, lower2, d1);
+        differentiate(knots, first, p, d1, &mut out[2 * p1..3 * p1]);
     }
 
     /// Any order by [NB] A2.3.
@@ -235,6 +193,28 @@ impl BasisEvaluator {
             }
             factor *= (p - k) as f64;
         }
+    }
+}
+
+/// The derivatives N'_{i,d} = d (N_{i,d−1}/(t_{i+d} − t_i) − N_{i+1,d−1}/(t_{i+d+1} − t_{i+1}))
+/// ([NB] eq. 2.7) of the d + 1 functions i = first..=first + d into `out[..=d]`, from the d
+/// degree-(d − 1) values N_{first+1..=first+d, d−1} in `lower` (0/0 terms are 0).
+#[inline(always)]
+fn differentiate(knots: &[f64], first: usize, d: usize, lower: &[f64], out: &mut [f64]) {
+    let div = |x: f64, den: f64| if den == 0.0 { 0.0 } else { x / den };
+    for r in 0..=d {
+        let i = first + r;
+        let a = if r >= 1 {
+            div(lower[r - 1], knots[i + d] - knots[i])
+        } else {
+            0.0
+        };
+        let b = if r < d {
+            div(lower[r], knots[i + d + 1] - knots[i + 1])
+        } else {
+            0.0
+        };
+        out[r] = d as f64 * (a - b);
     }
 }
 

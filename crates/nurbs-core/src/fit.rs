@@ -101,32 +101,7 @@ fn solve(problem: &Problem<'_>) -> Result<Vec<Point3>> {
     if nf == 0 {
         return Ok(out);
     }
-    let mut coo = CooMatrix::new(nf, nf);
-    let mut rhs = DMatrix::<f64>::zeros(nf, 3);
-    let mut covered = vec![false; nf];
-    for (row, target) in problem.rows.iter().zip(problem.targets) {
-        let mut residual = target.coords;
-        for &(k, b) in row {
-            if col[k] == usize::MAX {
-                residual -= b * problem.fixed_values[k].coords;
-            }
-        }
-        for &(k, b) in row {
-            let ck = col[k];
-            if ck == usize::MAX {
-                continue;
-            }
-            covered[ck] |= b != 0.0;
-            for c in 0..3 {
-                rhs[(ck, c)] += b * residual[c];
-            }
-            for &(l, b2) in row {
-                if col[l] != usize::MAX {
-                    coo.push(ck, col[l], b * b2);
-                }
-            }
-        }
-    }
+    let (mut coo, mut rhs, covered) = problem.data_equations(&col, nf);
     if problem.smoothing == 0.0
         && let Some(ck) = covered.iter().position(|&c| !c)
     {
@@ -138,43 +113,10 @@ fn solve(problem: &Problem<'_>) -> Result<Vec<Point3>> {
             ),
         });
     }
-    let lambda = problem.smoothing;
-    if lambda > 0.0 {
-        for &(a, b, value) in &problem.stiffness {
-            let (ca, cb) = (col[a], col[b]);
-            if ca == usize::MAX {
-                continue;
-            }
-            if cb == usize::MAX {
-                for c in 0..3 {
-                    rhs[(ca, c)] -= lambda * value * problem.fixed_values[b].coords[c];
-                }
-            } else {
-                coo.push(ca, cb, lambda * value);
-            }
-        }
+    if problem.smoothing > 0.0 {
+        problem.add_smoothing(&col, &mut coo, &mut rhs);
     }
-    let csc = CscMatrix::from(&coo);
-    let chol = CscCholesky::factor(&csc).map_err(|e| Error::SingularSystem {
-        reason: format!("normal matrix is not positive definite ({e:?})"),
-    })?;
-    let l = chol.l();
-    let diag: Vec<f64> = (0..nf)
-        .map(|j| l.col(j).values().first().copied().unwrap_or(0.0))
-        .collect();
-    let dmax = diag.iter().fold(0.0f64, |m, d| m.max(d * d));
-    if let Some(j) = diag
-        .iter()
-        .position(|d| !(d * d > SINGULAR_PIVOT_REL * dmax))
-    {
-        let k = col.iter().position(|&c| c == j).unwrap_or(0);
-        return Err(Error::SingularSystem {
-            reason: format!(
-                "control point {} is not determined by the data (pivot ratio below {SINGULAR_PIVOT_REL:e})",
-                (problem.name)(k)
-            ),
-        });
-    }
+    let chol = problem.factor(&coo, &col)?;
     let x = chol.solve(&rhs);
     for (k, &ck) in col.iter().enumerate() {
         if ck != usize::MAX {
@@ -182,6 +124,91 @@ fn solve(problem: &Problem<'_>) -> Result<Vec<Point3>> {
         }
     }
     Ok(out)
+}
+
+impl Problem<'_> {
+    /// The data part A_fᵀA_f, A_fᵀ(b − A_c x_c) of the normal equations over the `nf` free
+    /// points (`col`: column of each point, `usize::MAX` when fixed), and whether each free
+    /// point has a sample in its support.
+    fn data_equations(
+        &self,
+        col: &[usize],
+        nf: usize,
+    ) -> (CooMatrix<f64>, DMatrix<f64>, Vec<bool>) {
+        let mut coo = CooMatrix::new(nf, nf);
+        let mut rhs = DMatrix::<f64>::zeros(nf, 3);
+        let mut covered = vec![false; nf];
+        for (row, target) in self.rows.iter().zip(self.targets) {
+            let mut residual = target.coords;
+            for &(k, b) in row {
+                if col[k] == usize::MAX {
+                    residual -= b * self.fixed_values[k].coords;
+                }
+            }
+            for &(k, b) in row {
+                let ck = col[k];
+                if ck == usize::MAX {
+                    continue;
+                }
+                covered[ck] |= b != 0.0;
+                for c in 0..3 {
+                    rhs[(ck, c)] += b * residual[c];
+                }
+                for &(l, b2) in row {
+                    if col[l] != usize::MAX {
+                        coo.push(ck, col[l], b * b2);
+                    }
+                }
+            }
+        }
+        (coo, rhs, covered)
+    }
+
+    /// Adds the smoothing part λK_ff to `coo` and −λK_fc x_c to `rhs`.
+    fn add_smoothing(&self, col: &[usize], coo: &mut CooMatrix<f64>, rhs: &mut DMatrix<f64>) {
+        let lambda = self.smoothing;
+        for &(a, b, value) in &self.stiffness {
+            let (ca, cb) = (col[a], col[b]);
+            if ca == usize::MAX {
+                continue;
+            }
+            if cb == usize::MAX {
+                for c in 0..3 {
+                    rhs[(ca, c)] -= lambda * value * self.fixed_values[b].coords[c];
+                }
+            } else {
+                coo.push(ca, cb, lambda * value);
+            }
+        }
+    }
+
+    /// The Cholesky factor of the normal matrix `coo`; singular when it is not positive
+    /// definite or a pivot squared falls below [`SINGULAR_PIVOT_REL`] × the largest (the error
+    /// names the point, `col` its column).
+    fn factor(&self, coo: &CooMatrix<f64>, col: &[usize]) -> Result<CscCholesky<f64>> {
+        let csc = CscMatrix::from(coo);
+        let chol = CscCholesky::factor(&csc).map_err(|e| Error::SingularSystem {
+            reason: format!("normal matrix is not positive definite ({e:?})"),
+        })?;
+        let l = chol.l();
+        let diag: Vec<f64> = (0..l.ncols())
+            .map(|j| l.col(j).values().first().copied().unwrap_or(0.0))
+            .collect();
+        let dmax = diag.iter().fold(0.0f64, |m, d| m.max(d * d));
+        if let Some(j) = diag
+            .iter()
+            .position(|d| !(d * d > SINGULAR_PIVOT_REL * dmax))
+        {
+            let k = col.iter().position(|&c| c == j).unwrap_or(0);
+            return Err(Error::SingularSystem {
+                reason: format!(
+                    "control point {} is not determined by the data (pivot ratio below {SINGULAR_PIVOT_REL:e})",
+                    (self.name)(k)
+                ),
+            });
+        }
+        Ok(chol)
+    }
 }
 
 fn report(errors: impl Iterator<Item = f64>, free_points: usize) -> FitReport {

@@ -112,13 +112,12 @@ pub(crate) fn remove(
     let r = knots.partition_point(|&t| t <= u) - 1;
     let n = pw.len() - 1;
     let m = n + p + 1;
-    let ord = p + 1;
-    let wmin = pw.iter().map(|q| q[3]).fold(f64::INFINITY, f64::min);
-    let pmax = pw
-        .iter()
-        .map(|q| (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt() / q[3])
-        .fold(0.0, f64::max);
-    let tol = tolerance * wmin / (1.0 + pmax);
+    let removal = Removal {
+        knots,
+        u,
+        ord: p + 1,
+        tol: homogeneous_tolerance(pw, tolerance),
+    };
     let fout = (2 * r - s - p) / 2;
     let mut first = r - p;
     let mut last = r - s;
@@ -126,6 +125,58 @@ pub(crate) fn remove(
     let mut temp = vec![[0.0; 4]; 2 * p + 1];
     let mut t = 0;
     while t < num.min(s) {
+        if !removal.attempt(&mut pw, &mut temp, first, last, t) {
+            break;
+        }
+        first -= 1;
+        last += 1;
+        t += 1;
+    }
+    if t == 0 {
+        return Ok(((kv.clone(), pw), 0));
+    }
+    let mut new_knots = knots.to_vec();
+    for k in (r + 1)..=m {
+        new_knots[k - t] = new_knots[k];
+    }
+    new_knots.truncate(m + 1 - t);
+    drop_removed_points(&mut pw, fout, t);
+    Ok(((KnotVector::new(p, new_knots)?, pw), t))
+}
+
+/// The removal tolerance on the homogeneous polygon for a Euclidean deviation of `tolerance`:
+/// scaled by w_min / (1 + max |P|) ([NB] eq. 5.30).
+fn homogeneous_tolerance(pw: &[[f64; 4]], tolerance: f64) -> f64 {
+    let wmin = pw.iter().map(|q| q[3]).fold(f64::INFINITY, f64::min);
+    let pmax = pw
+        .iter()
+        .map(|q| (q[0] * q[0] + q[1] * q[1] + q[2] * q[2]).sqrt() / q[3])
+        .fold(0.0, f64::max);
+    tolerance * wmin / (1.0 + pmax)
+}
+
+/// One knot removal of [NB] A5.8: the knot `u` at `knots`, the order p + 1 and the homogeneous
+/// tolerance.
+struct Removal<'a> {
+    knots: &'a [f64],
+    u: f64,
+    ord: usize,
+    tol: f64,
+}
+
+impl Removal<'_> {
+    /// Removal number t + 1: solves the insertion equations for the points first..=last of `pw`
+    /// from both ends (into `temp`) and, when the two solutions meet within the tolerance,
+    /// writes them into `pw`; returns whether it did.
+    fn attempt(
+        &self,
+        pw: &mut [[f64; 4]],
+        temp: &mut [[f64; 4]],
+        first: usize,
+        last: usize,
+        t: usize,
+    ) -> bool {
+        let (knots, u, ord) = (self.knots, self.u, self.ord);
         let off = first - 1;
         temp[0] = pw[off];
         temp[last + 1 - off] = pw[last + 1];
@@ -147,14 +198,14 @@ pub(crate) fn remove(
             jj -= 1;
         }
         let ok = if (j as isize - i as isize) < t as isize {
-            distance4(&temp[ii - 1], &temp[jj + 1]) <= tol
+            distance4(&temp[ii - 1], &temp[jj + 1]) <= self.tol
         } else {
             let alfi = (u - knots[i]) / (knots[i + ord + t] - knots[i]);
             let guess = lerp4(&temp[ii + t + 1], alfi, &temp[ii - 1], 1.0 - alfi);
-            distance4(&pw[i], &guess) <= tol
+            distance4(&pw[i], &guess) <= self.tol
         };
         if !ok {
-            break;
+            return false;
         }
         let (mut i, mut j) = (first, last);
         while j as isize - i as isize > t as isize {
@@ -163,18 +214,14 @@ pub(crate) fn remove(
             i += 1;
             j -= 1;
         }
-        first -= 1;
-        last += 1;
-        t += 1;
+        true
     }
-    if t == 0 {
-        return Ok(((kv.clone(), pw), 0));
-    }
-    let mut new_knots = knots.to_vec();
-    for k in (r + 1)..=m {
-        new_knots[k - t] = new_knots[k];
-    }
-    new_knots.truncate(m + 1 - t);
+}
+
+/// Closes the gap the `t` removals left in `pw` around index `fout` ([NB] A5.8's last loop)
+/// and drops the last t points.
+fn drop_removed_points(pw: &mut Vec<[f64; 4]>, fout: usize, t: usize) {
+    let n = pw.len() - 1;
     let mut j = fout;
     let mut i = j;
     for k in 1..t {
@@ -189,7 +236,6 @@ pub(crate) fn remove(
         j += 1;
     }
     pw.truncate(n + 1 - t);
-    Ok(((KnotVector::new(p, new_knots)?, pw), t))
 }
 
 /// The part of the curve over [a, b] as a clamped polygon. A bound within

@@ -13,7 +13,7 @@
 //! control net; [`ProjectionParams::cosine_tolerance`] is dimensionless.
 
 use crate::curve::BSplineCurve;
-use crate::surface::BSplineSurface;
+use crate::surface::{BSplineSurface, SurfaceDerivatives};
 use crate::{Point3, Vector3};
 
 /// Settings of the projection.
@@ -170,92 +170,137 @@ impl<'a> SurfaceProjector<'a> {
 
     /// Projects `point` by safeguarded Newton from the parameters `start`.
     pub fn project_from(&mut self, point: &Point3, start: (f64, f64)) -> SurfaceProjection {
-        let surface = self.surface;
-        let params = &self.params;
-        let (ua, ub) = surface.domain_u();
-        let (va, vb) = surface.domain_v();
+        let (ua, ub) = self.surface.domain_u();
+        let (va, vb) = self.surface.domain_v();
         let eps = self.eps;
-        let eval = &mut self.eval;
-        let (mut u, mut v) = (start.0.clamp(ua, ub), start.1.clamp(va, vb));
-        let mut d = eval.derivatives(u, v);
-        let mut r = d.point - point;
-        let mut dist = r.norm();
+        let (u, v) = (start.0.clamp(ua, ub), start.1.clamp(va, vb));
+        let d = self.eval.derivatives(u, v);
+        let r = d.point - point;
+        let mut it = Iterate {
+            u,
+            v,
+            d,
+            r,
+            dist: r.norm(),
+        };
         let mut converged = false;
         let mut iterations = 0;
-        while iterations < params.max_iterations {
-            if dist <= eps {
+        while iterations < self.params.max_iterations {
+            if it.dist <= eps {
                 converged = true;
                 break;
             }
-            let (su, sv) = (d.du, d.dv);
-            let (gu, gv) = (r.dot(&su), r.dot(&sv));
-            let cos_u = gu.abs() / (dist * su.norm()).max(f64::MIN_POSITIVE);
-            let cos_v = gv.abs() / (dist * sv.norm()).max(f64::MIN_POSITIVE);
-            // at a domain bound, a gradient pointing outward is a KKT multiplier, not a residual
-            let free_u = !((u <= ua && gu > 0.0) || (u >= ub && gu < 0.0));
-            let free_v = !((v <= va && gv > 0.0) || (v >= vb && gv < 0.0));
-            if (!free_u || cos_u <= params.cosine_tolerance)
-                && (!free_v || cos_v <= params.cosine_tolerance)
-            {
+            let (gu, gv) = (it.r.dot(&it.d.du), it.r.dot(&it.d.dv));
+            if self.is_critical(&it, gu, gv) {
                 converged = true;
                 break;
             }
-            let (mut a, mut b, mut c) = (
-                su.dot(&su) + r.dot(&d.duu),
-                su.dot(&sv) + r.dot(&d.duv),
-                sv.dot(&sv) + r.dot(&d.dvv),
-            );
-            if !(a > 0.0 && a * c - b * b > 0.0) {
-                (a, b, c) = (su.dot(&su), su.dot(&sv), sv.dot(&sv));
-            }
-            let det = a * c - b * b;
-            let (mut du, mut dv) = if det > 0.0 {
-                (-(c * gu - b * gv) / det, -(a * gv - b * gu) / det)
-            } else {
-                // singular metric (e.g. at a pole): steepest descent scaled by the larger tangent
-                let s = (su.norm_squared() + sv.norm_squared()).max(f64::MIN_POSITIVE);
-                (-gu / s, -gv / s)
-            };
-            let mut step_ok = false;
-            for _ in 0..30 {
-                let (nu, nv) = ((u + du).clamp(ua, ub), (v + dv).clamp(va, vb));
-                let nd = eval.derivatives(nu, nv);
-                let nr = nd.point - point;
-                let ndist = nr.norm();
-                if ndist <= dist {
-                    let moved: Vector3 = nd.point - d.point;
-                    let tiny = moved.norm() <= eps;
-                    u = nu;
-                    v = nv;
-                    d = nd;
-                    r = nr;
-                    dist = ndist;
-                    step_ok = !tiny;
-                    if tiny {
-                        converged = true;
-                    }
+            let (du, dv) = newton_direction(&it, gu, gv);
+            let step = self.line_search(point, &mut it, du, dv);
+            iterations += 1;
+            match step {
+                Some(false) => {}
+                // a step that no longer moves the point
+                Some(true) => {
+                    converged = true;
                     break;
                 }
-                du *= 0.5;
-                dv *= 0.5;
-            }
-            iterations += 1;
-            if !step_ok {
-                if !converged {
+                None => {
                     // no decrease along the Newton direction: a stationary point within rounding
-                    converged = dist <= eps.max(self.stationary_tolerance);
+                    converged = it.dist <= eps.max(self.stationary_tolerance);
+                    break;
                 }
-                break;
             }
         }
         SurfaceProjection {
-            u,
-            v,
-            point: d.point,
-            distance: dist,
+            u: it.u,
+            v: it.v,
+            point: it.d.point,
+            distance: it.dist,
             converged,
             iterations,
         }
+    }
+
+    /// Whether r ⊥ S_u and r ⊥ S_v within the cosine tolerance ([NB] eq. 6.4), a direction
+    /// whose gradient component (`gu`, `gv`) points out of the domain at a bound counting as
+    /// met (a KKT multiplier, not a residual).
+    fn is_critical(&self, it: &Iterate, gu: f64, gv: f64) -> bool {
+        let (ua, ub) = self.surface.domain_u();
+        let (va, vb) = self.surface.domain_v();
+        let (u, v, tolerance) = (it.u, it.v, self.params.cosine_tolerance);
+        let cos_u = gu.abs() / (it.dist * it.d.du.norm()).max(f64::MIN_POSITIVE);
+        let cos_v = gv.abs() / (it.dist * it.d.dv.norm()).max(f64::MIN_POSITIVE);
+        let free_u = !((u <= ua && gu > 0.0) || (u >= ub && gu < 0.0));
+        let free_v = !((v <= va && gv > 0.0) || (v >= vb && gv < 0.0));
+        (!free_u || cos_u <= tolerance) && (!free_v || cos_v <= tolerance)
+    }
+
+    /// Steps from `it` along (du, dv), clamped to the domain and halved until the distance to
+    /// `point` does not grow (at most [`MAX_HALVINGS`] times); on success `it` moves there and
+    /// the result says whether the point moved by at most the point tolerance, `None` when no
+    /// step decreased the distance.
+    fn line_search(&mut self, point: &Point3, it: &mut Iterate, du: f64, dv: f64) -> Option<bool> {
+        let (ua, ub) = self.surface.domain_u();
+        let (va, vb) = self.surface.domain_v();
+        let (mut du, mut dv) = (du, dv);
+        for _ in 0..MAX_HALVINGS {
+            let (nu, nv) = ((it.u + du).clamp(ua, ub), (it.v + dv).clamp(va, vb));
+            let nd = self.eval.derivatives(nu, nv);
+            let nr = nd.point - point;
+            let ndist = nr.norm();
+            if ndist <= it.dist {
+                let moved: Vector3 = nd.point - it.d.point;
+                let tiny = moved.norm() <= self.eps;
+                *it = Iterate {
+                    u: nu,
+                    v: nv,
+                    d: nd,
+                    r: nr,
+                    dist: ndist,
+                };
+                return Some(tiny);
+            }
+            du *= 0.5;
+            dv *= 0.5;
+        }
+        None
+    }
+}
+
+/// Halvings of a Newton step before the line search gives up (2⁻³⁰ of the step: far below
+/// any parameter resolution that moves the point).
+const MAX_HALVINGS: usize = 30;
+
+/// One Newton iterate: parameters, derivatives there, r = S − P and |r|.
+struct Iterate {
+    u: f64,
+    v: f64,
+    d: SurfaceDerivatives,
+    r: Vector3,
+    dist: f64,
+}
+
+/// The Newton step −H⁻¹ ∇f at `it` (∇f = (`gu`, `gv`)), with the Gauss–Newton matrix where H is
+/// not positive definite and steepest descent where the metric is singular too.
+fn newton_direction(it: &Iterate, gu: f64, gv: f64) -> (f64, f64) {
+    let (d, r) = (&it.d, &it.r);
+    let (su, sv) = (d.du, d.dv);
+    let (mut a, mut b, mut c) = (
+        su.dot(&su) + r.dot(&d.duu),
+        su.dot(&sv) + r.dot(&d.duv),
+        sv.dot(&sv) + r.dot(&d.dvv),
+    );
+    if !(a > 0.0 && a * c - b * b > 0.0) {
+        (a, b, c) = (su.dot(&su), su.dot(&sv), sv.dot(&sv));
+    }
+    let det = a * c - b * b;
+    if det > 0.0 {
+        (-(c * gu - b * gv) / det, -(a * gv - b * gu) / det)
+    } else {
+        // singular metric (e.g. at a pole): steepest descent scaled by the larger tangent
+        let s = (su.norm_squared() + sv.norm_squared()).max(f64::MIN_POSITIVE);
+        (-gu / s, -gv / s)
     }
 }
 

@@ -330,9 +330,12 @@ impl SparseSpd {
         }
         let n = self.n;
         let mut order = Vec::with_capacity(n);
-        // side[v]: the subset being split when v is in its upper half
-        let mut side = vec![usize::MAX; n];
-        let mut splits = 0usize;
+        let mut dissection = Dissection {
+            matrix: self,
+            coords,
+            side: vec![usize::MAX; n],
+            splits: 0,
+        };
         let mut tasks = vec![Task::Split((0..n).collect())];
         while let Some(task) = tasks.pop() {
             let mut set = match task {
@@ -347,71 +350,95 @@ impl SparseSpd {
                 order.extend(set);
                 continue;
             }
-            // the axis (of three) with the smallest separator: on a curved surface the longest
-            // axis may cut it obliquely
-            // cuts `set` at the median along `axis`, all unknowns with the median coordinate on
-            // one side (a grid line split between both would widen the separator); returns the
-            // size of the lower part
-            let cut = |set: &mut [usize], axis: usize| {
-                let half = set.len() / 2;
-                let key = |v: usize| coords[v][axis];
-                set.select_nth_unstable_by(half, |&a, &b| key(a).total_cmp(&key(b)));
-                let m = key(set[half]);
-                let (lower, upper) = set.split_at_mut(half);
-                let below = partition(lower, |v| key(v).total_cmp(&m).is_lt());
-                let equal_up = partition(upper, |v| key(v).total_cmp(&m).is_eq());
-                [below, half + equal_up]
-                    .into_iter()
-                    .filter(|&k| k > 0 && k < set.len())
-                    .min_by_key(|&k| k.abs_diff(half))
-                    .unwrap_or(half)
-            };
-            let mut best: Option<(usize, usize)> = None;
-            let mut half = 0;
-            for axis in 0..3 {
-                half = cut(&mut set, axis);
-                splits += 1;
-                for &v in &set[half..] {
-                    side[v] = splits;
-                }
-                let sep = set[..half]
-                    .iter()
-                    .filter(|&&v| {
-                        self.row_idx[self.col_ptr[v]..self.col_ptr[v + 1]]
-                            .iter()
-                            .any(|&w| side[w] == splits)
-                    })
-                    .count();
-                if best.is_none_or(|(_, s)| sep < s) {
-                    best = Some((axis, sep));
-                }
-            }
-            let (axis, _) = best.expect("three axes tried");
-            if axis != 2 {
-                // the last axis tried is in place; redo the best one
-                half = cut(&mut set, axis);
-                splits += 1;
-                for &v in &set[half..] {
-                    side[v] = splits;
-                }
-            }
-            let (mut a, mut sep) = (Vec::with_capacity(half), Vec::new());
-            for &v in &set[..half] {
-                let cols = &self.row_idx[self.col_ptr[v]..self.col_ptr[v + 1]];
-                if cols.iter().any(|&w| side[w] == splits) {
-                    sep.push(v);
-                } else {
-                    a.push(v);
-                }
-            }
-            let b = set[half..].to_vec();
-            drop(set);
+            let (a, sep, b) = dissection.split(set);
             tasks.push(Task::Emit(sep));
             tasks.push(Task::Split(b));
             tasks.push(Task::Split(a));
         }
         Ok(order)
     }
+}
+
+/// The state of one nested dissection: which cut last put each unknown in an upper half.
+struct Dissection<'a> {
+    matrix: &'a SparseSpd,
+    coords: &'a [[f64; 3]],
+    /// side[v]: the cut (numbered by `splits`) that put v in its upper half
+    side: Vec<usize>,
+    /// cuts made so far
+    splits: usize,
+}
+
+impl Dissection<'_> {
+    /// Cuts `set` along the axis (of three) with the smallest separator — on a curved surface
+    /// the longest axis may cut it obliquely — into the lower half without the separator, the
+    /// separator (the lower unknowns coupled to the upper half) and the upper half.
+    fn split(&mut self, mut set: Vec<usize>) -> (Vec<usize>, Vec<usize>, Vec<usize>) {
+        let mut best: Option<(usize, usize)> = None;
+        let mut half = 0;
+        for axis in 0..3 {
+            half = self.cut(&mut set, axis);
+            let sep = set[..half]
+                .iter()
+                .filter(|&&v| self.touches_upper(v))
+                .count();
+            if best.is_none_or(|(_, s)| sep < s) {
+                best = Some((axis, sep));
+            }
+        }
+        let (axis, _) = best.expect("three axes tried");
+        if axis != 2 {
+            // the last axis tried is in place; redo the best one
+            half = self.cut(&mut set, axis);
+        }
+        let (mut a, mut sep) = (Vec::with_capacity(half), Vec::new());
+        for &v in &set[..half] {
+            if self.touches_upper(v) {
+                sep.push(v);
+            } else {
+                a.push(v);
+            }
+        }
+        let b = set[half..].to_vec();
+        (a, sep, b)
+    }
+
+    /// Cuts `set` at its median along `axis` ([`median_cut`]) and marks its upper part as the
+    /// upper half of a new cut; returns the size of the lower part.
+    fn cut(&mut self, set: &mut [usize], axis: usize) -> usize {
+        let half = median_cut(set, self.coords, axis);
+        self.splits += 1;
+        for &v in &set[half..] {
+            self.side[v] = self.splits;
+        }
+        half
+    }
+
+    /// Whether unknown v is coupled (in the matrix graph) to the upper half of the last cut.
+    fn touches_upper(&self, v: usize) -> bool {
+        let m = self.matrix;
+        m.row_idx[m.col_ptr[v]..m.col_ptr[v + 1]]
+            .iter()
+            .any(|&w| self.side[w] == self.splits)
+    }
+}
+
+/// Cuts `set` at the median of `coords` along `axis`, all unknowns with the median coordinate
+/// on one side (a grid line split between both would widen the separator); returns the size
+/// of the lower part.
+fn median_cut(set: &mut [usize], coords: &[[f64; 3]], axis: usize) -> usize {
+    let half = set.len() / 2;
+    let key = |v: usize| coords[v][axis];
+    set.select_nth_unstable_by(half, |&a, &b| key(a).total_cmp(&key(b)));
+    let m = key(set[half]);
+    let (lower, upper) = set.split_at_mut(half);
+    let below = partition(lower, |v| key(v).total_cmp(&m).is_lt());
+    let equal_up = partition(upper, |v| key(v).total_cmp(&m).is_eq());
+    [below, half + equal_up]
+        .into_iter()
+        .filter(|&k| k > 0 && k < set.len())
+        .min_by_key(|&k| k.abs_diff(half))
+        .unwrap_or(half)
 }
 
 /// Moves the entries satisfying `pred` to the front of `items` (in no particular order) and
