@@ -127,25 +127,7 @@ impl JunctionContext<'_, '_> {
         let end_a = self.segments[a].end() % n;
         let start_b = self.segments[b].start;
         if end_a == start_b {
-            let smooth = p.smooth_join_deg.to_radians();
-            if can_join && tau.abs() < smooth {
-                return Junction::Concatenate {
-                    quality: 1.0 - tau.abs() / smooth,
-                };
-            }
-            if tau <= 0.0 {
-                return Junction::Corner(Corner::none(tau));
-            }
-            let q = r.outer_2d[end_a];
-            return Junction::Corner(Corner {
-                kind: CornerKind::Real,
-                position: Some(r.loop_point(end_a)),
-                position_2d: Some(q),
-                strength: tau.sin().max(0.0),
-                turning: tau,
-                distance: 0.0,
-                extension_from: None,
-            });
+            return self.at_shared_vertex(end_a, tau, can_join);
         }
         let (pa, pb) = (r.outer_2d[end_a], r.outer_2d[start_b]);
         let chord = pb - pa;
@@ -163,6 +145,46 @@ impl JunctionContext<'_, '_> {
         if tau <= 0.0 {
             return Junction::Corner(Corner::none(tau));
         }
+        self.virtual_corner((a, end_a), (b, start_b), tau)
+    }
+
+    /// Labels that share the loop vertex `v` and turn by `tau` there: concatenated when
+    /// `can_join` and smooth, a real corner at a convex turn, no corner at a concave one.
+    fn at_shared_vertex(&self, v: usize, tau: f64, can_join: bool) -> Junction {
+        let smooth = self.params.smooth_join_deg.to_radians();
+        if can_join && tau.abs() < smooth {
+            return Junction::Concatenate {
+                quality: 1.0 - tau.abs() / smooth,
+            };
+        }
+        if tau <= 0.0 {
+            return Junction::Corner(Corner::none(tau));
+        }
+        Junction::Corner(Corner {
+            kind: CornerKind::Real,
+            position: Some(self.region.loop_point(v)),
+            position_2d: Some(self.region.outer_2d[v]),
+            strength: tau.sin().max(0.0),
+            turning: tau,
+            distance: 0.0,
+            extension_from: None,
+        })
+    }
+
+    /// Where the extensions of segment `a` beyond its end (loop position `end_a`) and of `b`
+    /// before its start (`start_b`), turning by `tau` > 0, meet: a virtual corner, or no corner
+    /// when they do not meet ahead or meet too far from the region.
+    fn virtual_corner(
+        &self,
+        (a, end_a): (usize, usize),
+        (b, start_b): (usize, usize),
+        tau: f64,
+    ) -> Junction {
+        let (r, p) = (self.region, self.params);
+        let (sa, sb) = (&self.shapes[a], &self.shapes[b]);
+        let (ta, tb) = (sa.end_tangent, sb.start_tangent);
+        let (pa, pb) = (r.outer_2d[end_a], r.outer_2d[start_b]);
+        let chord = pb - pa;
         let det = ta.perp(&tb);
         if det.abs() < PARALLEL_SIN {
             return Junction::Corner(Corner::none(tau));

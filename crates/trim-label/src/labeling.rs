@@ -16,7 +16,7 @@ use crate::candidates::{SegmentShape, classify};
 use crate::error::Result;
 use crate::junction::{CornerKind, Junction, JunctionContext};
 use crate::params::LabelParams;
-use crate::reduce::{Configuration, Operation, reduce};
+use crate::reduce::{Configuration, Operation, Step, reduce};
 use crate::region::{Point2, Region};
 use crate::segments::{Segmentation, auto_segments, given_segments};
 
@@ -270,70 +270,9 @@ pub fn label_segmentation(
             seg.input_index(b)
         ));
     }
-    let strong = params.strong_strength;
     let (config, steps) = reduce(config, &ctx);
     for (round, step) in steps.iter().enumerate() {
-        let round = round + 1;
-        let before = &step.before;
-        let l = before.len();
-        let junctions = before.junctions(&ctx);
-        let c = Configuration::corner_count(&junctions);
-        let summary: Vec<String> = (0..l)
-            .map(|k| {
-                format!(
-                    "{} → {}: {}",
-                    names(seg, &before.labels[k]),
-                    names(seg, &before.labels[(k + 1) % l]),
-                    describe(&junctions[k], strong)
-                )
-            })
-            .collect();
-        log.push(format!(
-            "round {round}: {l} labels, {c} corners: not admissible [{}]",
-            summary.join("; ")
-        ));
-        let mut after = before.clone();
-        after.apply(step.op);
-        let (text, at) = match step.op {
-            Operation::KillCorner(j) => (
-                format!(
-                    "kill the weak corner {} → {} (concatenate)",
-                    names(seg, &before.labels[j]),
-                    names(seg, &before.labels[(j + 1) % l])
-                ),
-                None,
-            ),
-            Operation::RemoveLabel(k) => (
-                format!("remove label {}", names(seg, &before.labels[k])),
-                Some((k + l - 1) % l),
-            ),
-            Operation::RemovePair(k) => (
-                format!(
-                    "remove labels {} and {}",
-                    names(seg, &before.labels[k]),
-                    names(seg, &before.labels[(k + 1) % l])
-                ),
-                Some((k + l - 1) % l),
-            ),
-        };
-        let left = at
-            .and_then(|prev| {
-                let prev_label = &before.labels[prev];
-                let idx = after.labels.iter().position(|x| x == prev_label)?;
-                Some(format!(
-                    ", leaving {}",
-                    describe(&after.junction(&ctx, idx), strong)
-                ))
-            })
-            .unwrap_or_default();
-        log.push(format!("round {round}: {text}{left}"));
-        for (a, b) in after.merge_concatenations(&ctx) {
-            log.push(format!(
-                "round {round}: segments {} and {} concatenated",
-                seg.input_index(a),
-                seg.input_index(b)
-            ));
-        }
+        log_round(round + 1, step, seg, &ctx, &mut log);
     }
     log.push(format!(
         "{} labels, {} corners: admissible",
@@ -343,6 +282,90 @@ pub fn label_segmentation(
     finish(region, seg, &ctx, &config, &exclusions, log)
 }
 
+/// Logs reduction round `round`: the junctions of the configuration before it, the operation
+/// with the junction it leaves, and the concatenations that follow.
+fn log_round(
+    round: usize,
+    step: &Step,
+    seg: &Segmentation,
+    ctx: &JunctionContext<'_, '_>,
+    log: &mut Vec<String>,
+) {
+    let strong = ctx.params.strong_strength;
+    let before = &step.before;
+    let l = before.len();
+    let junctions = before.junctions(ctx);
+    let c = Configuration::corner_count(&junctions);
+    let summary: Vec<String> = (0..l)
+        .map(|k| {
+            format!(
+                "{} → {}: {}",
+                names(seg, &before.labels[k]),
+                names(seg, &before.labels[(k + 1) % l]),
+                describe(&junctions[k], strong)
+            )
+        })
+        .collect();
+    log.push(format!(
+        "round {round}: {l} labels, {c} corners: not admissible [{}]",
+        summary.join("; ")
+    ));
+    let mut after = before.clone();
+    after.apply(step.op);
+    let (text, at) = describe_operation(step.op, before, seg);
+    let left = at
+        .and_then(|prev| {
+            let prev_label = &before.labels[prev];
+            let idx = after.labels.iter().position(|x| x == prev_label)?;
+            Some(format!(
+                ", leaving {}",
+                describe(&after.junction(ctx, idx), strong)
+            ))
+        })
+        .unwrap_or_default();
+    log.push(format!("round {round}: {text}{left}"));
+    for (a, b) in after.merge_concatenations(ctx) {
+        log.push(format!(
+            "round {round}: segments {} and {} concatenated",
+            seg.input_index(a),
+            seg.input_index(b)
+        ));
+    }
+}
+
+/// The text of operation `op` on `before`, and the label before the removed ones (whose
+/// junction the removal changes).
+fn describe_operation(
+    op: Operation,
+    before: &Configuration,
+    seg: &Segmentation,
+) -> (String, Option<usize>) {
+    let l = before.len();
+    match op {
+        Operation::KillCorner(j) => (
+            format!(
+                "kill the weak corner {} → {} (concatenate)",
+                names(seg, &before.labels[j]),
+                names(seg, &before.labels[(j + 1) % l])
+            ),
+            None,
+        ),
+        Operation::RemoveLabel(k) => (
+            format!("remove label {}", names(seg, &before.labels[k])),
+            Some((k + l - 1) % l),
+        ),
+        Operation::RemovePair(k) => (
+            format!(
+                "remove labels {} and {}",
+                names(seg, &before.labels[k]),
+                names(seg, &before.labels[(k + 1) % l])
+            ),
+            Some((k + l - 1) % l),
+        ),
+    }
+}
+
+/// The [`Labeling`] of the admissible `config`: sides assigned as the module docs say.
 fn finish(
     region: &Region<'_>,
     seg: &Segmentation,
@@ -353,32 +376,8 @@ fn finish(
 ) -> Labeling {
     let l = config.len();
     let junctions = config.junctions(ctx);
-    let is_corner = |j: &Junction| matches!(j, Junction::Corner(c) if c.is_corner());
     let c = junctions.iter().filter(|j| is_corner(j)).count();
-    let lengths: Vec<f64> = (0..l).map(|k| config.length(ctx, k)).collect();
-    let longest = (0..l)
-        .max_by(|&a, &b| lengths[a].total_cmp(&lengths[b]).then(b.cmp(&a)))
-        .unwrap_or(0);
-    let mut side = vec![Label::Unlabeled; l];
-    let mut put = |first: usize, sides: &[Label]| {
-        for (i, s) in sides.iter().enumerate() {
-            side[(first + i) % l] = *s;
-        }
-    };
-    match (l, c) {
-        (1, _) => put(0, &[Label::South]),
-        (2, 0) => put(longest, &[Label::South, Label::North]),
-        (2, _) => {
-            let k = junctions.iter().position(is_corner).unwrap_or(0);
-            put(k, &[Label::South, Label::East]);
-        }
-        (3, _) => {
-            let j = junctions.iter().position(|j| !is_corner(j)).unwrap_or(0);
-            put(j + 1, &[Label::South, Label::East, Label::North]);
-        }
-        (4, _) => put(longest, &Label::SIDES),
-        _ => {}
-    }
+    let side = assign_sides(ctx, config, &junctions, c);
     let n = region.loop_len();
     let mut labels_internal = vec![Label::Unlabeled; seg.segments.len()];
     for (k, ids) in config.labels.iter().enumerate() {
@@ -399,33 +398,7 @@ fn finish(
             excluded: exclusions[k].map(|e| e.to_string()),
         });
     }
-    let corners = (0..l)
-        .map(|k| {
-            let a = *config.labels[k].last().expect("non-empty");
-            let b = config.labels[(k + 1) % l][0];
-            let between = [seg.input_index(a), seg.input_index(b)];
-            match &junctions[k] {
-                Junction::Corner(cn) => LabeledCorner {
-                    between,
-                    kind: cn.kind,
-                    position: cn.position,
-                    strength: cn.strength,
-                    turning: cn.turning,
-                    position_2d: cn.position_2d,
-                    extension_from: cn.extension_from,
-                },
-                Junction::Concatenate { .. } => LabeledCorner {
-                    between,
-                    kind: CornerKind::None,
-                    position: None,
-                    strength: 0.0,
-                    turning: 0.0,
-                    position_2d: None,
-                    extension_from: None,
-                },
-            }
-        })
-        .collect();
+    let corners = labeled_corners(seg, config, &junctions);
     let assigned: Vec<String> = (0..l)
         .map(|k| format!("{} = {}", names(seg, &config.labels[k]), side[k].name()))
         .collect();
@@ -453,4 +426,81 @@ fn finish(
         log,
         outer_loop: region.outer.clone(),
     }
+}
+
+/// Whether junction `j` is a (real or virtual) corner.
+fn is_corner(j: &Junction) -> bool {
+    matches!(j, Junction::Corner(c) if c.is_corner())
+}
+
+/// The side of each label of `config` (with `junctions`, `c` of them corners), as the module
+/// docs say.
+fn assign_sides(
+    ctx: &JunctionContext<'_, '_>,
+    config: &Configuration,
+    junctions: &[Junction],
+    c: usize,
+) -> Vec<Label> {
+    let l = config.len();
+    let lengths: Vec<f64> = (0..l).map(|k| config.length(ctx, k)).collect();
+    let longest = (0..l)
+        .max_by(|&a, &b| lengths[a].total_cmp(&lengths[b]).then(b.cmp(&a)))
+        .unwrap_or(0);
+    let mut side = vec![Label::Unlabeled; l];
+    let mut put = |first: usize, sides: &[Label]| {
+        for (i, s) in sides.iter().enumerate() {
+            side[(first + i) % l] = *s;
+        }
+    };
+    match (l, c) {
+        (1, _) => put(0, &[Label::South]),
+        (2, 0) => put(longest, &[Label::South, Label::North]),
+        (2, _) => {
+            let k = junctions.iter().position(is_corner).unwrap_or(0);
+            put(k, &[Label::South, Label::East]);
+        }
+        (3, _) => {
+            let j = junctions.iter().position(|j| !is_corner(j)).unwrap_or(0);
+            put(j + 1, &[Label::South, Label::East, Label::North]);
+        }
+        (4, _) => put(longest, &Label::SIDES),
+        _ => {}
+    }
+    side
+}
+
+/// The corner between each label of `config` and the next, from `junctions`.
+fn labeled_corners(
+    seg: &Segmentation,
+    config: &Configuration,
+    junctions: &[Junction],
+) -> Vec<LabeledCorner> {
+    let l = config.len();
+    (0..l)
+        .map(|k| {
+            let a = *config.labels[k].last().expect("non-empty");
+            let b = config.labels[(k + 1) % l][0];
+            let between = [seg.input_index(a), seg.input_index(b)];
+            match &junctions[k] {
+                Junction::Corner(cn) => LabeledCorner {
+                    between,
+                    kind: cn.kind,
+                    position: cn.position,
+                    strength: cn.strength,
+                    turning: cn.turning,
+                    position_2d: cn.position_2d,
+                    extension_from: cn.extension_from,
+                },
+                Junction::Concatenate { .. } => LabeledCorner {
+                    between,
+                    kind: CornerKind::None,
+                    position: None,
+                    strength: 0.0,
+                    turning: 0.0,
+                    position_2d: None,
+                    extension_from: None,
+                },
+            }
+        })
+        .collect()
 }

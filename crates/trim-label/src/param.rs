@@ -43,6 +43,7 @@ pub struct Parameterization {
     pub aspect: f64,
 }
 
+/// A coordinate of a vertex: unknown number i or a fixed value.
 #[derive(Clone, Copy, PartialEq)]
 enum Slot {
     Free(usize),
@@ -58,25 +59,68 @@ pub fn parameterize(mesh: &TriMesh, labeling: &Labeling) -> Result<Parameterizat
             used[v] = true;
         }
     }
-    let has = |side: Label| labeling.segments.iter().any(|s| s.label == side);
-    let (s, e, n, w) = (
-        has(Label::South),
-        has(Label::East),
-        has(Label::North),
-        has(Label::West),
-    );
+    let sides = Sides::of(labeling);
     // slot 2·v = u of vertex v, 2·v + 1 = v of vertex v; unknown V (if any) comes last
+    let (mut slot, pinned) = label_slots(labeling, sides, nv);
+    pin_gauge(labeling, sides, &mut slot, pinned)?;
+    let (map, count, shared) = number_slots(&slot, &used, sides.big_v());
+    let x = solve_conformal(mesh, &map, count)?;
+    let value = |sl: Slot| match sl {
+        Slot::Free(i) => x[(i, 0)],
+        Slot::Fixed(c) => c,
+    };
+    let raw: Vec<(f64, f64)> = (0..nv)
+        .map(|v| {
+            if used[v] {
+                (value(map[2 * v]), value(map[2 * v + 1]))
+            } else {
+                (f64::NAN, f64::NAN)
+            }
+        })
+        .collect();
+    scale_to_square(&raw, sides, shared.map(|i| x[(i, 0)]))
+}
+
+/// Which sides have a label.
+#[derive(Clone, Copy)]
+struct Sides {
+    s: bool,
+    e: bool,
+    n: bool,
+    w: bool,
+}
+
+impl Sides {
+    /// The labeled sides of `labeling`.
+    fn of(labeling: &Labeling) -> Self {
+        let has = |side: Label| labeling.segments.iter().any(|s| s.label == side);
+        Self {
+            s: has(Label::South),
+            e: has(Label::East),
+            n: has(Label::North),
+            w: has(Label::West),
+        }
+    }
+
+    /// Whether all four are labeled: North is then at v = V, one more unknown.
+    fn big_v(&self) -> bool {
+        self.w && self.e && self.s && self.n
+    }
+}
+
+/// The slots the labels constrain (see the module docs; the shared V as `Free(usize::MAX)`),
+/// and whether some label fixes u and v.
+fn label_slots(labeling: &Labeling, sides: Sides, nv: usize) -> (Vec<Option<Slot>>, (bool, bool)) {
     let mut slot: Vec<Option<Slot>> = vec![None; 2 * nv];
-    let mut pinned_u = false;
-    let mut pinned_v = false;
-    let big_v = w && e && s && n;
+    let (mut pinned_u, mut pinned_v) = (false, false);
+    let big_v = sides.big_v();
     for seg in &labeling.segments {
         let (coord, value) = match seg.label {
             Label::South => (1, Some(0.0)),
             Label::North if big_v => (1, None),
-            Label::North => (1, Some(if s { 1.0 } else { 0.0 })),
+            Label::North => (1, Some(if sides.s { 1.0 } else { 0.0 })),
             Label::West => (0, Some(0.0)),
-            Label::East => (0, Some(if w { 1.0 } else { 0.0 })),
+            Label::East => (0, Some(if sides.w { 1.0 } else { 0.0 })),
             Label::Unlabeled => continue,
         };
         for &v in &seg.loop_vertices {
@@ -91,6 +135,17 @@ pub fn parameterize(mesh: &TriMesh, labeling: &Labeling) -> Result<Parameterizat
             }
         }
     }
+    (slot, (pinned_u, pinned_v))
+}
+
+/// The gauge pins of the module docs: where no label sets the scale, pins along South (or two
+/// pins on the outer loop), then a pin for each coordinate no constraint fixes yet.
+fn pin_gauge(
+    labeling: &Labeling,
+    sides: Sides,
+    slot: &mut [Option<Slot>],
+    (mut pinned_u, mut pinned_v): (bool, bool),
+) -> Result<()> {
     let chain = |side: Label| -> Option<Vec<usize>> {
         let (_, segs) = labeling.chains.iter().find(|(l, _)| *l == side)?;
         Some(
@@ -100,15 +155,14 @@ pub fn parameterize(mesh: &TriMesh, labeling: &Labeling) -> Result<Parameterizat
         )
     };
     let outer = &labeling.outer_loop;
-    let scaled = (w && e) || (s && n);
+    let scaled = (sides.w && sides.e) || (sides.s && sides.n);
     if !scaled {
         if let Some(south) = chain(Label::South) {
             // (1, 0) or (2, 1): pin along South
-            let last_south = &south;
             let a = south[0];
-            let b = *last_south.last().unwrap_or(&a);
-            if e {
-                let free = last_south
+            let b = *south.last().unwrap_or(&a);
+            if sides.e {
+                let free = south
                     .iter()
                     .copied()
                     .find(|&v| slot[2 * v].is_none())
@@ -140,7 +194,17 @@ pub fn parameterize(mesh: &TriMesh, labeling: &Labeling) -> Result<Parameterizat
         let a = outer[0];
         slot[2 * a + 1] = Some(Slot::Fixed(0.0));
     }
-    // number the free slots
+    Ok(())
+}
+
+/// Numbers the unknowns: the shared V first (when `big_v`), then every unconstrained slot of
+/// the `used` vertices; returns each slot's value or unknown, the unknowns' count and V's
+/// index.
+fn number_slots(
+    slot: &[Option<Slot>],
+    used: &[bool],
+    big_v: bool,
+) -> (Vec<Slot>, usize, Option<usize>) {
     let mut count = 0usize;
     let shared = if big_v {
         count += 1;
@@ -148,8 +212,8 @@ pub fn parameterize(mesh: &TriMesh, labeling: &Labeling) -> Result<Parameterizat
     } else {
         None
     };
-    let mut map = vec![Slot::Fixed(f64::NAN); 2 * nv];
-    for v in 0..nv {
+    let mut map = vec![Slot::Fixed(f64::NAN); slot.len()];
+    for v in 0..used.len() {
         if !used[v] {
             continue;
         }
@@ -164,6 +228,12 @@ pub fn parameterize(mesh: &TriMesh, labeling: &Labeling) -> Result<Parameterizat
             };
         }
     }
+    (map, count, shared)
+}
+
+/// Minimizes the conformal energy E_D(u) + E_D(v) − A(u, v) over the `count` unknowns of
+/// `map` by a sparse Cholesky solve.
+fn solve_conformal(mesh: &TriMesh, map: &[Slot], count: usize) -> Result<DMatrix<f64>> {
     let mut triplets: Vec<(usize, usize, f64)> = Vec::with_capacity(mesh.faces.len() * 36);
     let mut rhs = DMatrix::<f64>::zeros(count, 1);
     let mut add = |a: usize, b: usize, h: f64| match (map[a], map[b]) {
@@ -195,20 +265,17 @@ pub fn parameterize(mesh: &TriMesh, labeling: &Labeling) -> Result<Parameterizat
         }
     }
     let matrix = SparseSpd::from_triplets(count, &triplets)?;
-    let x = matrix.solve(&rhs, SpdSolver::DEFAULT)?;
-    let value = |sl: Slot| match sl {
-        Slot::Free(i) => x[(i, 0)],
-        Slot::Fixed(c) => c,
-    };
-    let raw: Vec<(f64, f64)> = (0..nv)
-        .map(|v| {
-            if used[v] {
-                (value(map[2 * v]), value(map[2 * v + 1]))
-            } else {
-                (f64::NAN, f64::NAN)
-            }
-        })
-        .collect();
+    Ok(matrix.solve(&rhs, SpdSolver::DEFAULT)?)
+}
+
+/// Scales the `raw` parameters per axis to [0, 1]²: a labeled side keeps its value (North the
+/// solved V, `big_v_value`, when all four are labeled), an unlabeled one is the extreme of the
+/// parameters; parameters beyond are clamped and counted.
+fn scale_to_square(
+    raw: &[(f64, f64)],
+    sides: Sides,
+    big_v_value: Option<f64>,
+) -> Result<Parameterization> {
     let finite = raw.iter().filter(|p| p.0.is_finite());
     let (mut umin, mut umax, mut vmin, mut vmax) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
     for p in finite {
@@ -217,18 +284,17 @@ pub fn parameterize(mesh: &TriMesh, labeling: &Labeling) -> Result<Parameterizat
         vmin = vmin.min(p.1);
         vmax = vmax.max(p.1);
     }
-    let big_v_value = shared.map(|i| x[(i, 0)]);
-    if w {
+    if sides.w {
         umin = 0.0;
     }
-    if e {
-        umax = if w { 1.0 } else { 0.0 };
+    if sides.e {
+        umax = if sides.w { 1.0 } else { 0.0 };
     }
-    if s {
+    if sides.s {
         vmin = 0.0;
     }
-    if n {
-        vmax = big_v_value.unwrap_or(if s { 1.0 } else { 0.0 });
+    if sides.n {
+        vmax = big_v_value.unwrap_or(if sides.s { 1.0 } else { 0.0 });
     }
     let (du, dv) = (umax - umin, vmax - vmin);
     if !(du > 0.0 && dv > 0.0 && du.is_finite() && dv.is_finite()) {

@@ -111,135 +111,20 @@ impl<'a> Region<'a> {
     /// [`LabelError::NonOrientable`], [`LabelError::NonManifoldVertex`],
     /// [`LabelError::NoBoundary`], [`LabelError::Disconnected`], [`LabelError::EmptyMesh`].
     pub fn new(mesh: &'a TriMesh) -> Result<Self> {
-        if mesh.faces.is_empty() {
-            return Err(LabelError::EmptyMesh);
-        }
+        let used = used_vertices(mesh)?;
         let nv = mesh.positions.len();
-        if let Some(vertex) = mesh
-            .positions
-            .iter()
-            .position(|p| !p.coords.iter().all(|c| c.is_finite()))
-        {
-            return Err(LabelError::NonFiniteVertex { vertex });
-        }
-        let mut used = vec![false; nv];
-        for (face, f) in mesh.faces.iter().enumerate() {
-            for &vertex in f {
-                if vertex >= nv {
-                    return Err(LabelError::FaceIndexOutOfRange {
-                        face,
-                        vertex,
-                        count: nv,
-                    });
-                }
-                used[vertex] = true;
-            }
-        }
         let (mut lo, mut hi) = (Vector3::repeat(f64::MAX), Vector3::repeat(f64::MIN));
         for (p, _) in mesh.positions.iter().zip(&used).filter(|(_, u)| **u) {
             lo = lo.inf(&p.coords);
             hi = hi.sup(&p.coords);
         }
         let size = (hi - lo).norm();
-        let threshold = DEGENERATE_AREA_REL * size * size;
-        for (face, f) in mesh.faces.iter().enumerate() {
-            let area = if f[0] == f[1] || f[1] == f[2] || f[0] == f[2] {
-                0.0
-            } else {
-                0.5 * mesh.face_normal_area(f).norm()
-            };
-            if !(area > threshold) {
-                return Err(LabelError::DegenerateTriangle {
-                    face,
-                    area,
-                    threshold,
-                });
-            }
-        }
-        // edges: undirected use count and directed duplicates
-        let mut undirected: HashMap<(usize, usize), usize> = HashMap::new();
-        let mut directed: HashMap<(usize, usize), usize> = HashMap::new();
-        for f in &mesh.faces {
-            for k in 0..3 {
-                let (a, b) = (f[k], f[(k + 1) % 3]);
-                *undirected.entry((a.min(b), a.max(b))).or_default() += 1;
-                *directed.entry((a, b)).or_default() += 1;
-            }
-        }
-        let mut bad: Vec<_> = undirected.iter().filter(|(_, c)| **c > 2).collect();
-        bad.sort();
-        if let Some(&(&(a, b), &faces)) = bad.first() {
-            return Err(LabelError::NonManifoldEdge { a, b, faces });
-        }
-        let mut twice: Vec<_> = directed.iter().filter(|(_, c)| **c > 1).collect();
-        twice.sort();
-        if let Some(&(&(a, b), _)) = twice.first() {
-            return Err(LabelError::NonOrientable { a, b });
-        }
-        let mut out_degree = vec![0usize; nv];
-        for &(a, b) in directed.keys() {
-            if !directed.contains_key(&(b, a)) {
-                out_degree[a] += 1;
-            }
-        }
-        if let Some(vertex) = out_degree.iter().position(|&d| d > 1) {
-            return Err(LabelError::NonManifoldVertex {
-                vertex,
-                boundary_edges: out_degree[vertex],
-            });
-        }
-        if out_degree.iter().all(|&d| d == 0) {
-            return Err(LabelError::NoBoundary);
-        }
-        let mut parent: Vec<usize> = (0..nv).collect();
-        for f in &mesh.faces {
-            let r0 = find(&mut parent, f[0]);
-            for &v in &f[1..] {
-                let r = find(&mut parent, v);
-                parent[r] = r0;
-            }
-        }
-        let mut roots: Vec<usize> = (0..nv)
-            .filter(|&v| used[v])
-            .map(|v| find(&mut parent, v))
-            .collect();
-        roots.sort_unstable();
-        roots.dedup();
-        if roots.len() > 1 {
-            return Err(LabelError::Disconnected {
-                components: roots.len(),
-            });
-        }
+        check_face_areas(mesh, DEGENERATE_AREA_REL * size * size)?;
+        check_manifold(mesh)?;
+        check_connected(mesh, &used)?;
         let frame = best_fit_plane(mesh, &used);
-        let mut loops = mesh.boundary_loops();
-        let areas: Vec<f64> = loops
-            .iter()
-            .map(|l| {
-                let poly: Vec<Point2> = l
-                    .iter()
-                    .map(|&v| frame.project(&mesh.positions[v]))
-                    .collect();
-                signed_area(&poly).abs()
-            })
-            .collect();
-        let best = (0..loops.len())
-            .max_by(|&a, &b| areas[a].total_cmp(&areas[b]).then(b.cmp(&a)))
-            .ok_or(LabelError::NoBoundary)?;
-        let outer = loops.swap_remove(best);
-        let holes = loops;
-        let mut angle_sum = vec![0.0; nv];
-        for f in &mesh.faces {
-            for k in 0..3 {
-                let p = mesh.positions[f[k]];
-                let a = mesh.positions[f[(k + 1) % 3]] - p;
-                let b = mesh.positions[f[(k + 2) % 3]] - p;
-                angle_sum[f[k]] += a.angle(&b);
-            }
-        }
-        let turning: Vec<f64> = outer
-            .iter()
-            .map(|&v| std::f64::consts::PI - angle_sum[v])
-            .collect();
+        let (outer, holes) = outer_loop(mesh, &frame)?;
+        let turning = turning_angles(mesh, &outer);
         let outer_2d: Vec<Point2> = outer
             .iter()
             .map(|&v| frame.project(&mesh.positions[v]))
@@ -317,6 +202,158 @@ impl<'a> Region<'a> {
             })
             .fold(f64::INFINITY, f64::min)
     }
+}
+
+/// Which vertices a face uses; errors for an empty mesh, a non-finite vertex or a face index
+/// out of range.
+fn used_vertices(mesh: &TriMesh) -> Result<Vec<bool>> {
+    if mesh.faces.is_empty() {
+        return Err(LabelError::EmptyMesh);
+    }
+    let nv = mesh.positions.len();
+    if let Some(vertex) = mesh
+        .positions
+        .iter()
+        .position(|p| !p.coords.iter().all(|c| c.is_finite()))
+    {
+        return Err(LabelError::NonFiniteVertex { vertex });
+    }
+    let mut used = vec![false; nv];
+    for (face, f) in mesh.faces.iter().enumerate() {
+        for &vertex in f {
+            if vertex >= nv {
+                return Err(LabelError::FaceIndexOutOfRange {
+                    face,
+                    vertex,
+                    count: nv,
+                });
+            }
+            used[vertex] = true;
+        }
+    }
+    Ok(used)
+}
+
+/// The first face whose area is not above `threshold` (model units²) is an error.
+fn check_face_areas(mesh: &TriMesh, threshold: f64) -> Result<()> {
+    for (face, f) in mesh.faces.iter().enumerate() {
+        let area = if f[0] == f[1] || f[1] == f[2] || f[0] == f[2] {
+            0.0
+        } else {
+            0.5 * mesh.face_normal_area(f).norm()
+        };
+        if !(area > threshold) {
+            return Err(LabelError::DegenerateTriangle {
+                face,
+                area,
+                threshold,
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Errors for an edge of more than two faces, an edge used twice in one direction, a vertex
+/// with more than one outgoing boundary edge, or no boundary at all.
+fn check_manifold(mesh: &TriMesh) -> Result<()> {
+    // edges: undirected use count and directed duplicates
+    let mut undirected: HashMap<(usize, usize), usize> = HashMap::new();
+    let mut directed: HashMap<(usize, usize), usize> = HashMap::new();
+    for f in &mesh.faces {
+        for k in 0..3 {
+            let (a, b) = (f[k], f[(k + 1) % 3]);
+            *undirected.entry((a.min(b), a.max(b))).or_default() += 1;
+            *directed.entry((a, b)).or_default() += 1;
+        }
+    }
+    let mut bad: Vec<_> = undirected.iter().filter(|(_, c)| **c > 2).collect();
+    bad.sort();
+    if let Some(&(&(a, b), &faces)) = bad.first() {
+        return Err(LabelError::NonManifoldEdge { a, b, faces });
+    }
+    let mut twice: Vec<_> = directed.iter().filter(|(_, c)| **c > 1).collect();
+    twice.sort();
+    if let Some(&(&(a, b), _)) = twice.first() {
+        return Err(LabelError::NonOrientable { a, b });
+    }
+    let mut out_degree = vec![0usize; mesh.positions.len()];
+    for &(a, b) in directed.keys() {
+        if !directed.contains_key(&(b, a)) {
+            out_degree[a] += 1;
+        }
+    }
+    if let Some(vertex) = out_degree.iter().position(|&d| d > 1) {
+        return Err(LabelError::NonManifoldVertex {
+            vertex,
+            boundary_edges: out_degree[vertex],
+        });
+    }
+    if out_degree.iter().all(|&d| d == 0) {
+        return Err(LabelError::NoBoundary);
+    }
+    Ok(())
+}
+
+/// An error when the `used` vertices fall into more than one component through the faces.
+fn check_connected(mesh: &TriMesh, used: &[bool]) -> Result<()> {
+    let nv = mesh.positions.len();
+    let mut parent: Vec<usize> = (0..nv).collect();
+    for f in &mesh.faces {
+        let r0 = find(&mut parent, f[0]);
+        for &v in &f[1..] {
+            let r = find(&mut parent, v);
+            parent[r] = r0;
+        }
+    }
+    let mut roots: Vec<usize> = (0..nv)
+        .filter(|&v| used[v])
+        .map(|v| find(&mut parent, v))
+        .collect();
+    roots.sort_unstable();
+    roots.dedup();
+    if roots.len() > 1 {
+        return Err(LabelError::Disconnected {
+            components: roots.len(),
+        });
+    }
+    Ok(())
+}
+
+/// The boundary loop enclosing the largest area in the plane of `frame`, and the others.
+fn outer_loop(mesh: &TriMesh, frame: &PlaneFrame) -> Result<(Vec<usize>, Vec<Vec<usize>>)> {
+    let mut loops = mesh.boundary_loops();
+    let areas: Vec<f64> = loops
+        .iter()
+        .map(|l| {
+            let poly: Vec<Point2> = l
+                .iter()
+                .map(|&v| frame.project(&mesh.positions[v]))
+                .collect();
+            signed_area(&poly).abs()
+        })
+        .collect();
+    let best = (0..loops.len())
+        .max_by(|&a, &b| areas[a].total_cmp(&areas[b]).then(b.cmp(&a)))
+        .ok_or(LabelError::NoBoundary)?;
+    let outer = loops.swap_remove(best);
+    Ok((outer, loops))
+}
+
+/// The turning angle τ = π − α at every vertex of `outer`, α the sum of its faces' angles.
+fn turning_angles(mesh: &TriMesh, outer: &[usize]) -> Vec<f64> {
+    let mut angle_sum = vec![0.0; mesh.positions.len()];
+    for f in &mesh.faces {
+        for k in 0..3 {
+            let p = mesh.positions[f[k]];
+            let a = mesh.positions[f[(k + 1) % 3]] - p;
+            let b = mesh.positions[f[(k + 2) % 3]] - p;
+            angle_sum[f[k]] += a.angle(&b);
+        }
+    }
+    outer
+        .iter()
+        .map(|&v| std::f64::consts::PI - angle_sum[v])
+        .collect()
 }
 
 /// Principal axes of the used vertices; the normal is turned to agree with the faces.

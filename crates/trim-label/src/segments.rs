@@ -126,7 +126,39 @@ pub fn parse_segments_json(text: &str) -> Result<Vec<Vec<usize>>> {
 
 /// Checks given segments against the outer loop and orders them with the loop.
 pub fn given_segments(region: &Region<'_>, input: &[Vec<usize>]) -> Result<Segmentation> {
+    check_on_loop(region, input)?;
+    let reversed = input_orientation(region, input)?;
     let n = region.loop_len();
+    let pos = |v: usize| region.loop_position[v];
+    let count = input.len();
+    let mut segments: Vec<Segment> = (0..count)
+        .map(|k| {
+            let idx = if reversed { count - 1 - k } else { k };
+            let s = &input[idx];
+            let first = if reversed { s[s.len() - 1] } else { s[0] };
+            Segment {
+                vertices: s.clone(),
+                start: pos(first),
+                edges: s.len() - 1,
+            }
+        })
+        .collect();
+    chain_segments(region, &mut segments, reversed)?;
+    let total: usize = segments.iter().map(|s| s.edges).sum();
+    if total != n {
+        return Err(LabelError::SegmentsDoNotCoverLoop {
+            detail: format!("the segments cover {total} edges, but the outer loop has {n}"),
+        });
+    }
+    Ok(Segmentation {
+        segments,
+        reversed_input: reversed,
+    })
+}
+
+/// Errors unless some segments are given, each of at least two vertices, all on the outer
+/// loop.
+fn check_on_loop(region: &Region<'_>, input: &[Vec<usize>]) -> Result<()> {
     if input.is_empty() {
         return Err(LabelError::SegmentsDoNotCoverLoop {
             detail: "no segments given".into(),
@@ -146,6 +178,13 @@ pub fn given_segments(region: &Region<'_>, input: &[Vec<usize>]) -> Result<Segme
             return Err(LabelError::SegmentOffBoundary { segment, vertex });
         }
     }
+    Ok(())
+}
+
+/// Whether the segments run against the loop (their first edge says), checking that every
+/// edge of every segment is an edge of the loop in that direction.
+fn input_orientation(region: &Region<'_>, input: &[Vec<usize>]) -> Result<bool> {
+    let n = region.loop_len();
     let pos = |v: usize| region.loop_position[v];
     let (a, b) = (pos(input[0][0]), pos(input[0][1]));
     let reversed = if (a + 1) % n == b {
@@ -176,20 +215,14 @@ pub fn given_segments(region: &Region<'_>, input: &[Vec<usize>]) -> Result<Segme
             }
         }
     }
-    let count = input.len();
-    let mut segments: Vec<Segment> = (0..count)
-        .map(|k| {
-            let idx = if reversed { count - 1 - k } else { k };
-            let s = &input[idx];
-            let first = if reversed { s[s.len() - 1] } else { s[0] };
-            Segment {
-                vertices: s.clone(),
-                start: pos(first),
-                edges: s.len() - 1,
-            }
-        })
-        .collect();
-    // chain: shared end vertex, or the next one starts one edge further (partition style)
+    Ok(reversed)
+}
+
+/// Chains the loop-ordered `segments`: each ends where the next starts, or one edge before
+/// (partition style: the edge between goes to the first); an error names a gap or overlap in
+/// the caller's numbering.
+fn chain_segments(region: &Region<'_>, segments: &mut [Segment], reversed: bool) -> Result<()> {
+    let (n, count) = (region.loop_len(), segments.len());
     for k in 0..count {
         let next_start = segments[(k + 1) % count].start;
         let end = segments[k].end() % n;
@@ -208,16 +241,7 @@ pub fn given_segments(region: &Region<'_>, input: &[Vec<usize>]) -> Result<Segme
             });
         }
     }
-    let total: usize = segments.iter().map(|s| s.edges).sum();
-    if total != n {
-        return Err(LabelError::SegmentsDoNotCoverLoop {
-            detail: format!("the segments cover {total} edges, but the outer loop has {n}"),
-        });
-    }
-    Ok(Segmentation {
-        segments,
-        reversed_input: reversed,
-    })
+    Ok(())
 }
 
 /// Sums of τ over cyclic arc windows.
