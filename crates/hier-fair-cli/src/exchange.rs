@@ -9,7 +9,7 @@ use std::path::Path;
 
 use anyhow::{Context, Result, anyhow, bail};
 use hier_fair::Model;
-use nurbs_io::{IgesWriteParams, read_iges, write_iges};
+use nurbs_io::{IgesWriteParams, read_iges, write_iges_faces};
 
 use crate::files::{read_text, refuse_overwrite, write_atomic};
 
@@ -251,38 +251,50 @@ pub fn export(input: &Path, output: &Path) -> Result<String> {
         Model::from_json(&read_text(input)?).map_err(|e| anyhow!("{}: {e}", input.display()))?;
     let text = cad_text(&model, output).map_err(|e| anyhow!("{}: {e}", input.display()))?;
     write_atomic(output, text.as_bytes())?;
+    let trimmed = model.surfaces.iter().filter(|s| !s.trim.is_empty()).count();
     Ok(format!(
-        "exported {} surfaces ({}) to {}",
+        "exported {} surfaces ({}; {trimmed} bounded by their trim loops) to {}",
         model.surfaces.len(),
         if is_step(output) {
             "STEP AP214 B-spline faces"
         } else {
-            "IGES entity 128"
+            "IGES entity 128, trimmed surfaces 144 over them"
         },
         output.display()
     ))
 }
 
 /// The model as the text of the CAD file `output` names by its extension: STEP (`.step`,
-/// `.stp`: AP214, each surface a B-spline face bounded by its boundary curves) or IGES.
+/// `.stp`: AP214, each surface a B-spline face bounded by its trim loops, or by its boundary
+/// curves where it has none) or IGES.
 pub fn cad_text(model: &Model, output: &Path) -> Result<String> {
     if is_step(output) {
-        let surfaces: Vec<(&str, &nurbs_core::BSplineSurface)> = model
-            .surfaces
-            .iter()
-            .map(|s| (s.name.as_str(), &s.surface))
-            .collect();
         let name = output
             .file_name()
             .map_or_else(|| "model.step".into(), |n| n.to_string_lossy().into_owned());
-        nurbs_io::write_step(&surfaces, model.units.as_deref().unwrap_or("mm"), &name)
+        nurbs_io::write_step_faces(&faces(model), model.units.as_deref().unwrap_or("mm"), &name)
             .map_err(|e| anyhow!("{e}"))
     } else {
         iges_text(model, output)
     }
 }
 
-/// The surfaces of `model` as the text of an IGES 5.3 file named `output` (entity 128).
+/// The model's surfaces as faces to write, each with its trim loops (the writers put the loops
+/// on the surface that is written: a faired surface has moved by up to its deviation).
+fn faces(model: &Model) -> Vec<nurbs_io::Face<'_>> {
+    model
+        .surfaces
+        .iter()
+        .map(|s| nurbs_io::Face {
+            name: &s.name,
+            surface: &s.surface,
+            trim: &s.trim,
+        })
+        .collect()
+}
+
+/// The surfaces of `model` as the text of an IGES 5.3 file named `output` (entity 128, a
+/// trimmed surface 144 over it where the surface has trim loops).
 pub fn iges_text(model: &Model, output: &Path) -> Result<String> {
     let (unit_flag, units) = unit(model.units.as_deref());
     let params = IgesWriteParams {
@@ -294,12 +306,7 @@ pub fn iges_text(model: &Model, output: &Path) -> Result<String> {
         date: iges_date_now(),
         ..IgesWriteParams::default()
     };
-    let surfaces: Vec<(&str, &nurbs_core::BSplineSurface)> = model
-        .surfaces
-        .iter()
-        .map(|s| (s.name.as_str(), &s.surface))
-        .collect();
-    write_iges(&surfaces, &[], &params).map_err(|e| anyhow!("{e}"))
+    write_iges_faces(&faces(model), &[], &params).map_err(|e| anyhow!("{e}"))
 }
 
 #[cfg(test)]

@@ -21,7 +21,11 @@
 //!
 //! STEP (ISO 10303-21) faces are read by [`read_step`]: elementary and B-spline surfaces over
 //! their faces' parameter boxes (module [`step`]).
+//!
+//! Both writers bound a face by its trim loops where it has them ([`write_step_faces`],
+//! [`write_iges_faces`]; the loops made ready on the written surface by module [`bounds`]).
 
+pub mod bounds;
 pub mod error;
 pub mod offset;
 pub mod params;
@@ -30,8 +34,9 @@ pub mod step;
 pub mod structure;
 pub mod writer;
 
+pub use bounds::{Face, FaceBounds, face_bounds};
 pub use error::IgesError;
 pub use reader::{IgesCurve, IgesFile, IgesSurface, read_iges};
-pub use step::{StepError, StepFace, StepFile, read_step, write_step};
+pub use step::{StepError, StepFace, StepFile, read_step, write_step, write_step_faces};
 pub use structure::{StructureReport, check_structure};
-pub use writer::{IgesWriteParams, write_iges};
+pub use writer::{IgesWriteParams, write_iges, write_iges_faces};

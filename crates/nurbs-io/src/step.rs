@@ -23,6 +23,8 @@ use std::collections::HashMap;
 
 use nurbs_core::{BSplineCurve, BSplineSurface, KnotVector, Point3, ProjectionParams, Vector3};
 
+use crate::bounds::Face;
+
 /// A boundary point whose Newton foot from the previous point's lies within this fraction of
 /// the surface size is on the surface there (a face's edges lie on it to the kernel's
 /// tolerance, 1e-7 of a part; the foot of a point on a surface is that point): the full search
@@ -1124,23 +1126,42 @@ fn units(m: &Model, ids: &[u64]) -> String {
     "mm".to_string()
 }
 
-/// Writes named surfaces as an AP214 STEP file: each surface a face (ADVANCED_FACE) of its
-/// B_SPLINE_SURFACE_WITH_KNOTS (the complex rational instance where it has weights), bounded by
-/// its four boundary curves (exact isocurves, a collapsed side a vertex loop), the faces in one
-/// open shell of a SHELL_BASED_SURFACE_MODEL, with the product structure a CAD system needs to
-/// open it. `units` is the length unit ("mm", "m", "in", …); `name` the file's name in the header.
+/// Writes named surfaces as an AP214 STEP file, each a face bounded by its parameter box: as
+/// [`write_step_faces`] with no trim.
 pub fn write_step(
     surfaces: &[(&str, &BSplineSurface)],
     units: &str,
     name: &str,
 ) -> Result<String, nurbs_core::Error> {
+    let faces: Vec<Face<'_>> = surfaces
+        .iter()
+        .map(|(label, s)| Face::untrimmed(label, s))
+        .collect();
+    write_step_faces(&faces, units, name)
+}
+
+/// Writes faces as an AP214 STEP file: each face (ADVANCED_FACE) of its
+/// B_SPLINE_SURFACE_WITH_KNOTS (the complex rational instance where it has weights), bounded by
+/// its trim loops where it has them — the outer loop a FACE_OUTER_BOUND, the others FACE_BOUNDs,
+/// each EDGE_LOOP of ORIENTED_EDGEs of EDGE_CURVEs between VERTEX_POINTs, every edge a degree-1
+/// B_SPLINE_CURVE_WITH_KNOTS through its points on the surface ([`crate::bounds::face_bounds`]:
+/// the points moved to their feet on the surface, split at the loop's corners, a seam one edge
+/// used both ways) — and otherwise by its four boundary curves (exact isocurves, a collapsed side
+/// a vertex loop), the faces in one open shell of a SHELL_BASED_SURFACE_MODEL, with the product
+/// structure a CAD system needs to open it. `units` is the length unit ("mm", "m", "in", …);
+/// `name` the file's name in the header.
+pub fn write_step_faces(
+    faces: &[Face<'_>],
+    units: &str,
+    name: &str,
+) -> Result<String, nurbs_core::Error> {
     use std::fmt::Write as _;
     let mut w = StepWriter::default();
-    let mut faces = Vec::new();
-    for (label, s) in surfaces {
-        faces.push(w.face(label, s)?);
+    let mut ids = Vec::new();
+    for f in faces {
+        ids.push(w.face(f)?);
     }
-    let shell = w.add(format!("OPEN_SHELL('',({}))", refs(&faces)));
+    let shell = w.add(format!("OPEN_SHELL('',({}))", refs(&ids)));
     let model = w.add(format!("SHELL_BASED_SURFACE_MODEL('',(#{shell}))"));
     let unit = match units {
         "m" => "( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT($,.METRE.) )".to_string(),
@@ -1287,7 +1308,24 @@ impl StepWriter {
             )),
         }
     }
-    fn face(&mut self, label: &str, s: &BSplineSurface) -> Result<usize, nurbs_core::Error> {
+    /// The face of `f`: its surface, bounded by its trim loops or else by its parameter box.
+    fn face(&mut self, f: &Face<'_>) -> Result<usize, nurbs_core::Error> {
+        let surface = self.surface(f.surface);
+        let bounds = crate::bounds::face_bounds(f.surface, f.trim);
+        let bounds = if bounds.loops.is_empty() {
+            vec![self.box_bound(f.surface)?]
+        } else {
+            self.trim_bounds(&bounds)?
+        };
+        Ok(self.add(format!(
+            "ADVANCED_FACE('{}',({}),#{surface},.T.)",
+            escape(f.name),
+            refs(&bounds)
+        )))
+    }
+
+    /// The surface entity of `s`.
+    fn surface(&mut self, s: &BSplineSurface) -> usize {
         let (nu, nv) = (s.num_u(), s.num_v());
         let mut rows = Vec::new();
         for i in 0..nu {
@@ -1299,7 +1337,7 @@ impl StepWriter {
         let (mu, ku) = Self::knots(s.knots_u());
         let (mv, kv) = Self::knots(s.knots_v());
         let (du, dv) = (s.degree_u(), s.degree_v());
-        let surface = match s.weights() {
+        match s.weights() {
             None => self.add(format!(
                 "B_SPLINE_SURFACE_WITH_KNOTS('',{du},{dv},({}),.UNSPECIFIED.,.F.,.F.,.F.,({mu}),({mv}),({ku}),({kv}),.UNSPECIFIED.)",
                 rows.join(",")
@@ -1322,7 +1360,11 @@ impl StepWriter {
                     wrows.join(",")
                 ))
             }
-        };
+        }
+    }
+
+    /// The outer bound of `s`'s parameter box: its four boundary curves.
+    fn box_bound(&mut self, s: &BSplineSurface) -> Result<usize, nurbs_core::Error> {
         // the boundary: u0 (v increasing), v1 (u increasing), u1 (v decreasing), v0 (u
         // decreasing): a loop around the face, the corners its vertices
         let (u0, u1) = s.domain_u();
@@ -1367,10 +1409,52 @@ impl StepWriter {
             )));
         }
         let lp = self.add(format!("EDGE_LOOP('',({}))", refs(&edges)));
-        let bound = self.add(format!("FACE_OUTER_BOUND('',#{lp},.T.)"));
-        Ok(self.add(format!(
-            "ADVANCED_FACE('{}',(#{bound}),#{surface},.T.)",
-            escape(label)
-        )))
+        Ok(self.add(format!("FACE_OUTER_BOUND('',#{lp},.T.)")))
+    }
+
+    /// The bounds of a face's trim loops: each edge a degree-1 B-spline curve through its points
+    /// (chord-length parameters on [0, 1]), each vertex once, the outer loop a FACE_OUTER_BOUND.
+    fn trim_bounds(
+        &mut self,
+        b: &crate::bounds::FaceBounds,
+    ) -> Result<Vec<usize>, nurbs_core::Error> {
+        let vertices: Vec<usize> = b
+            .vertices
+            .iter()
+            .map(|p| {
+                let pt = self.point(p);
+                self.add(format!("VERTEX_POINT('',#{pt})"))
+            })
+            .collect();
+        let mut edges = Vec::new();
+        for e in &b.edges {
+            let cid = self.curve(&crate::bounds::polyline(&e.points)?);
+            edges.push(self.add(format!(
+                "EDGE_CURVE('',#{},#{},#{cid},.T.)",
+                vertices[e.start], vertices[e.end]
+            )));
+        }
+        let mut out = Vec::new();
+        for l in &b.loops {
+            let oriented: Vec<usize> = l
+                .edges
+                .iter()
+                .map(|&(k, forward)| {
+                    self.add(format!(
+                        "ORIENTED_EDGE('',*,*,#{},{})",
+                        edges[k],
+                        if forward { ".T." } else { ".F." }
+                    ))
+                })
+                .collect();
+            let lp = self.add(format!("EDGE_LOOP('',({}))", refs(&oriented)));
+            let kind = if l.outer {
+                "FACE_OUTER_BOUND"
+            } else {
+                "FACE_BOUND"
+            };
+            out.push(self.add(format!("{kind}('',#{lp},.T.)")));
+        }
+        Ok(out)
     }
 }

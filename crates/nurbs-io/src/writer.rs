@@ -2,7 +2,9 @@
 //! in full double precision (shortest representation that reads back to the same bits), names in
 //! the directory entry labels (8 characters; longer names are cut and numbered by subscript).
 
-use nurbs_core::{BSplineCurve, BSplineSurface};
+use nurbs_core::{BSplineCurve, BSplineSurface, Point3};
+
+use crate::bounds::Face;
 
 use crate::error::IgesError;
 
@@ -112,7 +114,16 @@ struct Entity {
     params: Vec<String>,
     label: String,
     subscript: usize,
+    /// the directory status number (columns 65–72 of the first line): "00000000" for an
+    /// independent entity, "00010000" for one physically dependent on another (a 144's
+    /// surface and boundaries)
+    status: &'static str,
 }
+
+/// Status of an independent entity.
+const INDEPENDENT: &str = "00000000";
+/// Status of an entity physically dependent on its parent (a trimmed surface's parts).
+const DEPENDENT: &str = "00010000";
 
 fn surface_params(s: &BSplineSurface, what: &str) -> Result<Vec<String>, IgesError> {
     let (nu, nv) = (s.num_u(), s.num_v());
@@ -196,51 +207,168 @@ fn labels(names: &[&str]) -> Vec<(String, usize)> {
         .collect()
 }
 
-/// Writes surfaces (entity 128) and curves (entity 126) with their names as an IGES 5.3 file.
+/// Writes surfaces (entity 128) and curves (entity 126) with their names as an IGES 5.3 file:
+/// as [`write_iges_faces`] with no trim.
 pub fn write_iges(
     surfaces: &[(&str, &BSplineSurface)],
     curves: &[(&str, &BSplineCurve)],
     params: &IgesWriteParams,
 ) -> Result<String, IgesError> {
-    let names: Vec<&str> = surfaces
+    let faces: Vec<Face<'_>> = surfaces
         .iter()
-        .map(|s| s.0)
+        .map(|(name, s)| Face::untrimmed(name, s))
+        .collect();
+    write_iges_faces(&faces, curves, params)
+}
+
+/// Writes faces and curves (entity 126) with their names as an IGES 5.3 file. A face without
+/// trim is its surface (entity 128); a face with trim loops is a trimmed surface (144) over its
+/// 128 whose boundaries are curves on the surface (142, model space preferred), each loop's
+/// model-space curve a closed degree-1 126 through its points on the surface
+/// ([`crate::bounds::face_bounds`]: moved to their feet on the surface, turned, densified), the
+/// outer loop the outer boundary and the others inner boundaries.
+pub fn write_iges_faces(
+    faces: &[Face<'_>],
+    curves: &[(&str, &BSplineCurve)],
+    params: &IgesWriteParams,
+) -> Result<String, IgesError> {
+    let names: Vec<&str> = faces
+        .iter()
+        .map(|f| f.name)
         .chain(curves.iter().map(|c| c.0))
         .collect();
     let labels = labels(&names);
     let mut entities = Vec::new();
-    let mut max_coord: f64 = 0.0;
-    for (k, (name, s)) in surfaces.iter().enumerate() {
-        max_coord = s
-            .control_points()
-            .iter()
-            .flat_map(|p| [p.x.abs(), p.y.abs(), p.z.abs()])
-            .fold(max_coord, f64::max);
-        entities.push(Entity {
-            entity_type: 128,
-            params: surface_params(s, &format!("surface {name}"))?,
-            label: labels[k].0.clone(),
-            subscript: labels[k].1,
-        });
+    for (k, f) in faces.iter().enumerate() {
+        push_face(&mut entities, f, &labels[k])?;
     }
     for (k, (name, c)) in curves.iter().enumerate() {
-        max_coord = c
-            .control_points()
-            .iter()
-            .flat_map(|p| [p.x.abs(), p.y.abs(), p.z.abs()])
-            .fold(max_coord, f64::max);
-        let l = &labels[surfaces.len() + k];
+        let l = &labels[faces.len() + k];
         entities.push(Entity {
             entity_type: 126,
             params: curve_params(c, &format!("curve {name}"))?,
             label: l.0.clone(),
             subscript: l.1,
+            status: INDEPENDENT,
         });
     }
+    let max_coord = faces
+        .iter()
+        .flat_map(|f| f.surface.control_points())
+        .chain(curves.iter().flat_map(|c| c.1.control_points()))
+        .flat_map(|p| [p.x.abs(), p.y.abs(), p.z.abs()])
+        .fold(0.0, f64::max);
+    file_text(&entities, params, max_coord)
+}
+
+/// Pushes the entities of face `f` labelled `label`: its 128, and where it has trim loops, each
+/// loop's 126 and 142 and the 144 over them (every entity after those it points to).
+fn push_face(
+    entities: &mut Vec<Entity>,
+    f: &Face<'_>,
+    label: &(String, usize),
+) -> Result<(), IgesError> {
+    let what = format!("surface {}", f.name);
+    let bounds = crate::bounds::face_bounds(f.surface, f.trim);
+    let trimmed = !bounds.loops.is_empty();
+    entities.push(Entity {
+        entity_type: 128,
+        params: surface_params(f.surface, &what)?,
+        label: label.0.clone(),
+        subscript: label.1,
+        status: if trimmed { DEPENDENT } else { INDEPENDENT },
+    });
+    if !trimmed {
+        return Ok(());
+    }
+    // directory sequence number of the entity pushed next
+    let de = |entities: &Vec<Entity>| 2 * entities.len() + 1;
+    let surface = de(entities) - 2;
+    let mut boundaries = Vec::new();
+    for k in 0..bounds.loops.len() {
+        let mut pts = bounds.loop_points(k);
+        let mut uv: Vec<Point3> = crate::bounds::loop_params(f.surface, &pts)
+            .into_iter()
+            .map(|(u, v)| Point3::new(u, v, 0.0))
+            .collect();
+        pts.push(pts[0]);
+        uv.push(uv[0]);
+        let curve = |points: &[Point3]| {
+            crate::bounds::polyline(points).map_err(|source| IgesError::Write {
+                what: what.clone(),
+                detail: format!("trim loop {k}: {source}"),
+            })
+        };
+        let (model, parametric) = (curve(&pts)?, curve(&uv)?);
+        let c = de(entities);
+        entities.push(part(126, curve_params(&model, &what)?));
+        let b = de(entities);
+        entities.push(part(126, curve_params(&parametric, &what)?));
+        boundaries.push(de(entities));
+        // CRTN 0 (unspecified), the surface, the parameter-space curve, the model-space curve,
+        // PREF 1 (parameter space: the kernel need not project onto a closed surface's seam)
+        let p = [142, 0, surface as i64, b as i64, c as i64, 1].map(|x| x.to_string());
+        entities.push(part(142, p.to_vec()));
+    }
+    // the surface, N1 = 1 (the outer boundary is the first 142), N2 inner boundaries, PTO, PTI…
+    let mut p = vec![
+        "144".to_string(),
+        surface.to_string(),
+        "1".into(),
+        (boundaries.len() - 1).to_string(),
+    ];
+    p.extend(boundaries.iter().map(|b| b.to_string()));
+    entities.push(Entity {
+        entity_type: 144,
+        params: p,
+        label: label.0.clone(),
+        subscript: label.1,
+        status: INDEPENDENT,
+    });
+    Ok(())
+}
+
+/// A trimmed surface's part (126, 142): dependent, unlabelled.
+fn part(entity_type: i64, params: Vec<String>) -> Entity {
+    Entity {
+        entity_type,
+        params,
+        label: String::new(),
+        subscript: 0,
+        status: DEPENDENT,
+    }
+}
+
+/// The file: Start, Global, Directory, Parameter Data and Terminate sections of `entities`.
+fn file_text(
+    entities: &[Entity],
+    params: &IgesWriteParams,
+    max_coord: f64,
+) -> Result<String, IgesError> {
     let mut out: Vec<String> = Vec::new();
     let start = "hier-fair IGES 5.3 export: B-spline surfaces (128) and curves (126)";
     out.push(record(start, 'S', 1));
-    let global = vec![
+    let g_lines = pack(&tokens(global_params(params, max_coord)?), DATA_COLUMNS);
+    for (k, l) in g_lines.iter().enumerate() {
+        out.push(record(l, 'G', k + 1));
+    }
+    let (d_lines, p_lines) = directory_and_data(entities);
+    let terminate = format!(
+        "S{:>7}G{:>7}D{:>7}P{:>7}",
+        1,
+        g_lines.len(),
+        d_lines.len(),
+        p_lines.len()
+    );
+    out.extend(d_lines);
+    out.extend(p_lines);
+    out.push(record(&terminate, 'T', 1));
+    Ok(out.join("\n") + "\n")
+}
+
+/// The Global section's parameters.
+fn global_params(params: &IgesWriteParams, max_coord: f64) -> Result<Vec<String>, IgesError> {
+    Ok(vec![
         "1H,".to_string(),
         "1H;".to_string(),
         hollerith("hier-fair model"),
@@ -266,11 +394,11 @@ pub fn write_iges(
         "11".into(),
         "0".into(),
         hollerith(&params.date),
-    ];
-    let g_lines = pack(&tokens(global), DATA_COLUMNS);
-    for (k, l) in g_lines.iter().enumerate() {
-        out.push(record(l, 'G', k + 1));
-    }
+    ])
+}
+
+/// The Directory and Parameter Data records of `entities` (entity k at directory line 2k + 1).
+fn directory_and_data(entities: &[Entity]) -> (Vec<String>, Vec<String>) {
     let mut d_lines = Vec::new();
     let mut p_lines = Vec::new();
     for (k, e) in entities.iter().enumerate() {
@@ -284,7 +412,7 @@ pub fn write_iges(
         d_lines.push(record(
             &format!(
                 "{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}{:>8}",
-                e.entity_type, pointer, 0, 0, 0, 0, 0, 0, "00000000"
+                e.entity_type, pointer, 0, 0, 0, 0, 0, 0, e.status
             ),
             'D',
             de,
@@ -306,15 +434,5 @@ pub fn write_iges(
             de + 1,
         ));
     }
-    let terminate = format!(
-        "S{:>7}G{:>7}D{:>7}P{:>7}",
-        1,
-        g_lines.len(),
-        d_lines.len(),
-        p_lines.len()
-    );
-    out.extend(d_lines);
-    out.extend(p_lines);
-    out.push(record(&terminate, 'T', 1));
-    Ok(out.join("\n") + "\n")
+    (d_lines, p_lines)
 }
