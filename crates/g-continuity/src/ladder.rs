@@ -88,7 +88,7 @@ pub(crate) fn solve_g2_ladder(
             // [R1; w R2] has full rank for w > 0 (R2 does): only round-off pivots are refused
             match banded_solve_with(&qr, SINGULAR_RELATIVE) {
                 Some(x) => Ok(x),
-                None => solve_min_norm(dense_r(&qr), &dense_qtb(&qr)),
+                None => solve_min_norm(crate::lsq::dense_r(&qr), &crate::lsq::dense_qtb(&qr)),
             }
         });
     }
@@ -127,27 +127,6 @@ fn ladder(
         }
     }
     Ok((first, slack))
-}
-
-/// R of a banded factor as a dense n × n matrix (rows never filled are zero).
-fn dense_r(f: &BandedQr) -> DMatrix<f64> {
-    let n = f.unknowns();
-    let mut r = DMatrix::zeros(n, n);
-    for (i, row, _) in f.rows() {
-        for (t, v) in row.iter().enumerate().take(n - i) {
-            r[(i, i + t)] = *v;
-        }
-    }
-    r
-}
-
-/// Qᵀb of a banded factor (one right-hand side) as a dense n × 1 matrix.
-fn dense_qtb(f: &BandedQr) -> DMatrix<f64> {
-    let mut c = DMatrix::zeros(f.unknowns(), 1);
-    for (i, _, rhs) in f.rows() {
-        c[(i, 0)] = rhs[0];
-    }
-    c
 }
 
 #[cfg(test)]
