@@ -41,11 +41,7 @@ fn read_back(text: &str, ext: &str) -> Vec<(BSplineSurface, Vec<Vec<Point3>>)> {
             .surfaces
             .into_iter()
             .map(|s| {
-                let loops = if s.trim.is_empty() {
-                    vec![]
-                } else {
-                    vec![s.trim]
-                };
+                let loops = s.trim_loops();
                 (s.surface, loops)
             })
             .collect()

@@ -3,6 +3,10 @@
 //! its 110 / 100 / 126 generatrix), 108 (plane, bounded by the outer boundary of the 144 that
 //! trims it: its 142 and the 102 / 110 / 100 / 126 model-space curve), 126 (curve), 144 (trimmed
 //! surface) and 124 (transformation matrix) ([IGES] §2, §4.3, §4.13, §4.16, §4.23, §4.24, §4.34, §4.21).
+//! A trimmed surface's boundaries are kept as data on its surface ([`IgesSurface::trim`], the
+//! outer one, and [`IgesSurface::holes`], its N2 inner ones): each 142's parameter-space curve
+//! through a B-spline surface where it has one, else its model-space curve (100, 102, 110, 126)
+//! on the surface.
 //!
 //! Control points of entity 128 are stored with the u index varying fastest, W(0,0), W(1,0), …;
 //! here they go to the flat net `P[i * n_v + j]`. Weights that are all equal make a polynomial
@@ -61,6 +65,22 @@ pub struct IgesSurface {
     /// a trimmed face's outer boundary as data: its points in order, on the surface (empty for
     /// an untrimmed surface)
     pub trim: Vec<Point3>,
+    /// a trimmed face's inner boundaries (its holes) as data, each its points in order on the
+    /// surface; empty where the face has none, or no outer boundary in `trim`
+    pub holes: Vec<Vec<Point3>>,
+}
+
+impl IgesSurface {
+    /// The face's boundary loops as the model's `trim` holds them: the outer boundary first,
+    /// then the holes; none for an untrimmed surface.
+    pub fn trim_loops(&self) -> Vec<Vec<Point3>> {
+        if self.trim.is_empty() {
+            return Vec::new();
+        }
+        std::iter::once(self.trim.clone())
+            .chain(self.holes.iter().cloned())
+            .collect()
+    }
 }
 
 /// A curve read from entity 126.
@@ -611,6 +631,7 @@ impl Reader<'_> {
             param_range: [range[0], range[1], range[2], range[3]],
             underlying: None,
             trim: Vec::new(),
+            holes: Vec::new(),
         })
     }
 
@@ -743,6 +764,7 @@ impl Reader<'_> {
             param_range,
             underlying: None,
             trim: Vec::new(),
+            holes: Vec::new(),
         })
     }
 
@@ -1056,6 +1078,7 @@ impl Reader<'_> {
             param_range: [du.0, du.1, dv.0, dv.1],
             underlying: None,
             trim: Vec::new(),
+            holes: Vec::new(),
         })
     }
 
@@ -1172,7 +1195,92 @@ impl Reader<'_> {
             param_range: [0.0, lu, 0.0, lv],
             underlying: None,
             trim: pts.iter().map(|p| Point3::from(p.coords / scale)).collect(),
+            holes: Vec::new(),
         })
+    }
+
+    /// The boundaries of a trimmed surface (144, [IGES] §4.34) after its surface pointer: N1
+    /// (whether the outer boundary is the domain's), N2 (the number of inner boundaries), the
+    /// outer boundary's 142 (`None` where PTO is 0) and the N2 inner boundaries' 142s.
+    fn face_boundaries<'r>(
+        &'r self,
+        c: &mut Cursor<'_>,
+        e: &DirEntry,
+    ) -> Result<(Option<&'r DirEntry>, Vec<&'r DirEntry>), IgesError> {
+        let _n1 = c.int()?;
+        let n2 = c.int()?;
+        let outer = c.int()?;
+        let outer = if outer == 0 {
+            None
+        } else {
+            Some(self.entry(outer, e)?)
+        };
+        let mut inner = Vec::new();
+        for _ in 0..n2.max(0) {
+            inner.push(self.entry(c.int()?, e)?);
+        }
+        Ok((outer, inner))
+    }
+
+    /// The inner boundaries (142s) `inner` of a face on the B-spline surface `surface` as
+    /// points on it in order, as [`Self::face_box`] takes the outer one: the parameter-space
+    /// curve through the surface where the 142 has one, else the model-space curve's feet on
+    /// the surface; sampled at [`FACE_BOX_SAMPLES`] points per member. A boundary with fewer
+    /// than 3 points on the surface is left out.
+    fn spline_holes(
+        &self,
+        surface: &BSplineSurface,
+        inner: &[&DirEntry],
+        scale: f64,
+    ) -> Result<Vec<Vec<Point3>>, IgesError> {
+        let (du, dv) = (surface.domain_u(), surface.domain_v());
+        let mut holes = Vec::new();
+        for &boundary in inner {
+            let (parametric, model) = self.curve_on_surface(boundary)?;
+            let hole: Vec<Point3> = if parametric != 0 {
+                let curve = self.entry(parametric, boundary)?;
+                self.boundary_samples(curve, 0, FACE_BOX_SAMPLES)?
+                    .iter()
+                    .filter(|p| p.x.is_finite() && p.y.is_finite())
+                    .map(|p| surface.point(p.x.clamp(du.0, du.1), p.y.clamp(dv.0, dv.1)))
+                    .collect()
+            } else if model != 0 {
+                self.model_space_feet(surface, model, boundary, scale)?
+                    .into_iter()
+                    .map(|(u, v)| surface.point(u, v))
+                    .collect()
+            } else {
+                Vec::new()
+            };
+            if hole.len() >= 3 {
+                holes.push(hole);
+            }
+        }
+        Ok(holes)
+    }
+
+    /// The inner boundaries (142s) `inner` of a face on a plane (108) as points in order: the
+    /// samples of each model-space curve ([`FACE_BOX_SAMPLES`] per member, the 142's
+    /// transformation and the model scale applied), which lie in the plane. A boundary without
+    /// a model-space curve, or with fewer than 3 points, is left out: a 108 defines no
+    /// parameter space its parameter-space curve could be mapped through.
+    fn plane_holes(&self, inner: &[&DirEntry], scale: f64) -> Result<Vec<Vec<Point3>>, IgesError> {
+        let mut holes = Vec::new();
+        for &boundary in inner {
+            let (_, model) = self.curve_on_surface(boundary)?;
+            if model == 0 {
+                continue;
+            }
+            let curve = self.entry(model, boundary)?;
+            let mut pts = self.boundary_samples(curve, 0, FACE_BOX_SAMPLES)?;
+            if let Some(a) = self.transform(boundary)? {
+                pts = pts.iter().map(|p| a.apply(p)).collect();
+            }
+            if pts.len() >= 3 {
+                holes.push(pts.iter().map(|p| Point3::from(p.coords / scale)).collect());
+            }
+        }
+        Ok(holes)
     }
 
     fn curve(&self, e: &DirEntry, scale: f64) -> Result<IgesCurve, IgesError> {
@@ -1282,7 +1390,7 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
     let mut planes_read = Vec::new();
     let mut boxed = Vec::new();
     // the B-spline faces (144 over a 128): the entry, its surface's directory number, the
-    // outer boundary
+    // outer and inner boundaries
     let mut faces = Vec::new();
     // faces on the exact surfaces read over their own range (120, 122, 118): their trim only
     let mut exact_faces = Vec::new();
@@ -1329,25 +1437,21 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
                     // a B-spline face is its surface over the face's parameter box, cut once
                     // every surface is read (a writer may put the 144 before its 128: Open
                     // CASCADE does)
-                    let (_n1, _n2) = (c.int()?, c.int()?);
-                    let outer = c.int()?;
-                    if outer != 0 {
-                        faces.push((e, target.seq, reader.entry(outer, e)?));
+                    if let (Some(outer), inner) = reader.face_boundaries(&mut c, e)? {
+                        faces.push((e, target.seq, outer, inner));
                     }
                 } else if matches!(target.entity_type, 120 | 122 | 118 | 140) {
-                    let (_n1, _n2) = (c.int()?, c.int()?);
-                    let outer = c.int()?;
-                    if outer != 0 {
-                        exact_faces.push((target.seq, reader.entry(outer, e)?));
+                    if let (Some(outer), inner) = reader.face_boundaries(&mut c, e)? {
+                        exact_faces.push((target.seq, outer, inner));
                     }
                 } else if target.entity_type == 108 {
                     // a plane is as large as its face: bounded by the outer boundary
-                    let (_n1, _n2) = (c.int()?, c.int()?);
-                    let outer = c.int()?;
-                    if outer != 0 && !planes_read.contains(&target.seq) {
-                        let boundary = reader.entry(outer, e)?;
-                        file.surfaces
-                            .push(reader.bounded_plane(target, boundary, e, scale)?);
+                    if let (Some(outer), inner) = reader.face_boundaries(&mut c, e)?
+                        && !planes_read.contains(&target.seq)
+                    {
+                        let mut plane = reader.bounded_plane(target, outer, e, scale)?;
+                        plane.holes = reader.plane_holes(&inner, scale)?;
+                        file.surfaces.push(plane);
                         planes_read.push(target.seq);
                     }
                 }
@@ -1357,7 +1461,7 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
             other => *file.skipped.entry(other).or_default() += 1,
         }
     }
-    for (e, target, boundary) in faces {
+    for (e, target, boundary, inner) in faces {
         let Some(k) = file.surfaces.iter().position(|s| s.de == target) else {
             continue;
         };
@@ -1367,6 +1471,8 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
         let (cut, trim) = reader.face_box(&file.surfaces[k].surface, boundary, e, scale)?;
         if trim.len() >= 3 {
             file.surfaces[k].trim = trim;
+            file.surfaces[k].holes =
+                reader.spline_holes(&file.surfaces[k].surface, &inner, scale)?;
         }
         if let Some(cut) = cut {
             let whole = std::mem::replace(&mut file.surfaces[k].surface, cut);
@@ -1374,13 +1480,20 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
             boxed.push(target);
         }
     }
-    for (target, boundary) in exact_faces {
+    for (target, boundary, inner) in exact_faces {
         if let Some(k) = file.surfaces.iter().position(|s| s.de == target)
             && file.surfaces[k].trim.is_empty()
         {
             let trim = reader.model_trim(&file.surfaces[k].surface, boundary, scale)?;
             if trim.len() >= 3 {
+                let surface = &file.surfaces[k].surface;
+                let mut holes = Vec::new();
+                for b in &inner {
+                    holes.push(reader.model_trim(surface, b, scale)?);
+                }
+                holes.retain(|h| h.len() >= 3);
                 file.surfaces[k].trim = trim;
+                file.surfaces[k].holes = holes;
             }
         }
     }

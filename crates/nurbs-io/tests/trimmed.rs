@@ -1,6 +1,6 @@
 //! Faces written with their trim loops read back with them: a plane with a square hole through
-//! STEP (both loops) and IGES (the outer boundary the reader keeps), and a trim given off the
-//! surface lands on it.
+//! STEP and IGES (both loops each), and a trim given off the surface lands on it; the kernel
+//! models' IGES faces keep the inner boundaries their STEP faces have.
 
 use nurbs_core::{BSplineSurface, Point3, Vector3};
 use nurbs_io::bounds::distance_to_polyline;
@@ -76,9 +76,9 @@ fn a_plane_with_a_square_hole_reads_back_with_both_loops() {
     }
 }
 
-/// The same face through IGES: a trimmed surface (144) over the 128, its outer boundary read
-/// back on the plane and on the outer square, its inner boundary written; the file passes the
-/// structure check.
+/// The same face through IGES: a trimmed surface (144) over the 128 with one inner boundary,
+/// read back with both loops (outer first) on the plane and on their squares; the file passes
+/// the structure check.
 #[test]
 fn a_plane_with_a_square_hole_is_a_trimmed_iges_surface() {
     let s = plane(0.0);
@@ -90,20 +90,74 @@ fn a_plane_with_a_square_hole_is_a_trimmed_iges_surface() {
     }];
     let text = nurbs_io::write_iges_faces(&faces, &[], &IgesWriteParams::default()).unwrap();
     check_structure(text.as_bytes()).unwrap();
-    let back = read_iges(text.as_bytes()).unwrap();
-    assert_eq!(back.trimmed_entities, 1);
-    assert_eq!(back.surfaces.len(), 1);
-    let f = &back.surfaces[0];
-    assert!(f.trimmed);
-    assert_eq!(f.name, "holed");
-    let d = off_polyline(&f.trim, &trim[0]);
-    assert!(d <= ON_POLYLINE_RELATIVE * 10.0, "{d:.3e} off the square");
     // the 144 names one inner boundary
     let p144 = text
         .lines()
         .find(|l| l.starts_with("144,"))
         .expect("a 144 entity");
     assert_eq!(p144.split(',').nth(3), Some("1"), "{p144}");
+    let back = read_iges(text.as_bytes()).unwrap();
+    assert_eq!(back.trimmed_entities, 1);
+    assert_eq!(back.surfaces.len(), 1);
+    let f = &back.surfaces[0];
+    assert!(f.trimmed);
+    assert_eq!(f.name, "holed");
+    let loops = f.trim_loops();
+    assert_eq!(loops.len(), 2);
+    assert_eq!(f.holes.len(), 1);
+    for (l, given) in loops.iter().zip(&trim) {
+        assert!(l.len() >= 4);
+        assert!(
+            l.iter().all(|p| p.z.abs() <= 1e-12),
+            "a point off the plane"
+        );
+        let d = off_polyline(l, given);
+        assert!(d <= ON_POLYLINE_RELATIVE * 10.0, "{d:.3e} off the square");
+    }
+}
+
+/// Each kernel model of `fixtures/occt` read from IGES has as many inner boundaries as its
+/// STEP file has inner face bounds (one: plate_boss's plate around the boss), each a loop of
+/// points on its face's surface.
+#[test]
+fn kernel_models_keep_their_inner_boundaries() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/occt");
+    let mut total = 0;
+    for name in [
+        "occt_box12_r5",
+        "occt_box12_variable",
+        "occt_corner3_radii",
+        "occt_loft_block",
+        "occt_pipe_tee",
+        "occt_plate_boss",
+    ] {
+        let iges = read_iges(&std::fs::read(dir.join(format!("{name}.igs"))).unwrap()).unwrap();
+        let step =
+            read_step(&std::fs::read_to_string(dir.join(format!("{name}.step"))).unwrap()).unwrap();
+        let holes: usize = iges.surfaces.iter().map(|s| s.holes.len()).sum();
+        let inner: usize = step
+            .faces
+            .iter()
+            .map(|f| f.trim.len().saturating_sub(1))
+            .sum();
+        assert_eq!(holes, inner, "{name}");
+        for s in &iges.surfaces {
+            let mut projector = nurbs_core::SurfaceProjector::new(
+                &s.surface,
+                nurbs_core::ProjectionParams::default(),
+            );
+            for p in s.holes.iter().flatten() {
+                let d = projector.project(p).distance;
+                assert!(
+                    d <= 1e-6 * s.surface.size(),
+                    "{name} {}: {d:.3e} off",
+                    s.name
+                );
+            }
+        }
+        total += holes;
+    }
+    assert_eq!(total, 1);
 }
 
 /// A face without trim is written as before: bounded by its box in STEP, a bare 128 in IGES.
