@@ -110,26 +110,8 @@ pub fn fair_surfaces(
         } else {
             format!("surface{k}")
         };
-        let (s, mask) = match &shared {
-            None => (
-                s.clone(),
-                boundary_mask(s, options.keep).map_err(|e| anyhow::anyhow!("{name}: {e}"))?,
-            ),
-            Some(shared) => {
-                let frames = hier_fair::patches::kept_frames(s, &shared[k], options.keep.frame());
-                let (prepared, mask, _) =
-                    hier_fair::patches::prepared_patch(s, frames, PATCH_FREE_ROWS)
-                        .map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
-                (prepared, mask)
-            }
-        };
-        // the surface's own tangent-continuous C0 knot lines (rational arcs joined by double
-        // knots) keep their three columns, as in the framework's stages
-        let mut mask = mask;
-        let g1 = hier_fair::ModelTolerances::default().g1_deg;
-        for (i, j) in hier_fair::framework::smooth_join_points(&surfaces[k], &s, g1) {
-            mask.set_free(i, j, false);
-        }
+        let (s, mask) = prepared_surface(s, shared.as_ref().map(|shared| &shared[k]), options)
+            .map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
         let s = &s;
         // checked against the contract: a result that moves a fixed point or leaves the
         // tolerance is an error, never an output
@@ -137,28 +119,8 @@ pub fn fair_surfaces(
             nurbs_core::FairingProblem::new(s, &mask, options.tolerance)
                 .solve(method.as_ref())
                 .map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
-        // a fairing that ends fairer than it started, or the surface as it was
-        let raised = r.energy_after > r.energy_before;
-        lines.push(SurfaceLine {
-            name,
-            role: "primary".into(),
-            kept: raised.then(|| {
-                format!(
-                    "{} raised the thin-plate energy from {:.4e} to {:.4e}: kept as it was",
-                    r.method, r.energy_before, r.energy_after
-                )
-            }),
-            method: r.method,
-            energy_before: r.energy_before,
-            energy_after: if raised {
-                r.energy_before
-            } else {
-                r.energy_after
-            },
-            max_deviation: if raised { 0.0 } else { r.max_deviation },
-            iterations: r.iterations,
-            seconds: r.seconds,
-        });
+        let (line, raised) = surface_line(name, r);
+        lines.push(line);
         out.push(if raised { s.clone() } else { faired });
     }
     Ok((
@@ -169,6 +131,59 @@ pub fn fair_surfaces(
             links: Vec::new(),
         },
     ))
+}
+
+/// The surface to fair and its mask: the boundary frames of `options.keep` on a single
+/// surface; on a patch of several (`shared`: its sides shared with the others) the frames its
+/// edges keep, with knots inserted where it has too few free rows; the surface's own
+/// tangent-continuous C0 knot lines (rational arcs joined by double knots) keep their three
+/// columns, as in the framework's stages.
+fn prepared_surface(
+    surface: &BSplineSurface,
+    shared: Option<&[Option<hier_fair::patches::SharedSide>; 4]>,
+    options: &FairOptions,
+) -> Result<(BSplineSurface, ControlMask)> {
+    let (s, mut mask) = match shared {
+        None => (surface.clone(), boundary_mask(surface, options.keep)?),
+        Some(shared) => {
+            let frames = hier_fair::patches::kept_frames(surface, shared, options.keep.frame());
+            let (prepared, mask, _) =
+                hier_fair::patches::prepared_patch(surface, frames, PATCH_FREE_ROWS)?;
+            (prepared, mask)
+        }
+    };
+    let g1 = hier_fair::ModelTolerances::default().g1_deg;
+    for (i, j) in hier_fair::framework::smooth_join_points(surface, &s, g1) {
+        mask.set_free(i, j, false);
+    }
+    Ok((s, mask))
+}
+
+/// The report line of surface `name` faired as `r`, and whether the fairing raised its energy
+/// (the surface is then kept as it was: a fairing ends fairer than it started or not at all).
+fn surface_line(name: String, r: FairingReport) -> (SurfaceLine, bool) {
+    let raised = r.energy_after > r.energy_before;
+    let line = SurfaceLine {
+        name,
+        role: "primary".into(),
+        kept: raised.then(|| {
+            format!(
+                "{} raised the thin-plate energy from {:.4e} to {:.4e}: kept as it was",
+                r.method, r.energy_before, r.energy_after
+            )
+        }),
+        method: r.method,
+        energy_before: r.energy_before,
+        energy_after: if raised {
+            r.energy_before
+        } else {
+            r.energy_after
+        },
+        max_deviation: if raised { 0.0 } else { r.max_deviation },
+        iterations: r.iterations,
+        seconds: r.seconds,
+    };
+    (line, raised)
 }
 
 /// JSON of the faired surfaces: one record for one surface, `{"surfaces": [...]}` for several.

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use hier_fair::render::{self, Shading, View};
-use hier_fair::{FairModelReport, FairParams, Model, Progress, RoleMethods};
+use hier_fair::{FairModelReport, FairParams, LinkFair, Model, Progress, RoleMethods};
 use nurbs_core::{BSplineSurface, Continuity};
 
 use crate::files;
@@ -163,16 +163,31 @@ pub fn write_images(
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let before: Vec<&BSplineSurface> = original.surfaces.iter().map(|s| &s.surface).collect();
     let after: Vec<&BSplineSurface> = faired.surfaces.iter().map(|s| &s.surface).collect();
-    let view = View::for_points(&render::sample_points(&before), IMAGE_SIZE.0, IMAGE_SIZE.1);
-    let range = render::curvature_range(&before);
-    let mut written = Vec::new();
     let unit = original.units.as_deref().unwrap_or("model unit");
+    let mut written = write_maps(dir, &before, &after, unit)?;
+    for l in &report.links {
+        written.push(write_link_plot(dir, l, unit)?);
+    }
+    Ok(written)
+}
+
+/// The zebra pictures (two views) and the mean-curvature map of the surfaces `before` and
+/// `after`, in the views and colour range of `before`; returns the files.
+fn write_maps(
+    dir: &Path,
+    before: &[&BSplineSurface],
+    after: &[&BSplineSurface],
+    unit: &str,
+) -> Result<Vec<PathBuf>> {
+    let view = View::for_points(&render::sample_points(before), IMAGE_SIZE.0, IMAGE_SIZE.1);
+    let range = render::curvature_range(before);
+    let mut written = Vec::new();
     let side_view =
-        View::second_for_points(&render::sample_points(&before), IMAGE_SIZE.0, IMAGE_SIZE.1);
+        View::second_for_points(&render::sample_points(before), IMAGE_SIZE.0, IMAGE_SIZE.1);
     let zebra = Shading::Zebra {
         stripes: ZEBRA_STRIPES,
     };
-    for (name, surfaces) in [("before", &before), ("after", &after)] {
+    for (name, surfaces) in [("before", before), ("after", after)] {
         for (suffix, v) in [("", &view), ("_second_view", &side_view)] {
             let path = dir.join(format!("zebra_{name}{suffix}.png"));
             png(&path, &render::render(surfaces, v, zebra))?;
@@ -190,57 +205,63 @@ pub fn write_images(
         png(&path, &map)?;
         written.push(path);
     }
-    for l in &report.links {
-        let curve = |m: &Option<g_continuity::LinkMeasure>, slave: bool| -> Vec<(f64, f64)> {
-            m.as_ref().map_or_else(Vec::new, |m| {
-                let n = m.detail.len().max(2) - 1;
-                m.detail
-                    .iter()
-                    .enumerate()
-                    .filter_map(|(k, d)| {
-                        let v = if slave { d.kappa_slave } else { d.kappa_master };
-                        v.map(|v| (k as f64 / n as f64, v))
-                    })
-                    .collect()
-            })
-        };
-        // light before, dark after; the slave solid red, the master dashed blue
-        let curves: Vec<hier_fair::plots::Series> = [
-            ("slave before", &l.before, true, [240, 150, 150], false),
-            ("master before", &l.before, false, [150, 170, 240], true),
-            ("slave after", &l.after, true, [200, 20, 20], false),
-            ("master after", &l.after, false, [20, 50, 200], true),
-        ]
-        .into_iter()
-        .map(
-            |(label, m, slave, colour, dashed)| hier_fair::plots::Series {
-                label: label.to_string(),
-                points: curve(m, slave),
-                colour: image::Rgb(colour),
-                dashed,
-            },
-        )
-        .collect();
-        let file = format!(
-            "curvature_{}.png",
-            l.label
-                .replace(" -> ", "_on_")
-                .replace(|c: char| !c.is_ascii_alphanumeric() && c != '_', "_")
-        );
-        let path = dir.join(file);
-        let plot = hier_fair::plots::line_plot(
-            &format!("{}: normal curvature across the join", l.label),
-            "t along the slave side (0 to 1)",
-            &format!("curvature (1/{unit})"),
-            &curves,
-            720,
-            320,
-        )
-        .map_err(|e| anyhow::anyhow!(e))?;
-        png(&path, &plot)?;
-        written.push(path);
-    }
     Ok(written)
+}
+
+/// The curvature plot of link `l`: slave and master normal curvature across the join along the
+/// slave side, before light, after dark; returns the file.
+fn write_link_plot(dir: &Path, l: &LinkFair, unit: &str) -> Result<PathBuf> {
+    // light before, dark after; the slave solid red, the master dashed blue
+    let curves: Vec<hier_fair::plots::Series> = [
+        ("slave before", &l.before, true, [240, 150, 150], false),
+        ("master before", &l.before, false, [150, 170, 240], true),
+        ("slave after", &l.after, true, [200, 20, 20], false),
+        ("master after", &l.after, false, [20, 50, 200], true),
+    ]
+    .into_iter()
+    .map(
+        |(label, m, slave, colour, dashed)| hier_fair::plots::Series {
+            label: label.to_string(),
+            points: curvature_along(m, slave),
+            colour: image::Rgb(colour),
+            dashed,
+        },
+    )
+    .collect();
+    let file = format!(
+        "curvature_{}.png",
+        l.label
+            .replace(" -> ", "_on_")
+            .replace(|c: char| !c.is_ascii_alphanumeric() && c != '_', "_")
+    );
+    let path = dir.join(file);
+    let plot = hier_fair::plots::line_plot(
+        &format!("{}: normal curvature across the join", l.label),
+        "t along the slave side (0 to 1)",
+        &format!("curvature (1/{unit})"),
+        &curves,
+        720,
+        320,
+    )
+    .map_err(|e| anyhow::anyhow!(e))?;
+    png(&path, &plot)?;
+    Ok(path)
+}
+
+/// The slave's (or master's) normal curvature at the samples of `m` as (t ∈ [0, 1], κ), the
+/// samples where it is undefined left out; empty without a measure.
+fn curvature_along(m: &Option<g_continuity::LinkMeasure>, slave: bool) -> Vec<(f64, f64)> {
+    m.as_ref().map_or_else(Vec::new, |m| {
+        let n = m.detail.len().max(2) - 1;
+        m.detail
+            .iter()
+            .enumerate()
+            .filter_map(|(k, d)| {
+                let v = if slave { d.kappa_slave } else { d.kappa_master };
+                v.map(|v| (k as f64 / n as f64, v))
+            })
+            .collect()
+    })
 }
 
 /// The faired model as IGES 5.3 (surfaces named as in the model).
