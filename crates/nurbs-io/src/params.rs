@@ -37,9 +37,7 @@ pub fn parse_params(
     let line_at = |k: usize| lines.get(k).or(lines.last()).copied().unwrap_or(0);
     loop {
         // skip blanks before a field
-        while i < text.len() && text[i] == b' ' {
-            i += 1;
-        }
+        i = skip_blanks(text, i);
         let start_line = line_at(i);
         if i >= text.len() {
             return Err(IgesError::Parameter {
@@ -47,48 +45,8 @@ pub fn parse_params(
                 detail: "parameter data ends without the record delimiter".into(),
             });
         }
-        // Hollerith: digits followed by H
-        let mut j = i;
-        while j < text.len() && text[j].is_ascii_digit() {
-            j += 1;
-        }
-        let value = if j > i && j < text.len() && (text[j] == b'H' || text[j] == b'h') {
-            let n: usize = std::str::from_utf8(&text[i..j])
-                .ok()
-                .and_then(|s| s.parse().ok())
-                .ok_or_else(|| IgesError::Parameter {
-                    line: start_line,
-                    detail: "bad Hollerith length".into(),
-                })?;
-            let from = j + 1;
-            let to = from + n;
-            if to > text.len() {
-                return Err(IgesError::Parameter {
-                    line: start_line,
-                    detail: format!("Hollerith string of {n} characters runs past the data"),
-                });
-            }
-            i = to;
-            Param::Text(String::from_utf8_lossy(&text[from..to]).into_owned())
-        } else {
-            let mut k = i;
-            while k < text.len() && text[k] != pdelim && text[k] != rdelim {
-                k += 1;
-            }
-            let raw = std::str::from_utf8(&text[i..k]).unwrap_or("").trim();
-            i = k;
-            if raw.is_empty() {
-                Param::Empty
-            } else {
-                Param::Number(parse_number(raw).ok_or_else(|| IgesError::Parameter {
-                    line: start_line,
-                    detail: format!("{raw:?} is not a number"),
-                })?)
-            }
-        };
-        while i < text.len() && text[i] == b' ' {
-            i += 1;
-        }
+        let (value, end) = field(text, i, start_line, pdelim, rdelim)?;
+        i = skip_blanks(text, end);
         out.push(Located {
             value,
             line: start_line,
@@ -111,6 +69,70 @@ pub fn parse_params(
             });
         }
     }
+}
+
+/// The index of the first character at or after `i` that is not a blank.
+fn skip_blanks(text: &[u8], mut i: usize) -> usize {
+    while i < text.len() && text[i] == b' ' {
+        i += 1;
+    }
+    i
+}
+
+/// The field starting at `i` (on file line `line`): a Hollerith string, or up to the next
+/// delimiter a number or nothing (the default); with the index just past it.
+fn field(
+    text: &[u8],
+    i: usize,
+    line: usize,
+    pdelim: u8,
+    rdelim: u8,
+) -> Result<(Param, usize), IgesError> {
+    // Hollerith: digits followed by H
+    let mut j = i;
+    while j < text.len() && text[j].is_ascii_digit() {
+        j += 1;
+    }
+    if j > i && j < text.len() && (text[j] == b'H' || text[j] == b'h') {
+        return hollerith(text, i, j, line);
+    }
+    let mut k = i;
+    while k < text.len() && text[k] != pdelim && text[k] != rdelim {
+        k += 1;
+    }
+    let raw = std::str::from_utf8(&text[i..k]).unwrap_or("").trim();
+    if raw.is_empty() {
+        return Ok((Param::Empty, k));
+    }
+    let x = parse_number(raw).ok_or_else(|| IgesError::Parameter {
+        line,
+        detail: format!("{raw:?} is not a number"),
+    })?;
+    Ok((Param::Number(x), k))
+}
+
+/// The Hollerith string `nHtext` whose count n is `text[i..h]` (the H at `h`), with the index
+/// just past its text.
+fn hollerith(text: &[u8], i: usize, h: usize, line: usize) -> Result<(Param, usize), IgesError> {
+    let n: usize = std::str::from_utf8(&text[i..h])
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .ok_or_else(|| IgesError::Parameter {
+            line,
+            detail: "bad Hollerith length".into(),
+        })?;
+    let from = h + 1;
+    let to = from + n;
+    if to > text.len() {
+        return Err(IgesError::Parameter {
+            line,
+            detail: format!("Hollerith string of {n} characters runs past the data"),
+        });
+    }
+    Ok((
+        Param::Text(String::from_utf8_lossy(&text[from..to]).into_owned()),
+        to,
+    ))
 }
 
 /// Parses an IGES number: optional sign, digits with an optional decimal point, optional
