@@ -1,0 +1,340 @@
+//! The AP214 writer: B-spline faces (ADVANCED_FACE of a B_SPLINE_SURFACE_WITH_KNOTS, rational
+//! where the surface has weights) bounded by their trim loops or their parameter boxes, in one
+//! open shell of a SHELL_BASED_SURFACE_MODEL with the product structure a CAD system needs.
+
+use nurbs_core::{BSplineCurve, BSplineSurface, KnotVector, Point3};
+
+use crate::bounds::Face;
+
+/// Writes named surfaces as an AP214 STEP file, each a face bounded by its parameter box: as
+/// [`write_step_faces`] with no trim.
+pub fn write_step(
+    surfaces: &[(&str, &BSplineSurface)],
+    units: &str,
+    name: &str,
+) -> Result<String, nurbs_core::Error> {
+    let faces: Vec<Face<'_>> = surfaces
+        .iter()
+        .map(|(label, s)| Face::untrimmed(label, s))
+        .collect();
+    write_step_faces(&faces, units, name)
+}
+
+/// Writes faces as an AP214 STEP file: each face (ADVANCED_FACE) of its
+/// B_SPLINE_SURFACE_WITH_KNOTS (the complex rational instance where it has weights), bounded by
+/// its trim loops where it has them — the outer loop a FACE_OUTER_BOUND, the others FACE_BOUNDs,
+/// each EDGE_LOOP of ORIENTED_EDGEs of EDGE_CURVEs between VERTEX_POINTs, every edge a degree-1
+/// B_SPLINE_CURVE_WITH_KNOTS through its points on the surface ([`crate::bounds::face_bounds`]:
+/// the points moved to their feet on the surface, split at the loop's corners, a seam one edge
+/// used both ways) — and otherwise by its four boundary curves (exact isocurves, a collapsed side
+/// a vertex loop), the faces in one open shell of a SHELL_BASED_SURFACE_MODEL, with the product
+/// structure a CAD system needs to open it. `units` is the length unit ("mm", "m", "in", …);
+/// `name` the file's name in the header.
+pub fn write_step_faces(
+    faces: &[Face<'_>],
+    units: &str,
+    name: &str,
+) -> Result<String, nurbs_core::Error> {
+    use std::fmt::Write as _;
+    let mut w = StepWriter::default();
+    let mut ids = Vec::new();
+    for f in faces {
+        ids.push(w.face(f)?);
+    }
+    let shell = w.add(format!("OPEN_SHELL('',({}))", refs(&ids)));
+    let model = w.add(format!("SHELL_BASED_SURFACE_MODEL('',(#{shell}))"));
+    let unit = match units {
+        "m" => "( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT($,.METRE.) )".to_string(),
+        "cm" => "( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.CENTI.,.METRE.) )".to_string(),
+        "um" => "( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MICRO.,.METRE.) )".to_string(),
+        "km" => "( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.KILO.,.METRE.) )".to_string(),
+        _ => "( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.) )".to_string(),
+    };
+    let inch = matches!(units, "in" | "ft");
+    let length = if inch {
+        let mm = w.add("( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.) )".into());
+        let factor = if units == "in" { 25.4 } else { 304.8 };
+        let measure = w.add(format!(
+            "LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE({factor}),#{mm})"
+        ));
+        let dims = w.add("DIMENSIONAL_EXPONENTS(1.,0.,0.,0.,0.,0.,0.)".into());
+        w.add(format!(
+            "( CONVERSION_BASED_UNIT('{}',#{measure}) LENGTH_UNIT() NAMED_UNIT(#{dims}) )",
+            if units == "in" { "INCH" } else { "FOOT" }
+        ))
+    } else {
+        w.add(unit)
+    };
+    let angle = w.add("( NAMED_UNIT(*) PLANE_ANGLE_UNIT() SI_UNIT($,.RADIAN.) )".into());
+    let solid = w.add("( NAMED_UNIT(*) SI_UNIT($,.STERADIAN.) SOLID_ANGLE_UNIT() )".into());
+    let uncertainty = w.add(format!(
+        "UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.E-07),#{length},'distance_accuracy_value','confusion accuracy')"
+    ));
+    let context = w.add(format!(
+        "( GEOMETRIC_REPRESENTATION_CONTEXT(3) GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT((#{uncertainty})) GLOBAL_UNIT_ASSIGNED_CONTEXT((#{length},#{angle},#{solid})) REPRESENTATION_CONTEXT('Context #1','3D Context with UNIT and UNCERTAINTY') )"
+    ));
+    let origin = w.add("CARTESIAN_POINT('',(0.,0.,0.))".into());
+    let z = w.add("DIRECTION('',(0.,0.,1.))".into());
+    let x = w.add("DIRECTION('',(1.,0.,0.))".into());
+    let axes = w.add(format!("AXIS2_PLACEMENT_3D('',#{origin},#{z},#{x})"));
+    let rep = w.add(format!(
+        "MANIFOLD_SURFACE_SHAPE_REPRESENTATION('',(#{axes},#{model}),#{context})"
+    ));
+    let app =
+        w.add("APPLICATION_CONTEXT('core data for automotive mechanical design processes')".into());
+    w.add(format!(
+        "APPLICATION_PROTOCOL_DEFINITION('international standard','automotive_design',2000,#{app})"
+    ));
+    let pctx = w.add(format!("PRODUCT_CONTEXT('',#{app},'mechanical')"));
+    let product = w.add(format!("PRODUCT('{0}','{0}','',(#{pctx}))", escape(name)));
+    let formation = w.add(format!("PRODUCT_DEFINITION_FORMATION('','',#{product})"));
+    let dctx = w.add(format!(
+        "PRODUCT_DEFINITION_CONTEXT('part definition',#{app},'design')"
+    ));
+    let def = w.add(format!(
+        "PRODUCT_DEFINITION('design','',#{formation},#{dctx})"
+    ));
+    let shape = w.add(format!("PRODUCT_DEFINITION_SHAPE('','',#{def})"));
+    w.add(format!("SHAPE_DEFINITION_REPRESENTATION(#{shape},#{rep})"));
+    let mut out = String::new();
+    let _ = write!(
+        out,
+        "ISO-10303-21;\nHEADER;\nFILE_DESCRIPTION(('hier-fair model'),'2;1');\nFILE_NAME('{}','',(''),(''),'hier-fair','hier-fair','');\nFILE_SCHEMA(('AUTOMOTIVE_DESIGN {{ 1 0 10303 214 1 1 1 1 }}'));\nENDSEC;\nDATA;\n",
+        escape(name)
+    );
+    for (k, line) in w.lines.iter().enumerate() {
+        let _ = writeln!(out, "#{} = {line};", k + 1);
+    }
+    out.push_str("ENDSEC;\nEND-ISO-10303-21;\n");
+    Ok(out)
+}
+
+#[derive(Default)]
+struct StepWriter {
+    lines: Vec<String>,
+}
+
+fn refs(ids: &[usize]) -> String {
+    ids.iter()
+        .map(|i| format!("#{i}"))
+        .collect::<Vec<_>>()
+        .join(",")
+}
+
+fn escape(s: &str) -> String {
+    s.replace('\'', "''")
+}
+
+/// A real as STEP writes it: always with a decimal point, round-trip exact.
+fn real(x: f64) -> String {
+    let s = format!("{x:?}");
+    if s.contains('.') || s.contains('e') || s.contains("inf") || s.contains("NaN") {
+        s.replace('e', "E")
+    } else {
+        format!("{s}.")
+    }
+}
+
+impl StepWriter {
+    fn add(&mut self, line: String) -> usize {
+        self.lines.push(line);
+        self.lines.len()
+    }
+    fn point(&mut self, p: &Point3) -> usize {
+        self.add(format!(
+            "CARTESIAN_POINT('',({},{},{}))",
+            real(p.x),
+            real(p.y),
+            real(p.z)
+        ))
+    }
+    fn knots(kv: &KnotVector) -> (String, String) {
+        let mut values: Vec<f64> = Vec::new();
+        let mut mults: Vec<usize> = Vec::new();
+        for &k in kv.knots() {
+            if values.last() == Some(&k) {
+                *mults.last_mut().expect("a value has a count") += 1;
+            } else {
+                values.push(k);
+                mults.push(1);
+            }
+        }
+        (
+            mults
+                .iter()
+                .map(|m| m.to_string())
+                .collect::<Vec<_>>()
+                .join(","),
+            values
+                .iter()
+                .map(|&v| real(v))
+                .collect::<Vec<_>>()
+                .join(","),
+        )
+    }
+    fn curve(&mut self, c: &BSplineCurve) -> usize {
+        let pts: Vec<usize> = c.control_points().iter().map(|p| self.point(p)).collect();
+        let (m, k) = Self::knots(c.knots());
+        let d = c.knots().degree();
+        match c.weights() {
+            None => self.add(format!(
+                "B_SPLINE_CURVE_WITH_KNOTS('',{d},({}),.UNSPECIFIED.,.F.,.F.,({m}),({k}),.UNSPECIFIED.)",
+                refs(&pts)
+            )),
+            Some(w) => self.add(format!(
+                "( BOUNDED_CURVE() B_SPLINE_CURVE({d},({}),.UNSPECIFIED.,.F.,.F.) B_SPLINE_CURVE_WITH_KNOTS(({m}),({k}),.UNSPECIFIED.) CURVE() GEOMETRIC_REPRESENTATION_ITEM() RATIONAL_B_SPLINE_CURVE(({})) REPRESENTATION_ITEM('') )",
+                refs(&pts),
+                w.iter().map(|&x| real(x)).collect::<Vec<_>>().join(",")
+            )),
+        }
+    }
+    /// The face of `f`: its surface, bounded by its trim loops or else by its parameter box.
+    fn face(&mut self, f: &Face<'_>) -> Result<usize, nurbs_core::Error> {
+        let surface = self.surface(f.surface);
+        let bounds = crate::bounds::face_bounds(f.surface, f.trim);
+        let bounds = if bounds.loops.is_empty() {
+            vec![self.box_bound(f.surface)?]
+        } else {
+            self.trim_bounds(&bounds)?
+        };
+        Ok(self.add(format!(
+            "ADVANCED_FACE('{}',({}),#{surface},.T.)",
+            escape(f.name),
+            refs(&bounds)
+        )))
+    }
+
+    /// The surface entity of `s`.
+    fn surface(&mut self, s: &BSplineSurface) -> usize {
+        let (nu, nv) = (s.num_u(), s.num_v());
+        let mut rows = Vec::new();
+        for i in 0..nu {
+            let row: Vec<usize> = (0..nv)
+                .map(|j| self.point(&s.control_point(i, j)))
+                .collect();
+            rows.push(format!("({})", refs(&row)));
+        }
+        let (mu, ku) = Self::knots(s.knots_u());
+        let (mv, kv) = Self::knots(s.knots_v());
+        let (du, dv) = (s.degree_u(), s.degree_v());
+        match s.weights() {
+            None => self.add(format!(
+                "B_SPLINE_SURFACE_WITH_KNOTS('',{du},{dv},({}),.UNSPECIFIED.,.F.,.F.,.F.,({mu}),({mv}),({ku}),({kv}),.UNSPECIFIED.)",
+                rows.join(",")
+            )),
+            Some(w) => {
+                let wrows: Vec<String> = (0..nu)
+                    .map(|i| {
+                        format!(
+                            "({})",
+                            (0..nv)
+                                .map(|j| real(w[i * nv + j]))
+                                .collect::<Vec<_>>()
+                                .join(",")
+                        )
+                    })
+                    .collect();
+                self.add(format!(
+                    "( BOUNDED_SURFACE() B_SPLINE_SURFACE({du},{dv},({}),.UNSPECIFIED.,.F.,.F.,.F.) B_SPLINE_SURFACE_WITH_KNOTS(({mu}),({mv}),({ku}),({kv}),.UNSPECIFIED.) GEOMETRIC_REPRESENTATION_ITEM() RATIONAL_B_SPLINE_SURFACE(({})) REPRESENTATION_ITEM('') SURFACE() )",
+                    rows.join(","),
+                    wrows.join(",")
+                ))
+            }
+        }
+    }
+
+    /// The outer bound of `s`'s parameter box: its four boundary curves.
+    fn box_bound(&mut self, s: &BSplineSurface) -> Result<usize, nurbs_core::Error> {
+        // the boundary: u0 (v increasing), v1 (u increasing), u1 (v decreasing), v0 (u
+        // decreasing): a loop around the face, the corners its vertices
+        let (u0, u1) = s.domain_u();
+        let (v0, v1) = s.domain_v();
+        let corners = [
+            s.point(u0, v0),
+            s.point(u0, v1),
+            s.point(u1, v1),
+            s.point(u1, v0),
+        ];
+        let vids: Vec<usize> = corners
+            .iter()
+            .map(|p| {
+                let pt = self.point(p);
+                self.add(format!("VERTEX_POINT('',#{pt})"))
+            })
+            .collect();
+        let sides = [
+            (nurbs_core::Direction::U, u0, 0, 1, true),
+            (nurbs_core::Direction::V, v1, 1, 2, true),
+            (nurbs_core::Direction::U, u1, 3, 2, false),
+            (nurbs_core::Direction::V, v0, 0, 3, false),
+        ];
+        let mut edges = Vec::new();
+        for (dir, t, a, b, forward) in sides {
+            let c = s.isocurve(dir, t)?;
+            if (corners[a] - corners[b]).norm() <= 1e-12 * s.size().max(1.0)
+                && c.control_points()
+                    .iter()
+                    .all(|p| (p - corners[a]).norm() <= 1e-12 * s.size().max(1.0))
+            {
+                continue; // a side collapsed to a point (a pole): no edge
+            }
+            let cid = self.curve(&c);
+            let e = self.add(format!(
+                "EDGE_CURVE('',#{},#{},#{cid},.T.)",
+                vids[a], vids[b]
+            ));
+            edges.push(self.add(format!(
+                "ORIENTED_EDGE('',*,*,#{e},{})",
+                if forward { ".T." } else { ".F." }
+            )));
+        }
+        let lp = self.add(format!("EDGE_LOOP('',({}))", refs(&edges)));
+        Ok(self.add(format!("FACE_OUTER_BOUND('',#{lp},.T.)")))
+    }
+
+    /// The bounds of a face's trim loops: each edge a degree-1 B-spline curve through its points
+    /// (chord-length parameters on [0, 1]), each vertex once, the outer loop a FACE_OUTER_BOUND.
+    fn trim_bounds(
+        &mut self,
+        b: &crate::bounds::FaceBounds,
+    ) -> Result<Vec<usize>, nurbs_core::Error> {
+        let vertices: Vec<usize> = b
+            .vertices
+            .iter()
+            .map(|p| {
+                let pt = self.point(p);
+                self.add(format!("VERTEX_POINT('',#{pt})"))
+            })
+            .collect();
+        let mut edges = Vec::new();
+        for e in &b.edges {
+            let cid = self.curve(&crate::bounds::polyline(&e.points)?);
+            edges.push(self.add(format!(
+                "EDGE_CURVE('',#{},#{},#{cid},.T.)",
+                vertices[e.start], vertices[e.end]
+            )));
+        }
+        let mut out = Vec::new();
+        for l in &b.loops {
+            let oriented: Vec<usize> = l
+                .edges
+                .iter()
+                .map(|&(k, forward)| {
+                    self.add(format!(
+                        "ORIENTED_EDGE('',*,*,#{},{})",
+                        edges[k],
+                        if forward { ".T." } else { ".F." }
+                    ))
+                })
+                .collect();
+            let lp = self.add(format!("EDGE_LOOP('',({}))", refs(&oriented)));
+            let kind = if l.outer {
+                "FACE_OUTER_BOUND"
+            } else {
+                "FACE_BOUND"
+            };
+            out.push(self.add(format!("{kind}('',#{lp},.T.)")));
+        }
+        Ok(out)
+    }
+}
