@@ -22,9 +22,13 @@ use crate::model::Role;
 
 /// Least number of single-point moves per free control point of the local energy methods
 /// (the limit is the larger of this × free points and the method's fixed limit, 10,000 or
-/// `--iterations`): the framework's knot insertion makes nets of several hundred free points,
-/// which 10,000 moves left unconverged — a five-sided quad ended 0.03 % above its starting
-/// energy at 10,000 and below it at 20,000.
+/// `--iterations`). Why this many: the local method ([HA]) moves one point at a time, so a
+/// change at one side of the net reaches the other side one neighbour per sweep, and the
+/// smoothest part of the energy needs about as many sweeps as the net is wide; the framework
+/// bounds a net at [`crate::framework::MAX_NET`] = 64 points per direction, and this is the
+/// next round number above it. A fixed limit cannot serve both a 4 × 4 patch and the nets of
+/// several hundred free points knot insertion makes (measured: a five-sided quad ended 0.03 %
+/// above its starting energy at 10,000 moves, below it at 20,000).
 pub const MOVES_PER_FREE_POINT: usize = 100;
 
 /// A fairing method of the workspace.

@@ -87,14 +87,15 @@ use report::{edge_reports, found_edge_reports, link_reports, unmet_problems, wor
 
 /// The framework's [`g_continuity::SetParams::g2_move_factor`]: a lighter-weighted G2 solution
 /// (closer to the exact scalar condition) is taken only when no control point moves more than
-/// the paper's well-conditioned solution moves. `connect` allows 2× (exact joins of constructed
-/// pairs need it); in the framework a fairing stage follows with a shrinking deviation budget,
-/// and the larger tangential moves made the fillets wavy: on the fixtures 1× met as many links
-/// (fillet-freeform both with 8 knots instead of one missed) with every slave's energy below
-/// its start (X-node fillet_s 18.31 → 17.74 instead of → 18.52). Where G2 is missed with this
-/// bound, the dry run tries `connect`'s before calling the link a conflict: a vertex blend
-/// between three faired fillets needs it near its pole (box12_r5: curvature 2e-4 off at 1× next
-/// to the pole, 2e-5 at 2×).
+/// the paper's well-conditioned solution ([SV] §4.2, tangential weight 1) moves. Why 1: in the
+/// framework a fairing stage follows every continuity step within a shrinking deviation budget,
+/// and a move the paper's system did not need is deviation that stage no longer has — so the
+/// framework takes nothing beyond the paper's own solution's largest move. `connect`, which no
+/// fairing follows, allows 2×. Where G2 is missed with this bound, the dry run tries
+/// `connect`'s before calling the link a conflict. Measured: on the fixtures 1× met as many
+/// links as 2× with every slave's energy below its start (X-node fillet_s 18.31 → 17.74 instead
+/// of → 18.52); a vertex blend between three faired fillets needs 2× next to its pole
+/// (box12_r5: curvature 2e-4 off at 1×, 2e-5 at 2×), which the dry run's retry gives it.
 pub const FRAMEWORK_G2_MOVE_FACTOR: f64 = 1.0;
 
 /// Share of the G1/G2 tolerances the patches of an n-sided corner group aim at when their
