@@ -22,7 +22,7 @@ use crate::model::Role;
 
 /// Least number of single-point moves per free control point of the local energy methods
 /// (the limit is the larger of this × free points and the method's fixed limit, 10,000 or
-/// `--iterations`). Why this many: the local method ([HA]) moves one point at a time, so a
+/// `--iterations`). Why this many: the local method ([H]) moves one point at a time, so a
 /// change at one side of the net reaches the other side one neighbour per sweep, and the
 /// smoothest part of the energy needs about as many sweeps as the net is wide; the framework
 /// bounds a net at [`crate::framework::MAX_NET`] = 64 points per direction, and this is the
