@@ -1,0 +1,298 @@
+//! A trimmed surface's boundaries (142 curves on surface, [IGES] §4.32, §4.34): the composite
+//! (102) and simple model-space curves sampled, the parameter box of a B-spline face's outer
+//! boundary, and the outer and inner boundaries as loops of points on the face's surface.
+
+use nurbs_core::{BSplineSurface, Point3};
+
+use super::entities::{Cursor, Reader};
+use super::records::{DirEntry, entity_params};
+use super::{
+    BOUNDARY_SAMPLES, BOX_RELATIVE, FACE_BOX_SAMPLES, MAX_TRANSFORM_CHAIN, ON_SURFACE_RELATIVE,
+};
+use crate::error::IgesError;
+
+impl Reader<'_> {
+    /// Points along a model-space boundary curve: a composite (102) of lines, arcs and
+    /// B-splines, each sampled at [`BOUNDARY_SAMPLES`] points; every transformation from the
+    /// member up to `e` applied, not the model scale.
+    pub(super) fn boundary_points(
+        &self,
+        e: &DirEntry,
+        depth: usize,
+    ) -> Result<Vec<Point3>, IgesError> {
+        self.boundary_samples(e, depth, BOUNDARY_SAMPLES)
+    }
+
+    /// [`Self::boundary_points`] with `samples` points per member.
+    pub(super) fn boundary_samples(
+        &self,
+        e: &DirEntry,
+        depth: usize,
+        samples: usize,
+    ) -> Result<Vec<Point3>, IgesError> {
+        if depth > MAX_TRANSFORM_CHAIN {
+            return Err(IgesError::Entity {
+                de: e.seq,
+                entity_type: e.entity_type,
+                detail: "composite curves nest too deep (a cycle?)".into(),
+            });
+        }
+        let local = match e.entity_type {
+            102 => {
+                let params = entity_params(e, &self.p, &self.global)?;
+                let mut c = Cursor {
+                    params: &params,
+                    next: 1,
+                    e,
+                };
+                let n = c.count("N (number of curves of the composite)", 0)?;
+                let mut out = Vec::new();
+                for _ in 0..n {
+                    let member = self.entry(c.int()?, e)?;
+                    out.extend(self.boundary_samples(member, depth + 1, samples)?);
+                }
+                // the members carry their own transformations; the composite's applies on top
+                return Ok(match self.transform(e)? {
+                    Some(a) => out.iter().map(|p| a.apply(p)).collect(),
+                    None => out,
+                });
+            }
+            _ => self.any_curve(e, 1.0)?,
+        };
+        let (t0, t1) = local.knots().domain();
+        Ok((0..samples)
+            .map(|k| local.point(t0 + (t1 - t0) * k as f64 / (samples - 1) as f64))
+            .collect())
+    }
+
+    /// The pointers of a curve on a surface (142, [IGES] §4.32): to its parameter-space curve
+    /// and to its model-space curve (0 where absent).
+    pub(super) fn curve_on_surface(&self, e: &DirEntry) -> Result<(i64, i64), IgesError> {
+        let params = entity_params(e, &self.p, &self.global)?;
+        let mut c = Cursor {
+            params: &params,
+            next: 1,
+            e,
+        };
+        let (_crtn, _surface) = (c.int()?, c.int()?);
+        Ok((c.int()?, c.int()?))
+    }
+
+    /// `surface` cut to the parameter box of the outer boundary `boundary` (142) of the trimmed
+    /// surface `face`: the box of its parameter-space curve, or where the 142 has none, of its
+    /// model-space curve projected onto the surface; clamped to the surface's domain (`None`
+    /// where the 142 has neither curve, or the box is the whole domain to [`BOX_RELATIVE`]). A
+    /// kernel trims a face on its underlying surface, which may run far beyond it (a fillet past
+    /// the faces it ends on); the face's box is the surface the face uses, as the kernel's own
+    /// UV bounds give it. The curves are sampled densely ([`FACE_BOX_SAMPLES`]): a box short of
+    /// the trim leaves the fillet that bounds the face off its master.
+    pub(super) fn face_box(
+        &self,
+        surface: &BSplineSurface,
+        boundary: &DirEntry,
+        face: &DirEntry,
+        scale: f64,
+    ) -> Result<(Option<BSplineSurface>, Vec<Point3>), IgesError> {
+        let (parametric, model) = self.curve_on_surface(boundary)?;
+        if parametric == 0 && model == 0 {
+            return Ok((None, Vec::new()));
+        }
+        // the boundary's points on the surface, in order (the face's trim as data)
+        let mut trim: Vec<Point3> = Vec::new();
+        let (du, dv) = (surface.domain_u(), surface.domain_v());
+        let mut b = [
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+        ];
+        if parametric != 0 {
+            let curve = self.entry(parametric, boundary)?;
+            for p in &self.boundary_samples(curve, 0, FACE_BOX_SAMPLES)? {
+                b = [b[0].min(p.x), b[1].max(p.x), b[2].min(p.y), b[3].max(p.y)];
+                if p.x.is_finite() && p.y.is_finite() {
+                    let (u, v) = (p.x.clamp(du.0, du.1), p.y.clamp(dv.0, dv.1));
+                    trim.push(surface.point(u, v));
+                }
+            }
+        }
+        if parametric == 0 {
+            for (u, v) in self.model_space_feet(surface, model, boundary, scale)? {
+                b = [b[0].min(u), b[1].max(u), b[2].min(v), b[3].max(v)];
+                trim.push(surface.point(u, v));
+            }
+        }
+        if !b.iter().all(|x| x.is_finite()) {
+            return Ok((None, trim));
+        }
+        let (u0, u1) = (b[0].max(du.0), b[1].min(du.1));
+        let (v0, v1) = (b[2].max(dv.0), b[3].min(dv.1));
+        if !(u1 > u0 && v1 > v0) {
+            return Err(IgesError::Entity {
+                de: face.seq,
+                entity_type: face.entity_type,
+                detail: format!(
+                    "the outer boundary's parameter box [{}, {}] × [{}, {}] misses the surface's domain",
+                    b[0], b[1], b[2], b[3]
+                ),
+            });
+        }
+        let tiny = |a: f64, b: f64, d: (f64, f64)| (a - b).abs() <= BOX_RELATIVE * (d.1 - d.0);
+        if tiny(u0, du.0, du) && tiny(u1, du.1, du) && tiny(v0, dv.0, dv) && tiny(v1, dv.1, dv) {
+            return Ok((None, trim));
+        }
+        let cut = surface
+            .extract((u0, u1), (v0, v1))
+            .map_err(Self::geometry_err(face))?;
+        Ok((Some(cut), trim))
+    }
+
+    /// The feet on `surface` (parameters, in order) of the samples of the model-space curve
+    /// `model` of the boundary (142) `boundary`: a point of the trim lies on the surface, so one
+    /// that projects farther than the rounding of the file is no point of this face (a broken
+    /// curve) and is left out. Consecutive samples are close: each starts from the last one's
+    /// parameters, and from the sampled starts where that does not land on the surface.
+    pub(super) fn model_space_feet(
+        &self,
+        surface: &BSplineSurface,
+        model: i64,
+        boundary: &DirEntry,
+        scale: f64,
+    ) -> Result<Vec<(f64, f64)>, IgesError> {
+        let curve = self.entry(model, boundary)?;
+        let mut pts = self.boundary_samples(curve, 0, FACE_BOX_SAMPLES)?;
+        if let Some(a) = self.transform(boundary)? {
+            pts = pts.iter().map(|p| a.apply(p)).collect();
+        }
+        let near = ON_SURFACE_RELATIVE * surface.size();
+        let mut projector =
+            nurbs_core::SurfaceProjector::new(surface, nurbs_core::ProjectionParams::default());
+        let mut last: Option<(f64, f64)> = None;
+        let mut feet = Vec::new();
+        for p in &pts {
+            let p = Point3::from(p.coords / scale);
+            let mut pr = match last {
+                Some(uv) => projector.project_from(&p, uv),
+                None => projector.project(&p),
+            };
+            if pr.distance > near {
+                pr = projector.project(&p);
+            }
+            if pr.distance <= near {
+                feet.push((pr.u, pr.v));
+                last = Some((pr.u, pr.v));
+            } else {
+                last = None;
+            }
+        }
+        Ok(feet)
+    }
+
+    /// The outer boundary (142) `boundary` of a face on `surface` (an exact surface read over
+    /// its own range: a revolution, a tabulated cylinder, a ruled surface) as points on it, from
+    /// the boundary's model-space curve; empty where the boundary has none.
+    pub(super) fn model_trim(
+        &self,
+        surface: &BSplineSurface,
+        boundary: &DirEntry,
+        scale: f64,
+    ) -> Result<Vec<Point3>, IgesError> {
+        let (_, model) = self.curve_on_surface(boundary)?;
+        if model == 0 {
+            return Ok(Vec::new());
+        }
+        Ok(self
+            .model_space_feet(surface, model, boundary, scale)?
+            .into_iter()
+            .map(|(u, v)| surface.point(u, v))
+            .collect())
+    }
+
+    /// The boundaries of a trimmed surface (144, [IGES] §4.34) after its surface pointer: N1
+    /// (whether the outer boundary is the domain's), N2 (the number of inner boundaries), the
+    /// outer boundary's 142 (`None` where PTO is 0) and the N2 inner boundaries' 142s.
+    pub(super) fn face_boundaries<'r>(
+        &'r self,
+        c: &mut Cursor<'_>,
+        e: &DirEntry,
+    ) -> Result<(Option<&'r DirEntry>, Vec<&'r DirEntry>), IgesError> {
+        let _n1 = c.int()?;
+        let n2 = c.int()?;
+        let outer = c.int()?;
+        let outer = if outer == 0 {
+            None
+        } else {
+            Some(self.entry(outer, e)?)
+        };
+        let mut inner = Vec::new();
+        for _ in 0..n2.max(0) {
+            inner.push(self.entry(c.int()?, e)?);
+        }
+        Ok((outer, inner))
+    }
+
+    /// The inner boundaries (142s) `inner` of a face on the B-spline surface `surface` as
+    /// points on it in order, as [`Self::face_box`] takes the outer one: the parameter-space
+    /// curve through the surface where the 142 has one, else the model-space curve's feet on
+    /// the surface; sampled at [`FACE_BOX_SAMPLES`] points per member. A boundary with fewer
+    /// than 3 points on the surface is left out.
+    pub(super) fn spline_holes(
+        &self,
+        surface: &BSplineSurface,
+        inner: &[&DirEntry],
+        scale: f64,
+    ) -> Result<Vec<Vec<Point3>>, IgesError> {
+        let (du, dv) = (surface.domain_u(), surface.domain_v());
+        let mut holes = Vec::new();
+        for &boundary in inner {
+            let (parametric, model) = self.curve_on_surface(boundary)?;
+            let hole: Vec<Point3> = if parametric != 0 {
+                let curve = self.entry(parametric, boundary)?;
+                self.boundary_samples(curve, 0, FACE_BOX_SAMPLES)?
+                    .iter()
+                    .filter(|p| p.x.is_finite() && p.y.is_finite())
+                    .map(|p| surface.point(p.x.clamp(du.0, du.1), p.y.clamp(dv.0, dv.1)))
+                    .collect()
+            } else if model != 0 {
+                self.model_space_feet(surface, model, boundary, scale)?
+                    .into_iter()
+                    .map(|(u, v)| surface.point(u, v))
+                    .collect()
+            } else {
+                Vec::new()
+            };
+            if hole.len() >= 3 {
+                holes.push(hole);
+            }
+        }
+        Ok(holes)
+    }
+
+    /// The inner boundaries (142s) `inner` of a face on a plane (108) as points in order: the
+    /// samples of each model-space curve ([`FACE_BOX_SAMPLES`] per member, the 142's
+    /// transformation and the model scale applied), which lie in the plane. A boundary without
+    /// a model-space curve, or with fewer than 3 points, is left out: a 108 defines no
+    /// parameter space its parameter-space curve could be mapped through.
+    pub(super) fn plane_holes(
+        &self,
+        inner: &[&DirEntry],
+        scale: f64,
+    ) -> Result<Vec<Vec<Point3>>, IgesError> {
+        let mut holes = Vec::new();
+        for &boundary in inner {
+            let (_, model) = self.curve_on_surface(boundary)?;
+            if model == 0 {
+                continue;
+            }
+            let curve = self.entry(model, boundary)?;
+            let mut pts = self.boundary_samples(curve, 0, FACE_BOX_SAMPLES)?;
+            if let Some(a) = self.transform(boundary)? {
+                pts = pts.iter().map(|p| a.apply(p)).collect();
+            }
+            if pts.len() >= 3 {
+                holes.push(pts.iter().map(|p| Point3::from(p.coords / scale)).collect());
+            }
+        }
+        Ok(holes)
+    }
+}
