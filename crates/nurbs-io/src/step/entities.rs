@@ -14,9 +14,11 @@ pub(super) struct Model<'a> {
     pub(super) all: &'a HashMap<u64, Instance>,
 }
 
+/// A result with a STEP error.
 pub(super) type R<T> = Result<T, StepError>;
 
 impl<'a> Model<'a> {
+    /// Instance `id`.
     pub(super) fn get(&self, id: u64) -> R<&'a Instance> {
         self.all.get(&id).ok_or_else(|| StepError::Entity {
             id,
@@ -37,9 +39,11 @@ impl<'a> Model<'a> {
                 detail: format!("expected {name}"),
             })
     }
+    /// The entity type of instance `id` (its first part's).
     pub(super) fn kind(&self, id: u64) -> R<&'a str> {
         Ok(self.get(id)?.parts.first().map_or("", |p| p.0.as_str()))
     }
+    /// An error of instance `id`.
     pub(super) fn bad(&self, id: u64, detail: impl Into<String>) -> StepError {
         StepError::Entity {
             id,
@@ -47,6 +51,7 @@ impl<'a> Model<'a> {
             detail: detail.into(),
         }
     }
+    /// A number parameter of instance `id` (also inside a typed value).
     pub(super) fn num(&self, id: u64, v: Option<&Value>) -> R<f64> {
         match v {
             Some(Value::Number(x)) => Ok(*x),
@@ -54,24 +59,28 @@ impl<'a> Model<'a> {
             _ => Err(self.bad(id, "expected a number")),
         }
     }
+    /// A reference parameter of instance `id`.
     pub(super) fn reference(&self, id: u64, v: Option<&Value>) -> R<u64> {
         match v {
             Some(Value::Ref(r)) => Ok(*r),
             _ => Err(self.bad(id, "expected a reference")),
         }
     }
+    /// A list parameter of instance `id`.
     pub(super) fn list<'v>(&self, id: u64, v: Option<&'v Value>) -> R<&'v [Value]> {
         match v {
             Some(Value::List(l)) => Ok(l),
             _ => Err(self.bad(id, "expected a list")),
         }
     }
+    /// A list of numbers of instance `id`.
     pub(super) fn numbers(&self, id: u64, v: Option<&Value>) -> R<Vec<f64>> {
         self.list(id, v)?
             .iter()
             .map(|x| self.num(id, Some(x)))
             .collect()
     }
+    /// The CARTESIAN_POINT `id` (missing coordinates 0).
     pub(super) fn point(&self, id: u64) -> R<Point3> {
         let c = self.numbers(id, self.part(id, "CARTESIAN_POINT")?.get(1))?;
         Ok(Point3::new(
@@ -80,6 +89,7 @@ impl<'a> Model<'a> {
             c.get(2).copied().unwrap_or(0.0),
         ))
     }
+    /// The DIRECTION `id`, normalized.
     pub(super) fn direction(&self, id: u64) -> R<Vector3> {
         let c = self.numbers(id, self.part(id, "DIRECTION")?.get(1))?;
         Vector3::new(

@@ -74,6 +74,7 @@ impl Surface {
             }
         }
     }
+    /// Whether u and v are angles whose range may wrap around.
     pub(super) fn angular(&self) -> (bool, bool) {
         match self {
             Surface::Plane(..) | Surface::Spline(_) | Surface::Extrusion(..) => (false, false),
