@@ -128,14 +128,16 @@ pub fn model_from_iges(input: &Path) -> Result<(Model, String, hier_fair::BuildL
     model.units = Some(file.units.to_lowercase());
     let tol = hier_fair::trim::TRIM_SHARE * model.tolerances.g0;
     for (m, s) in model.surfaces.iter_mut().zip(&file.surfaces) {
-        if !s.trim.is_empty() {
-            m.trim = vec![hier_fair::trim::thin_loop(&s.trim, tol)];
-        }
+        m.trim = s
+            .trim_loops()
+            .iter()
+            .map(|l| hier_fair::trim::thin_loop(l, tol))
+            .collect();
     }
     let log = hier_fair::build_hierarchy(&mut model);
     let trimmed = file.surfaces.iter().filter(|s| s.trimmed).count();
     let summary = format!(
-        "imported {} surfaces ({} trimmed by entity 144: each kept over its face's box with its outer boundary kept as a trim loop); {} curves (126) not imported; other entities skipped: {}; surfaces with no exact form, not imported: {}; {}",
+        "imported {} surfaces ({} trimmed by entity 144: each kept over its face's box with its outer and inner boundaries kept as trim loops); {} curves (126) not imported; other entities skipped: {}; surfaces with no exact form, not imported: {}; {}",
         file.surfaces.len(),
         trimmed,
         file.curves.len(),
