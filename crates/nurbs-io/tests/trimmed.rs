@@ -76,6 +76,33 @@ fn a_plane_with_a_square_hole_reads_back_with_both_loops() {
     }
 }
 
+/// A face whose bounds are all FACE_BOUNDs, the hole listed first (OCCT names no outer bound):
+/// it reads back with the outer square first, the loop whose parameter box holds the other's.
+#[test]
+fn without_a_named_outer_bound_the_widest_loop_comes_first() {
+    let s = plane(0.0);
+    let trim = vec![square(5.0, 2.0, 0.0), square(5.0, 4.5, 0.0)];
+    let faces = [Face {
+        name: "holed",
+        surface: &s,
+        trim: &trim,
+    }];
+    let text = nurbs_io::write_step_faces(&faces, "mm", "holed.step")
+        .unwrap()
+        .replace("FACE_OUTER_BOUND", "FACE_BOUND");
+    assert_eq!(text.matches("FACE_OUTER_BOUND").count(), 0);
+    let back = read_step(&text).unwrap();
+    let loops = &back.faces[0].trim;
+    assert_eq!(loops.len(), 2);
+    let reach = |l: &[Point3]| l.iter().map(|p| (p.x - 5.0).abs()).fold(0.0, f64::max);
+    assert!(
+        (reach(&loops[0]) - 4.5).abs() <= 1e-9 && (reach(&loops[1]) - 2.0).abs() <= 1e-9,
+        "loops reach {} and {}",
+        reach(&loops[0]),
+        reach(&loops[1])
+    );
+}
+
 /// The same face through IGES: a trimmed surface (144) over the 128 with one inner boundary,
 /// read back with both loops (outer first) on the plane and on their squares; the file passes
 /// the structure check.

@@ -40,17 +40,20 @@ pub(super) fn boundary_params(
     };
     let mut previous: Option<(f64, f64)> = None;
     let mut loops: Vec<Vec<Point3>> = Vec::new();
+    let mut named_outer = false;
+    // per loop in `loops` order: the area of its parameter box
+    let mut boxes: Vec<f64> = Vec::new();
     for b in m.list(id, bounds)? {
         let Value::Ref(bid) = b else { continue };
         let bound = m.get(*bid)?;
         let fb = &bound.parts[0].1;
         let loop_id = m.reference(*bid, fb.get(1))?;
         let points = loop_points(m, loop_id)?;
-        if bound.parts[0].0 == "FACE_OUTER_BOUND" {
-            loops.insert(0, points.clone());
-        } else {
-            loops.push(points.clone());
-        }
+        let outer = bound.parts[0].0 == "FACE_OUTER_BOUND";
+        named_outer |= outer;
+        let slot = if outer { 0 } else { loops.len() };
+        loops.insert(slot, points.clone());
+        let first = params.len();
         for pt in points {
             params.push(match projector.as_mut() {
                 Some(pr) => {
@@ -64,9 +67,33 @@ pub(super) fn boundary_params(
                 None => surface.invert(&pt),
             });
         }
+        boxes.insert(slot, box_area(&params[first..]));
+    }
+    // a file that names no FACE_OUTER_BOUND (OCCT writes FACE_BOUNDs only): the outer loop is
+    // the one whose parameter box holds the others', the largest
+    if !named_outer && loops.len() > 1 {
+        let outer = (0..loops.len())
+            .max_by(|&a, &b| boxes[a].total_cmp(&boxes[b]))
+            .unwrap_or(0);
+        let l = loops.remove(outer);
+        loops.insert(0, l);
     }
     loops.retain(|l| l.len() >= 3);
     Ok((loops, params))
+}
+
+/// Area of the parameter box of `params` (0 for none).
+fn box_area(params: &[(f64, f64)]) -> f64 {
+    let span = |f: fn(&(f64, f64)) -> f64| {
+        let (lo, hi) = params
+            .iter()
+            .map(f)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), x| {
+                (lo.min(x), hi.max(x))
+            });
+        (hi - lo).max(0.0)
+    };
+    span(|p| p.0) * span(|p| p.1)
 }
 
 /// Points of an EDGE_LOOP (or POLY_LOOP, VERTEX_LOOP) in order along it: each oriented edge
