@@ -230,6 +230,23 @@ struct Pending<'r> {
     exact_faces: Vec<(usize, FaceBoundaries<'r>)>,
 }
 
+/// `read` into `file`'s surfaces, or its error named among the refused entities where the
+/// entity has no exact form or cannot be approximated (an entity or geometry error); any other
+/// error ends the read.
+fn keep_or_refuse(
+    read: Result<IgesSurface, IgesError>,
+    file: &mut IgesFile,
+) -> Result<(), IgesError> {
+    match read {
+        Ok(s) => file.surfaces.push(s),
+        Err(err @ (IgesError::Entity { .. } | IgesError::Geometry { .. })) => {
+            file.refused.push(err.to_string());
+        }
+        Err(err) => return Err(err),
+    }
+    Ok(())
+}
+
 impl Reader<'_> {
     /// Reads the entity `e` into `file`, or into `pending` what waits for the surfaces.
     fn read_entity<'r>(
@@ -242,30 +259,12 @@ impl Reader<'_> {
         match e.entity_type {
             128 => file.surfaces.push(self.surface(e, scale)?),
             120 => file.surfaces.push(self.revolution(e, scale)?),
-            122 | 118 => {
-                let read = if e.entity_type == 122 {
-                    self.tabulated(e, scale)
-                } else {
-                    self.ruled(e, scale)
-                };
-                match read {
-                    Ok(s) => file.surfaces.push(s),
-                    // a surface with no exact form is named, the rest of the file is read
-                    Err(err @ (IgesError::Entity { .. } | IgesError::Geometry { .. })) => {
-                        file.refused.push(err.to_string());
-                    }
-                    Err(err) => return Err(err),
-                }
-            }
+            // a surface with no exact form, or an offset that cannot be approximated, is named
+            // and the rest of the file is read
+            122 => keep_or_refuse(self.tabulated(e, scale), file)?,
+            118 => keep_or_refuse(self.ruled(e, scale), file)?,
             126 => file.curves.push(self.curve(e, scale)?),
-            140 => match self.offset(e, scale) {
-                Ok(s) => file.surfaces.push(s),
-                // an offset that cannot be read or approximated is named, the rest is read
-                Err(err @ (IgesError::Entity { .. } | IgesError::Geometry { .. })) => {
-                    file.refused.push(err.to_string());
-                }
-                Err(err) => return Err(err),
-            },
+            140 => keep_or_refuse(self.offset(e, scale), file)?,
             144 => self.trimmed_surface(e, scale, file, pending)?,
             // planes are read through the trimmed surfaces that bound them
             124 | 108 => {}
