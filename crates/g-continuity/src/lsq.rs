@@ -22,9 +22,9 @@ use nurbs_core::BandedQr;
 /// noise of the sampled coefficients, well below any real direction of the system.
 pub const SINGULAR_RELATIVE: f64 = 1e-12;
 
-/// Minimum-norm least-squares solution of A X = B ([`cod_solve`]). A tall A is first reduced by
-/// QR (A = QR, so min |AX − B| and min |RX − QᵀB| have the same solutions, and the same
-/// minimum-norm one): the decomposition then works on the small square R.
+/// Minimum-norm least-squares solution of A X = B by a complete orthogonal decomposition. A tall
+/// A is first reduced by QR (A = QR, so min |AX − B| and min |RX − QᵀB| have the same
+/// solutions, and the same minimum-norm one): the decomposition then works on the small square R.
 pub fn solve_min_norm(a: DMatrix<f64>, b: &DMatrix<f64>) -> Result<DMatrix<f64>, String> {
     let (m, n) = a.shape();
     if m > n && n > 0 {

@@ -169,6 +169,22 @@ pub fn measure_link_on(
     params: &MeasureParams,
 ) -> Result<LinkMeasure> {
     let ts = uniform_part_params(slave, side, range, params.samples)?;
+    let flat = flat_cut_off(slave, params)?;
+    let collapsed = is_collapsed(slave, side);
+    let mut m = LinkMeasure::unmeasured(side, &ts, collapsed);
+    let pairs = measure_gaps(&mut m, master, slave, &ts, params.projection);
+    let orientation = if collapsed {
+        1.0
+    } else {
+        relative_orientation(&pairs)
+    };
+    measure_normals(&mut m, &pairs, orientation, flat);
+    Ok(m)
+}
+
+/// The flatness cut-off of a measurement: [`MeasureParams::flat_curvature`], or the curvature
+/// of a radius of [`FLAT_RADIUS_FACTOR`] slave sizes; an error unless ≥ 0.
+fn flat_cut_off(slave: &BSplineSurface, params: &MeasureParams) -> Result<f64> {
     let flat = params
         .flat_curvature
         .unwrap_or(1.0 / (FLAT_RADIUS_FACTOR * slave.size().max(f64::MIN_POSITIVE)));
@@ -179,29 +195,47 @@ pub fn measure_link_on(
             reason: "must be ≥ 0",
         });
     }
-    let collapsed = is_collapsed(slave, side);
-    let mut tracker = MasterTracker::new(master, params.projection);
+    Ok(flat)
+}
+
+impl LinkMeasure {
+    /// The measure of `side` at the parameters `ts` before any sample is taken: no gap, no
+    /// angle, no curvature difference, no details.
+    fn unmeasured(side: Side, ts: &[f64], collapsed: bool) -> Self {
+        Self {
+            side,
+            samples: ts.len(),
+            collapsed,
+            g0: 0.0,
+            worst_g0_t: ts[0],
+            g1_deg: None,
+            worst_g1_t: None,
+            g2_rel: None,
+            g2_abs: None,
+            worst_g2_t: None,
+            undefined_normals: 0,
+            undefined_curvatures: 0,
+            detail: Vec::with_capacity(ts.len()),
+        }
+    }
+}
+
+/// The first pass of a measurement: at every parameter of `ts` the slave's point and its foot
+/// on the master, the gap recorded in `m` (largest gap and a sample each); returns the slave's
+/// and the master's derivatives there, in order.
+fn measure_gaps(
+    m: &mut LinkMeasure,
+    master: &BSplineSurface,
+    slave: &BSplineSurface,
+    ts: &[f64],
+    projection: ProjectionParams,
+) -> Vec<(SurfaceDerivatives, SurfaceDerivatives)> {
+    let mut tracker = MasterTracker::new(master, projection);
     let mut slave_eval = slave.evaluator();
     let mut master_eval = master.evaluator();
-    let mut m = LinkMeasure {
-        side,
-        samples: ts.len(),
-        collapsed,
-        g0: 0.0,
-        worst_g0_t: ts[0],
-        g1_deg: None,
-        worst_g1_t: None,
-        g2_rel: None,
-        g2_abs: None,
-        worst_g2_t: None,
-        undefined_normals: 0,
-        undefined_curvatures: 0,
-        detail: Vec::with_capacity(ts.len()),
-    };
-    // first pass: points, foot points and both normals at every sample
     let mut pairs = Vec::with_capacity(ts.len());
-    for &t in &ts {
-        let (u, v) = side.params(slave, t);
+    for &t in ts {
+        let (u, v) = m.side.params(slave, t);
         let ds = slave_eval.derivatives(u, v);
         let proj = tracker.project(&ds.point);
         let dm = master_eval.derivatives(proj.u, proj.v);
@@ -219,19 +253,31 @@ pub fn measure_link_on(
         });
         pairs.push((ds, dm));
     }
-    // the relative orientation of the two normals along the join: that of the majority of the
-    // samples (weighted by |n_s · n_m|), so that a normal turned over next to a pole or a
-    // degenerate corner shows as an angle near 180° instead of being folded back to 0°
-    let orientation = if collapsed {
-        1.0
-    } else {
-        let sum: f64 = pairs
-            .iter()
-            .filter_map(|(ds, dm)| ds.normal().zip(dm.normal()))
-            .map(|(ns, nm)| ns.dot(&nm))
-            .sum();
-        if sum < 0.0 { -1.0 } else { 1.0 }
-    };
+    pairs
+}
+
+/// The relative orientation σ = ±1 of the two normals along the join: that of the majority of
+/// the samples (weighted by |n_s · n_m|), so that a normal turned over next to a pole or a
+/// degenerate corner shows as an angle near 180° instead of being folded back to 0°.
+fn relative_orientation(pairs: &[(SurfaceDerivatives, SurfaceDerivatives)]) -> f64 {
+    let sum: f64 = pairs
+        .iter()
+        .filter_map(|(ds, dm)| ds.normal().zip(dm.normal()))
+        .map(|(ns, nm)| ns.dot(&nm))
+        .sum();
+    if sum < 0.0 { -1.0 } else { 1.0 }
+}
+
+/// The second pass of a measurement: the normal angle and the normal curvatures of every
+/// sample of `m` from its derivatives `pairs`, the master's normal turned by `orientation`,
+/// curvatures below `flat` counting as zero in the relative difference.
+fn measure_normals(
+    m: &mut LinkMeasure,
+    pairs: &[(SurfaceDerivatives, SurfaceDerivatives)],
+    orientation: f64,
+    flat: f64,
+) {
+    let (side, collapsed) = (m.side, m.collapsed);
     for ((ds, dm), sample) in pairs.iter().zip(m.detail.iter_mut()) {
         let t = sample.t;
         let normals = if collapsed {
@@ -276,5 +322,4 @@ pub fn measure_link_on(
             }
         }
     }
-    Ok(m)
 }

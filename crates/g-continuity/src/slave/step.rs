@@ -1,0 +1,283 @@
+//! One step (row k: C0, G1 or G2) on every linked side of a slave at once ([SV] §3.3, §4):
+//! every side's row solved on its own, the candidates of shared points (twists, common corners)
+//! averaged and the sides solved again with those pinned; sliding end points kept in their G0
+//! master's tangent plane, and on request the corner tangents turned after the C0 rows.
+
+use std::collections::BTreeMap;
+
+use nurbs_core::{BSplineSurface, Continuity, Side, Vector3};
+use rayon::prelude::*;
+
+use super::SideLink;
+use super::status::{Status, degenerate_corner_blocks, row_statuses};
+use crate::error::Result;
+use crate::measure::is_collapsed;
+use crate::params::SetParams;
+use crate::rows::{RowMove, row_of};
+
+/// Outcome of one step over all sides.
+#[derive(Debug, Clone, Copy)]
+pub(super) struct StepOutcome {
+    /// shared points (twists, common corners) averaged
+    pub(super) twists: usize,
+    /// largest control point movement (model units)
+    pub(super) max_move: f64,
+    /// the least [`RowMove::g2_slack`] of the rows solved
+    pub(super) g2_slack: f64,
+}
+
+impl Default for StepOutcome {
+    fn default() -> Self {
+        Self {
+            twists: 0,
+            max_move: 0.0,
+            g2_slack: f64::INFINITY,
+        }
+    }
+}
+
+/// The least [`RowMove::g2_slack`] of `moves` (∞ for none).
+fn least_slack(moves: &[RowMove]) -> f64 {
+    moves
+        .iter()
+        .map(|m| m.g2_slack)
+        .fold(f64::INFINITY, f64::min)
+}
+
+/// The summed candidate displacement of each shared point and the number of sides proposing it.
+type SharedCandidates = BTreeMap<(usize, usize), (Vector3, usize)>;
+
+/// The sides one step solves, with the status of every point of their rows.
+struct StepSides<'a> {
+    /// the linked sides with target ≥ the step, none collapsed
+    active: Vec<&'a SideLink<'a>>,
+    /// per active side, the status of each point of its row
+    statuses: Vec<Vec<Status>>,
+    /// every link of the slave (the neighbours' masters)
+    links: &'a [SideLink<'a>],
+    /// the step's continuity
+    step: Continuity,
+    /// the settings of the row solves
+    params: &'a SetParams,
+}
+
+impl StepSides<'_> {
+    /// The row moves of every active side on `surface`, the points whose status passes `movable`
+    /// free. The sides' systems are independent (each reads `surface` only): they are solved in
+    /// parallel and collected in side order, the first error in side order winning, so the
+    /// result does not depend on the thread count.
+    fn solve(
+        &self,
+        surface: &BSplineSurface,
+        movable: impl Fn(Status) -> bool + Sync,
+    ) -> Result<Vec<RowMove>> {
+        let (step, params) = (self.step, self.params);
+        let k = row_of(step);
+        self.active
+            .par_iter()
+            .zip(&self.statuses)
+            .map(|(l, status)| {
+                let mut free: Vec<bool> = status.iter().map(|&s| movable(s)).collect();
+                if l.range.is_some() {
+                    within_part(&mut free, l, surface);
+                }
+                let mut mv = crate::rows::solve_row_in(
+                    l.master, surface, l.side, l.range, step, &free, params,
+                )?;
+                slide(&mut mv, k, status, l.side, self.links, surface, params);
+                Ok(mv)
+            })
+            .collect::<Vec<Result<RowMove>>>()
+            .into_iter()
+            .collect()
+    }
+
+    /// The candidates of the shared points in `moves` (one per active side), summed in side
+    /// order.
+    fn shared_candidates(&self, moves: &[RowMove], nu: usize, nv: usize) -> SharedCandidates {
+        let k = row_of(self.step);
+        let mut shared = SharedCandidates::new();
+        for (l, (status, mv)) in self.active.iter().zip(self.statuses.iter().zip(moves)) {
+            let row = l.side.row(k, nu, nv);
+            for (ij, d) in mv.indices.iter().zip(&mv.displacements) {
+                let j = row.iter().position(|x| x == ij).unwrap_or(0);
+                if status[j] == Status::Shared {
+                    let e = shared.entry(*ij).or_insert((Vector3::zeros(), 0));
+                    e.0 += d;
+                    e.1 += 1;
+                }
+            }
+        }
+        shared
+    }
+
+    /// `base` with every shared point moved by the mean of its candidates, then every side
+    /// solved again with those points pinned (only free and sliding points move); the moves
+    /// and the G2 slack go into `outcome`.
+    fn solve_pinned(
+        &self,
+        base: BSplineSurface,
+        shared: &SharedCandidates,
+        outcome: &mut StepOutcome,
+    ) -> Result<BSplineSurface> {
+        let mut pinned = base;
+        for (&(i, j), &(sum, count)) in shared {
+            let idx = pinned.index(i, j);
+            let d = sum / count as f64;
+            pinned.control_points_mut()[idx] += d;
+            outcome.max_move = outcome.max_move.max(d.norm());
+        }
+        let second = self.solve(&pinned, |s| matches!(s, Status::Free | Status::Sliding))?;
+        outcome.g2_slack = outcome.g2_slack.min(least_slack(&second));
+        for mv in &second {
+            mv.apply(&mut pinned);
+            outcome.max_move = outcome.max_move.max(mv.max_displacement());
+        }
+        Ok(pinned)
+    }
+}
+
+/// Clears the points of `free` whose along-side support misses the part of the side link `l`
+/// holds on: they have no equation.
+fn within_part(free: &mut [bool], l: &SideLink, surface: &BSplineSurface) {
+    let (a, b) = l.domain(surface);
+    let kv = crate::sampling::along_knots(surface, l.side);
+    let (q, t) = (kv.degree(), kv.knots());
+    for (j, f) in free.iter_mut().enumerate() {
+        *f &= t[j] < b && t[j + q + 1] > a;
+    }
+}
+
+/// One step (row k) on every linked side with target ≥ `step`, with twist averaging.
+pub(super) fn step_all(
+    slave: &mut BSplineSurface,
+    links: &[SideLink],
+    step: Continuity,
+    params: &SetParams,
+) -> Result<StepOutcome> {
+    let active: Vec<&SideLink> = links
+        .iter()
+        .filter(|l| l.target >= step && !is_collapsed(slave, l.side))
+        .collect();
+    if active.is_empty() {
+        return Ok(StepOutcome::default());
+    }
+    let (nu, nv) = (slave.num_u(), slave.num_v());
+    let base = slave.clone();
+    let (statuses, end_slack) = row_statuses(&active, links, step, &base, params)?;
+    let sides = StepSides {
+        active,
+        statuses,
+        links,
+        step,
+        params,
+    };
+    let moves = sides.solve(&base, |s| s != Status::Fixed)?;
+    let shared = sides.shared_candidates(&moves, nu, nv);
+    let mut outcome = StepOutcome {
+        twists: shared.len(),
+        max_move: 0.0,
+        g2_slack: least_slack(&moves).min(end_slack),
+    };
+    if shared.is_empty() {
+        for mv in &moves {
+            mv.apply(slave);
+            outcome.max_move = outcome.max_move.max(mv.max_displacement());
+        }
+    } else {
+        *slave = sides.solve_pinned(base, &shared, &mut outcome)?;
+    }
+    if step == Continuity::G0 && params.tangent_corners {
+        let t = tangent_corners(slave, links, &sides.active, params);
+        outcome.max_move = outcome.max_move.max(t);
+    }
+    Ok(outcome)
+}
+
+/// After the C0 rows: at a corner where the neighbouring side carries G1 or more, the second
+/// point of this side's boundary row moves into the tangent plane of that neighbour's master
+/// at the corner ([`SetParams::tangent_corners`]). The corner's normal is
+/// (P₁₀ − P₀₀) × (P₀₁ − P₀₀) and each edge lies on one side's boundary: fitted to its own master
+/// by positions only, an edge's end tangent misses the other master's tangent plane by the
+/// fit's slope error (1.5e-4 rad on a kernel's freeform vertex blend), which no later G1 row
+/// can take back — at the corner the G1 rows keep the block the C0 rows made. Where the two
+/// masters share their tangent plane (they are G1 there) the moved point stays on its own
+/// master to first order; the move does change the boundary's end curvature, the neighbour's
+/// G2 at the corner, which is why the correction is not the default. Returns the largest move.
+fn tangent_corners(
+    slave: &mut BSplineSurface,
+    links: &[SideLink],
+    active: &[&SideLink],
+    params: &SetParams,
+) -> f64 {
+    let (nu, nv) = (slave.num_u(), slave.num_v());
+    let fixed = degenerate_corner_blocks(slave);
+    let mut largest: f64 = 0.0;
+    for l in active {
+        let row = l.side.row(0, nu, nv);
+        let m = row.len();
+        if m < 3 {
+            continue;
+        }
+        let (start, end) = l.side.neighbours();
+        for (c, j, adj) in [(0, 1, start), (m - 1, m - 2, end)] {
+            let Some(nb) = links
+                .iter()
+                .find(|x| x.side == adj && x.target >= Continuity::G1 && x.range.is_none())
+            else {
+                continue;
+            };
+            let (corner, second) = (row[c], row[j]);
+            if is_collapsed(slave, adj) || fixed.contains(&corner) || fixed.contains(&second) {
+                continue;
+            }
+            let p0 = slave.control_point(corner.0, corner.1);
+            let foot = nurbs_core::project_to_surface(nb.master, &p0, &params.projection);
+            let Some(n) = nb.master.derivatives(foot.u, foot.v).normal() else {
+                continue;
+            };
+            let idx = slave.index(second.0, second.1);
+            let d = n * n.dot(&(slave.control_points()[idx] - p0));
+            slave.control_points_mut()[idx] -= d;
+            largest = largest.max(d.norm());
+        }
+    }
+    largest
+}
+
+/// Restricts the moves of [`Status::Sliding`] end points of `side`'s row to the tangent plane of
+/// the G0 master of the neighbouring side at that corner.
+fn slide(
+    mv: &mut RowMove,
+    k: usize,
+    status: &[Status],
+    side: Side,
+    links: &[SideLink],
+    slave: &BSplineSurface,
+    params: &SetParams,
+) {
+    let m = status.len();
+    let (start, end) = side.neighbours();
+    let (t0, t1) = side.along_domain(slave);
+    let (nu, nv) = (slave.num_u(), slave.num_v());
+    let row = side.row(k, nu, nv);
+    for (j, adj, t) in [(0, start, t0), (m - 1, end, t1)] {
+        if status.get(j) != Some(&Status::Sliding) {
+            continue;
+        }
+        let Some(link) = links.iter().find(|l| l.side == adj) else {
+            continue;
+        };
+        let (u, v) = side.params(slave, t);
+        let corner = slave.point(u, v);
+        let foot = nurbs_core::project_to_surface(link.master, &corner, &params.projection);
+        let Some(n) = link.master.derivatives(foot.u, foot.v).normal() else {
+            continue;
+        };
+        for (ij, d) in mv.indices.iter().zip(mv.displacements.iter_mut()) {
+            if *ij == row[j] {
+                *d -= n * n.dot(d);
+            }
+        }
+    }
+}
