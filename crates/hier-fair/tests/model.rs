@@ -209,8 +209,9 @@ fn bad_deviations_are_named() {
     assert!(e.contains("connecting deviation"), "{e}");
 }
 
-/// A trim loop of fewer than three points, or with a non-finite coordinate, is one line naming
-/// the surface and the loop.
+/// A trim loop of fewer than three points, with a non-finite coordinate, with fewer than three
+/// distinct points or with a point far outside its surface is one line naming the surface and
+/// the loop.
 #[test]
 fn a_bad_trim_loop_is_an_error_naming_the_surface() {
     let s = patch(0.0, 0.0);
@@ -226,4 +227,18 @@ fn a_bad_trim_loop_is_an_error_naming_the_surface() {
     assert_eq!(m.surfaces[0].trim[0].len(), 3);
     let back = Model::from_json(&m.to_json()).unwrap();
     assert_eq!(back.surfaces[0].trim, m.surfaces[0].trim);
+    // one point repeated, and a loop of another part (far outside the surface's box)
+    for (bad, says) in [
+        (json!([[[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]]), "distinct"),
+        (
+            json!([[[0.0, 0.0, 0.0], [1e6, 0.0, 0.0], [1.0, 1.0, 0.0]]]),
+            "outside the surface",
+        ),
+    ] {
+        let mut p = entry("p", "primary", &s);
+        p["trim"] = bad;
+        let text = json!({"surfaces": [p], "links": []}).to_string();
+        let e = Model::from_json(&text).unwrap_err().to_string();
+        assert!(e.contains("surface p: trim loop 0") && e.contains(says), "{e}");
+    }
 }
