@@ -19,8 +19,8 @@
 
 use std::time::Instant;
 
-use g_continuity::{ConnectParams, LinkMeasure, SideLink, connect_slave};
-use nurbs_core::Continuity;
+use g_continuity::{ConnectParams, ConnectReport, LinkMeasure, SideLink, connect_slave};
+use nurbs_core::{BSplineSurface, Continuity};
 
 use crate::check::{check_model, measure_model};
 use crate::error::{Error, Result};
@@ -120,7 +120,6 @@ pub fn connect(model: &Model, options: &ConnectOptions) -> Result<(Model, ModelC
     let mut params = options.params;
     params.tolerances = model.tolerances.continuity();
     let before = check_model(model, &params.measure)?;
-    let target_of = |c: Continuity| options.target.map_or(c, |t| c.min(t));
     let mut out = model.clone();
     let mut surfaces = Vec::new();
     for k in model.hierarchy_order()? {
@@ -128,52 +127,10 @@ pub fn connect(model: &Model, options: &ConnectOptions) -> Result<(Model, ModelC
         if link_ids.is_empty() {
             continue;
         }
-        let t0 = Instant::now();
-        let original = &model.surfaces[k].surface;
-        let links: Vec<SideLink> = link_ids
-            .iter()
-            .map(|&i| {
-                let l = &model.links[i];
-                SideLink {
-                    side: l.side,
-                    master: &out.surfaces[l.master].surface,
-                    target: target_of(l.continuity),
-                    range: None,
-                }
-            })
-            .collect();
-        let own = ConnectParams {
-            max_control_points: crate::framework::net_bound(params.max_control_points, original),
-            ..params
-        };
-        let (result, report, fallback) = protected(
-            original,
-            &links,
-            &own,
-            &link_ids
-                .iter()
-                .map(|&i| &before[i].measure)
-                .collect::<Vec<_>>(),
-        )
-        .map_err(|source| Error::Continuity {
-            place: format!("surface {}", model.surfaces[k].name),
-            source,
-        })?;
-        drop(links);
-        surfaces.push(SurfaceConnect {
-            surface: k,
-            name: model.surfaces[k].name.clone(),
-            role: model.surfaces[k].role,
-            energy_before: nurbs_core::energy::thin_plate_energy(original),
-            energy_after: nurbs_core::energy::thin_plate_energy(&result),
-            max_deviation: nurbs_core::energy::max_deviation(original, &result, DEVIATION_GRID),
-            max_control_movement: report.max_control_movement,
-            knots_inserted: report.knots_inserted,
-            refinements: report.refinements,
-            twists_averaged: report.twists_averaged,
-            seconds: t0.elapsed().as_secs_f64(),
-            fallback,
-        });
+        let measures: Vec<&LinkMeasure> = link_ids.iter().map(|&i| &before[i].measure).collect();
+        let (result, record) =
+            connect_surface(model, &out, k, &link_ids, options, &params, &measures)?;
+        surfaces.push(record);
         out.surfaces[k].surface = result;
     }
     // measured whether or not a link still touches: a link the candidates could not keep
@@ -185,7 +142,7 @@ pub fn connect(model: &Model, options: &ConnectOptions) -> Result<(Model, ModelC
         .map(|(b, a)| LinkConnect {
             link: b.link,
             label: b.label,
-            target: target_of(b.target),
+            target: options.target_of(b.target),
             before: b.measure,
             after: a.measure,
         })
@@ -200,28 +157,151 @@ pub fn connect(model: &Model, options: &ConnectOptions) -> Result<(Model, ModelC
     ))
 }
 
+impl ConnectOptions {
+    /// The continuity set on a link of continuity `c`: `c` capped by [`ConnectOptions::target`].
+    fn target_of(&self, c: Continuity) -> Continuity {
+        self.target.map_or(c, |t| c.min(t))
+    }
+}
+
+/// Connects surface `k` of `model` to its masters as `out` has them (final, as they come
+/// earlier in the hierarchy) over its links `link_ids`, whose measures on the input are
+/// `before`; returns the result and its record.
+fn connect_surface(
+    model: &Model,
+    out: &Model,
+    k: usize,
+    link_ids: &[usize],
+    options: &ConnectOptions,
+    params: &ConnectParams,
+    before: &[&LinkMeasure],
+) -> Result<(BSplineSurface, SurfaceConnect)> {
+    let t0 = Instant::now();
+    let original = &model.surfaces[k].surface;
+    let links: Vec<SideLink> = link_ids
+        .iter()
+        .map(|&i| {
+            let l = &model.links[i];
+            SideLink {
+                side: l.side,
+                master: &out.surfaces[l.master].surface,
+                target: options.target_of(l.continuity),
+                range: None,
+            }
+        })
+        .collect();
+    let own = ConnectParams {
+        max_control_points: crate::framework::net_bound(params.max_control_points, original),
+        ..*params
+    };
+    let (result, report, fallback) =
+        protected(original, &links, &own, before).map_err(|source| Error::Continuity {
+            place: format!("surface {}", model.surfaces[k].name),
+            source,
+        })?;
+    let record = SurfaceConnect {
+        surface: k,
+        name: model.surfaces[k].name.clone(),
+        role: model.surfaces[k].role,
+        energy_before: nurbs_core::energy::thin_plate_energy(original),
+        energy_after: nurbs_core::energy::thin_plate_energy(&result),
+        max_deviation: nurbs_core::energy::max_deviation(original, &result, DEVIATION_GRID),
+        max_control_movement: report.max_control_movement,
+        knots_inserted: report.knots_inserted,
+        refinements: report.refinements,
+        twists_averaged: report.twists_averaged,
+        seconds: t0.elapsed().as_secs_f64(),
+        fallback,
+    };
+    Ok((result, record))
+}
+
+/// One result [`protected`] may keep.
+struct Candidate {
+    /// what produced it (for the report)
+    what: &'static str,
+    /// the slave
+    surface: BSplineSurface,
+    /// its continuity setting's report
+    report: ConnectReport,
+    /// how much its links grow against the input: gap, angle, curvature
+    /// ([`crate::framework::growths`], the worst link each)
+    growth: [f64; 3],
+}
+
+/// Whether a candidate of `growth` is no worse than the input in any figure.
+fn no_worse(growth: &[f64; 3]) -> bool {
+    growth.iter().all(|&x| x <= 1.0)
+}
+
+/// Whether a candidate of `growth` keeps every gap and angle. The rule is about gaps and
+/// angles; a curvature difference that grows (a vertex blend between masters that disagree) is
+/// reported, and does not make every variant run.
+fn joins_kept(growth: &[f64; 3]) -> bool {
+    growth[0] <= 1.0 && growth[1] <= 1.0
+}
+
 /// [`connect_slave`] with the never-worse rule of the module docs: the result and its report,
 /// and the fallback phrase when the plain setting was not kept. `before` holds each link's
 /// measure on the input model.
 fn protected(
-    original: &nurbs_core::BSplineSurface,
+    original: &BSplineSurface,
     links: &[SideLink],
     params: &ConnectParams,
     before: &[&LinkMeasure],
-) -> std::result::Result<
-    (
-        nurbs_core::BSplineSurface,
-        g_continuity::ConnectReport,
-        Option<String>,
-    ),
-    g_continuity::Error,
-> {
-    let growth = |s: &nurbs_core::BSplineSurface| -> [f64; 3] {
+) -> std::result::Result<(BSplineSurface, ConnectReport, Option<String>), g_continuity::Error> {
+    let slave = Protected {
+        original,
+        links,
+        params,
+        before,
+    };
+    let first = slave.candidate(
+        "the continuity setting",
+        connect_slave(original, links, params)?,
+    );
+    if no_worse(&first.growth) {
+        return Ok((first.surface, first.report, None));
+    }
+    let mut candidates = vec![first];
+    slave.alternatives(&mut candidates);
+    let unchanged = (original.clone(), ConnectReport::default());
+    candidates.push(slave.candidate("the surface as it was", unchanged));
+    let pick = least_growth(&candidates);
+    let figures: Vec<String> = candidates
+        .iter()
+        .map(|c| format!("{}: {}", c.what, crate::framework::growth_text(c.growth)))
+        .collect();
+    let why = format!(
+        "the continuity setting would leave a link worse than the input; kept {}, whose links grow the least against the input — {}",
+        candidates[pick].what,
+        figures.join("; ")
+    );
+    let kept = candidates.swap_remove(pick);
+    Ok((kept.surface, kept.report, Some(why)))
+}
+
+/// A slave under the never-worse rule: the input, its links and their measures on the input.
+struct Protected<'a> {
+    /// the slave as it came
+    original: &'a BSplineSurface,
+    /// its links
+    links: &'a [SideLink<'a>],
+    /// the continuity setting
+    params: &'a ConnectParams,
+    /// each link's measure on the input model
+    before: &'a [&'a LinkMeasure],
+}
+
+impl Protected<'_> {
+    /// The worst growth of the links on `s` against the input: gap, angle, curvature (a link
+    /// that cannot be measured on `s` counts as opened).
+    fn growth(&self, s: &BSplineSurface) -> [f64; 3] {
+        let params = self.params;
         let mut worst = [0.0f64; 3];
-        for (l, b) in links.iter().zip(before) {
+        for (l, b) in self.links.iter().zip(self.before) {
             let Ok(a) = g_continuity::measure::measure_link(l.master, s, l.side, &params.measure)
             else {
-                // a link that cannot be measured on the candidate counts as opened
                 worst[0] = f64::INFINITY;
                 continue;
             };
@@ -231,104 +311,98 @@ fn protected(
             }
         }
         worst
-    };
-    let no_worse = |g: &[f64; 3]| g.iter().all(|&x| x <= 1.0);
-    // the rule is about gaps and angles; a curvature difference that grows (a vertex blend
-    // between masters that disagree) is reported, and does not make every variant run
-    let joins_kept = |g: &[f64; 3]| g[0] <= 1.0 && g[1] <= 1.0;
-    let first = connect_slave(original, links, params)?;
-    let g = growth(&first.0);
-    if no_worse(&g) {
-        return Ok((first.0, first.1, None));
     }
-    let mut candidates = vec![("the continuity setting", first.0, first.1, g)];
-    let turned = ConnectParams {
-        set: g_continuity::SetParams {
-            tangent_corners: true,
-            ..params.set
-        },
-        ..*params
-    };
-    let g1_links: Vec<SideLink> = links
-        .iter()
-        .map(|l| SideLink {
-            target: l.target.min(Continuity::G1),
-            ..*l
-        })
-        .collect();
-    let mut variants: Vec<(&str, &[SideLink], &ConnectParams)> = vec![(
-        "the setting with the corner tangents turned",
-        links,
-        &turned,
-    )];
-    if links.iter().any(|l| l.target >= Continuity::G2) {
-        variants.push(("the setting capped at G1", &g1_links, params));
-    }
-    // the steps one by one, as the framework's dry run takes them: each step's refinement
-    // starts from the rows the step below met, where the single call refines for all at once
-    for (what, p) in [
-        ("the setting step by step", params),
-        (
-            "the setting step by step with the corner tangents turned",
-            &turned,
-        ),
-    ] {
-        if candidates.iter().any(|c| joins_kept(&c.3)) {
-            break;
-        }
-        if let Ok(s) = stepwise(original, links, p) {
-            let g = growth(&s.0);
-            candidates.push((what, s.0, s.1, g));
+
+    /// The candidate `what` of the result `(surface, report)`, its growth measured.
+    fn candidate(
+        &self,
+        what: &'static str,
+        (surface, report): (BSplineSurface, ConnectReport),
+    ) -> Candidate {
+        let growth = self.growth(&surface);
+        Candidate {
+            what,
+            surface,
+            report,
+            growth,
         }
     }
-    for (what, ls, p) in variants {
-        if candidates.iter().any(|c| joins_kept(&c.3)) {
-            break;
-        }
-        // a variant that fails is no candidate; the plain setting's result stands for it
-        let Ok((s, r)) = connect_slave(original, ls, p) else {
-            continue;
+
+    /// Adds the other settings to `candidates`, in order, until one keeps every join: step by
+    /// step, step by step with the corner tangents turned, in one call with the turned
+    /// tangents, with the G2 links capped at G1. A setting that fails is no candidate.
+    fn alternatives(&self, candidates: &mut Vec<Candidate>) {
+        let (original, links, params) = (self.original, self.links, self.params);
+        let turned = ConnectParams {
+            set: g_continuity::SetParams {
+                tangent_corners: true,
+                ..params.set
+            },
+            ..*params
         };
-        let g = growth(&s);
-        candidates.push((what, s, r, g));
+        // the steps one by one, as the framework's dry run takes them: each step's refinement
+        // starts from the rows the step below met, where the single call refines for all at once
+        for (what, p) in [
+            ("the setting step by step", params),
+            (
+                "the setting step by step with the corner tangents turned",
+                &turned,
+            ),
+        ] {
+            if candidates.iter().any(|c| joins_kept(&c.growth)) {
+                return;
+            }
+            if let Ok(s) = stepwise(original, links, p) {
+                candidates.push(self.candidate(what, s));
+            }
+        }
+        let g1_links: Vec<SideLink> = links
+            .iter()
+            .map(|l| SideLink {
+                target: l.target.min(Continuity::G1),
+                ..*l
+            })
+            .collect();
+        let mut variants: Vec<(&'static str, &[SideLink], &ConnectParams)> = vec![(
+            "the setting with the corner tangents turned",
+            links,
+            &turned,
+        )];
+        if links.iter().any(|l| l.target >= Continuity::G2) {
+            variants.push(("the setting capped at G1", &g1_links, params));
+        }
+        for (what, ls, p) in variants {
+            if candidates.iter().any(|c| joins_kept(&c.growth)) {
+                return;
+            }
+            if let Ok(s) = connect_slave(original, ls, p) {
+                candidates.push(self.candidate(what, s));
+            }
+        }
     }
-    let unchanged = g_continuity::ConnectReport::default();
-    let g = growth(original);
-    candidates.push(("the surface as it was", original.clone(), unchanged, g));
-    let pick = (0..candidates.len())
-        .find(|&k| no_worse(&candidates[k].3))
+}
+
+/// The candidate to keep: the first no worse than the input in every figure, else the one whose
+/// links grow the least ([`crate::framework::growth_order`]; the first of equals).
+fn least_growth(candidates: &[Candidate]) -> usize {
+    (0..candidates.len())
+        .find(|&k| no_worse(&candidates[k].growth))
         .unwrap_or_else(|| {
             (1..candidates.len()).fold(0, |best, k| {
-                if crate::framework::growth_order(candidates[k].3, candidates[best].3).is_lt() {
-                    k
-                } else {
-                    best
-                }
+                let order =
+                    crate::framework::growth_order(candidates[k].growth, candidates[best].growth);
+                if order.is_lt() { k } else { best }
             })
-        });
-    let figures: Vec<String> = candidates
-        .iter()
-        .map(|(what, _, _, g)| format!("{what}: {}", crate::framework::growth_text(*g)))
-        .collect();
-    let why = format!(
-        "the continuity setting would leave a link worse than the input; kept {}, whose links grow the least against the input — {}",
-        candidates[pick].0,
-        figures.join("; ")
-    );
-    let (_, s, r, _) = candidates.swap_remove(pick);
-    Ok((s, r, Some(why)))
+        })
 }
 
 /// C0, then G1, then G2 (as far as the links ask), each by [`g_continuity::set_step`] on the
 /// result of the one below, after [`g_continuity::prepare_slave`].
 fn stepwise(
-    original: &nurbs_core::BSplineSurface,
+    original: &BSplineSurface,
     links: &[SideLink],
     params: &ConnectParams,
-) -> std::result::Result<
-    (nurbs_core::BSplineSurface, g_continuity::ConnectReport),
-    g_continuity::Error,
-> {
+) -> std::result::Result<(BSplineSurface, ConnectReport), g_continuity::Error> {
     let (mut s, mut report) = g_continuity::prepare_slave(original, links, params)?;
     let top = links.iter().map(|l| l.target).max();
     for step in [Continuity::G0, Continuity::G1, Continuity::G2] {

@@ -19,6 +19,7 @@ use crate::model::{CornerGroup, Model};
 /// sides lying on each other).
 pub const ON_SIDE: f64 = 1e-6;
 
+/// How a quad is turned into nside-discrete's convention (applied in this order).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct Orient {
     reverse_u: bool,
@@ -26,6 +27,7 @@ struct Orient {
     transpose: bool,
 }
 
+/// `s` turned by `o`.
 fn apply(s: &BSplineSurface, o: Orient) -> nurbs_core::Result<BSplineSurface> {
     let mut t = s.clone();
     if o.reverse_u {
@@ -40,6 +42,7 @@ fn apply(s: &BSplineSurface, o: Orient) -> nurbs_core::Result<BSplineSurface> {
     Ok(t)
 }
 
+/// `s` turned back by `o` (the inverse of [`apply`]).
 fn undo(s: &BSplineSurface, o: Orient) -> nurbs_core::Result<BSplineSurface> {
     let mut t = s.clone();
     if o.transpose {
@@ -54,6 +57,7 @@ fn undo(s: &BSplineSurface, o: Orient) -> nurbs_core::Result<BSplineSurface> {
     Ok(t)
 }
 
+/// The four corner points of `s`, each with whether it is at u = u1 and at v = v1.
 fn corners(s: &BSplineSurface) -> [(Point3, (bool, bool)); 4] {
     let ((a, b), (c, d)) = (s.domain_u(), s.domain_v());
     [
@@ -64,12 +68,14 @@ fn corners(s: &BSplineSurface) -> [(Point3, (bool, bool)); 4] {
     ]
 }
 
+/// The point of `s` at the middle of `side`.
 fn side_mid(s: &BSplineSurface, side: Side) -> Point3 {
     let (a, b) = side.along_domain(s);
     let (u, v) = side.params(s, 0.5 * (a + b));
     s.point(u, v)
 }
 
+/// Whether `p` and `q` are within `tol` of each other.
 fn near(p: &Point3, q: &Point3, tol: f64) -> bool {
     (p - q).norm() <= tol
 }
@@ -96,83 +102,24 @@ pub fn fair_group(
     }
     let size = quads.iter().map(|q| q.size()).fold(0.0, f64::max);
     let tol = ON_SIDE * size;
-    // the centre: the corner common to every quad
-    let centre = corners(quads[0])
-        .into_iter()
-        .map(|(p, _)| p)
-        .find(|p| {
-            quads
-                .iter()
-                .all(|q| corners(q).iter().any(|(c, _)| near(c, p, tol)))
-        })
-        .ok_or_else(|| {
-            format!(
-                "corner group {}: the patches do not share a common centre point",
-                group.name
-            )
-        })?;
+    let centre = common_centre(&quads, tol).ok_or_else(|| {
+        format!(
+            "corner group {}: the patches do not share a common centre point",
+            group.name
+        )
+    })?;
     let mut orients = Vec::with_capacity(n);
     let mut oriented = Vec::with_capacity(n);
     for (k, q) in quads.iter().enumerate() {
-        let (_, (at_u1, at_v1)) = corners(q)
-            .into_iter()
-            .find(|(c, _)| near(c, &centre, tol))
-            .ok_or_else(|| format!("corner group {}: patch {k} misses the centre", group.name))?;
-        let mut o = Orient {
-            reverse_u: !at_u1,
-            reverse_v: !at_v1,
-            transpose: false,
-        };
-        let t = apply(q, o).map_err(|e| e.to_string())?;
-        let next = quads[(k + 1) % n];
-        let shares = |side: Side| {
-            let m = side_mid(&t, side);
-            Side::ALL.iter().any(|&s| near(&side_mid(next, s), &m, tol))
-        };
-        if shares(Side::U1) {
-        } else if shares(Side::V1) {
-            o.transpose = true;
-        } else {
-            return Err(format!(
-                "corner group {}: patch {k} shares no internal curve with patch {}",
-                group.name,
-                (k + 1) % n
-            ));
-        }
+        let o = orient(&quads, k, &centre, tol, &group.name)?;
         oriented.push(apply(q, o).map_err(|e| e.to_string())?);
         orients.push(o);
     }
-    // neighbours: the master whose side lies on outer side v0 of each oriented quad
-    let mut neighbours: Vec<Option<Neighbour>> = Vec::with_capacity(n);
-    for (k, t) in oriented.iter().enumerate() {
-        let slave = group.patches[k];
-        let m = side_mid(t, Side::V0);
-        let found = model
-            .links
-            .iter()
-            .filter(|l| l.slave == slave && !group.patches.contains(&l.master))
-            .find_map(|l| {
-                let master = &current.surfaces[l.master].surface;
-                Side::ALL
-                    .into_iter()
-                    .find(|&s| {
-                        near(&side_mid(master, s), &side_mid(t, Side::V0), tol) || {
-                            // the master side may be the whole boundary curve: its midpoint is
-                            // then the corner V_{k+1}-side half's end, so test containment
-                            let (a, b) = s.along_domain(master);
-                            let (u, v) = s.params(master, a + 0.25 * (b - a));
-                            let (u2, v2) = s.params(master, a + 0.75 * (b - a));
-                            near(&master.point(u, v), &m, tol)
-                                || near(&master.point(u2, v2), &m, tol)
-                        }
-                    })
-                    .map(|side| Neighbour {
-                        surface: master,
-                        side,
-                    })
-            });
-        neighbours.push(found);
-    }
+    let neighbours: Vec<Option<Neighbour>> = oriented
+        .iter()
+        .zip(&group.patches)
+        .map(|(t, &slave)| outer_neighbour(model, current, group, slave, t, tol))
+        .collect();
     let (faired, report) = fair_corner(&oriented, &neighbours, &NsidedParams::default())
         .map_err(|e| format!("corner group {}: {e}", group.name))?;
     let back = faired
@@ -182,4 +129,91 @@ pub fn fair_group(
         .collect::<nurbs_core::Result<Vec<_>>>()
         .map_err(|e| e.to_string())?;
     Ok((back, report))
+}
+
+/// The centre of a corner group: the corner of the first quad that every quad has (within
+/// `tol`).
+fn common_centre(quads: &[&BSplineSurface], tol: f64) -> Option<Point3> {
+    corners(quads[0]).into_iter().map(|(p, _)| p).find(|p| {
+        quads
+            .iter()
+            .all(|q| corners(q).iter().any(|(c, _)| near(c, p, tol)))
+    })
+}
+
+/// How quad `k` of `quads` (of corner group `name`) is brought into nside-discrete's
+/// convention: u and v reversed so that `centre` is at (1, 1), transposed when its internal
+/// curve shared with the next quad is side v1 rather than u1.
+fn orient(
+    quads: &[&BSplineSurface],
+    k: usize,
+    centre: &Point3,
+    tol: f64,
+    name: &str,
+) -> Result<Orient, String> {
+    let (n, q) = (quads.len(), quads[k]);
+    let (_, (at_u1, at_v1)) = corners(q)
+        .into_iter()
+        .find(|(c, _)| near(c, centre, tol))
+        .ok_or_else(|| format!("corner group {name}: patch {k} misses the centre"))?;
+    let mut o = Orient {
+        reverse_u: !at_u1,
+        reverse_v: !at_v1,
+        transpose: false,
+    };
+    let t = apply(q, o).map_err(|e| e.to_string())?;
+    let next = quads[(k + 1) % n];
+    let shares = |side: Side| {
+        let m = side_mid(&t, side);
+        Side::ALL.iter().any(|&s| near(&side_mid(next, s), &m, tol))
+    };
+    if shares(Side::U1) {
+    } else if shares(Side::V1) {
+        o.transpose = true;
+    } else {
+        return Err(format!(
+            "corner group {name}: patch {k} shares no internal curve with patch {}",
+            (k + 1) % n
+        ));
+    }
+    Ok(o)
+}
+
+/// The neighbour across outer side v0 of the oriented quad `t` (model surface `slave`): a side
+/// of a master of `slave` outside the group that lies on it, as `current` has that master.
+fn outer_neighbour<'m>(
+    model: &Model,
+    current: &'m Model,
+    group: &CornerGroup,
+    slave: usize,
+    t: &BSplineSurface,
+    tol: f64,
+) -> Option<Neighbour<'m>> {
+    let m = side_mid(t, Side::V0);
+    model
+        .links
+        .iter()
+        .filter(|l| l.slave == slave && !group.patches.contains(&l.master))
+        .find_map(|l| {
+            let master = &current.surfaces[l.master].surface;
+            Side::ALL
+                .into_iter()
+                .find(|&s| lies_on(master, s, &m, tol))
+                .map(|side| Neighbour {
+                    surface: master,
+                    side,
+                })
+        })
+}
+
+/// Whether side `s` of `master` lies on the point `m` (an outer side's midpoint, within `tol`):
+/// its midpoint is `m`, or — the master side may be the whole boundary curve, whose midpoint is
+/// then the corner V_{k+1}-side half's end — its point at a quarter or three quarters is.
+fn lies_on(master: &BSplineSurface, s: Side, m: &Point3, tol: f64) -> bool {
+    near(&side_mid(master, s), m, tol) || {
+        let (a, b) = s.along_domain(master);
+        let (u, v) = s.params(master, a + 0.25 * (b - a));
+        let (u2, v2) = s.params(master, a + 0.75 * (b - a));
+        near(&master.point(u, v), m, tol) || near(&master.point(u2, v2), m, tol)
+    }
 }

@@ -38,7 +38,7 @@
 //! - The side lies on it when [`MIN_RUN`] consecutive of its [`crate::build::SIDE_SAMPLES`]
 //!   samples do.
 
-use nurbs_core::{BSplineSurface, ProjectionParams, Side, SurfaceProjector};
+use nurbs_core::{BSplineSurface, ProjectionParams, Side, SurfaceDerivatives, SurfaceProjector};
 
 use crate::model::Model;
 use crate::patches::TANGENT_EDGE_DEG;
@@ -131,83 +131,136 @@ pub fn shared_edges(model: &Model) -> Vec<SharedEdge> {
         .iter()
         .map(|s| crate::patches::net_box(&s.surface, tol))
         .collect();
-    let params = ProjectionParams::default();
     let mut projectors: Vec<Option<SurfaceProjector>> = (0..n).map(|_| None).collect();
     let mut out = Vec::new();
     for k in 0..n {
-        let s = &model.surfaces[k].surface;
         for side in Side::ALL {
-            if g_continuity::measure::is_collapsed(s, side)
-                || model.links.iter().any(|l| l.slave == k && l.side == side)
-            {
-                continue;
-            }
-            let Ok(ts) =
-                g_continuity::sampling::uniform_side_params(s, side, crate::build::SIDE_SAMPLES)
-            else {
+            let Some(samples) = SideSamples::unlinked(model, k, side) else {
                 continue;
             };
-            let samples: Vec<_> = ts
-                .iter()
-                .map(|&t| {
-                    let (u, v) = side.params(s, t);
-                    s.derivatives(u, v)
-                })
-                .collect();
             for (m, other) in model.surfaces.iter().enumerate() {
                 if m == k || model.links.iter().any(|l| l.slave == m && l.master == k) {
                     continue;
                 }
-                let (lo, hi) = boxes[m];
-                let inside =
-                    |p: &nurbs_core::Point3| (0..3).all(|c| p[c] >= lo[c] && p[c] <= hi[c]);
-                if samples.iter().filter(|d| inside(&d.point)).count() < MIN_RUN {
-                    continue;
-                }
-                let projector = projectors[m]
-                    .get_or_insert_with(|| SurfaceProjector::new(&other.surface, params));
-                let on: Vec<bool> = samples
-                    .iter()
-                    .map(|d| {
-                        if !inside(&d.point) {
-                            return false;
-                        }
-                        let f = projector.project(&d.point);
-                        f.distance <= tol
-                            && angle_deg(d.normal(), other.surface.derivatives(f.u, f.v).normal())
-                                .is_some_and(|a| a <= TANGENT_EDGE_DEG)
-                    })
-                    .collect();
-                // the longest run of consecutive samples on it
-                let (mut best, mut start) = ((0, 0), None);
-                for (i, &yes) in on.iter().chain(std::iter::once(&false)).enumerate() {
-                    match (yes, start) {
-                        (true, None) => start = Some(i),
-                        (false, Some(a)) => {
-                            if i - a > best.1 - best.0 {
-                                best = (a, i);
-                            }
-                            start = None;
-                        }
-                        _ => {}
-                    }
-                }
-                if best.1 - best.0 >= MIN_RUN {
-                    let (a, b) = side.along_domain(s);
-                    let run = ts[best.0..best.1].to_vec();
-                    let fraction = (run[run.len() - 1] - run[0]) / (b - a);
-                    out.push(SharedEdge {
-                        surface: k,
-                        side,
-                        other: m,
-                        ts: run,
-                        fraction,
-                    });
+                let on = samples.on(&other.surface, boxes[m], &mut projectors[m], tol);
+                if let Some(edge) = samples.edge(m, &on) {
+                    out.push(edge);
                 }
             }
         }
     }
     out
+}
+
+/// An unlinked side of one surface, sampled for [`shared_edges`].
+struct SideSamples {
+    /// the surface's index
+    surface: usize,
+    /// its side
+    side: Side,
+    /// the side's along-side parameter domain
+    domain: (f64, f64),
+    /// the along-side parameters of the samples
+    ts: Vec<f64>,
+    /// the surface's derivatives at them
+    samples: Vec<SurfaceDerivatives>,
+}
+
+impl SideSamples {
+    /// The [`crate::build::SIDE_SAMPLES`] samples of `side` of surface `k` of `model`; `None`
+    /// when the side is collapsed, linked, or cannot be sampled.
+    fn unlinked(model: &Model, k: usize, side: Side) -> Option<Self> {
+        let s = &model.surfaces[k].surface;
+        if g_continuity::measure::is_collapsed(s, side)
+            || model.links.iter().any(|l| l.slave == k && l.side == side)
+        {
+            return None;
+        }
+        let ts = g_continuity::sampling::uniform_side_params(s, side, crate::build::SIDE_SAMPLES)
+            .ok()?;
+        let samples = ts
+            .iter()
+            .map(|&t| {
+                let (u, v) = side.params(s, t);
+                s.derivatives(u, v)
+            })
+            .collect();
+        Some(Self {
+            surface: k,
+            side,
+            domain: side.along_domain(s),
+            ts,
+            samples,
+        })
+    }
+
+    /// Which samples lie on `other` (within `tol` and [`TANGENT_EDGE_DEG`]); none when fewer
+    /// than [`MIN_RUN`] lie in its control net's box `(lo, hi)`. `projector` is `other`'s,
+    /// made on first use.
+    fn on<'o>(
+        &self,
+        other: &'o BSplineSurface,
+        (lo, hi): ([f64; 3], [f64; 3]),
+        projector: &mut Option<SurfaceProjector<'o>>,
+        tol: f64,
+    ) -> Vec<bool> {
+        let inside = |p: &nurbs_core::Point3| (0..3).all(|c| p[c] >= lo[c] && p[c] <= hi[c]);
+        if self.samples.iter().filter(|d| inside(&d.point)).count() < MIN_RUN {
+            return Vec::new();
+        }
+        let projector = projector
+            .get_or_insert_with(|| SurfaceProjector::new(other, ProjectionParams::default()));
+        self.samples
+            .iter()
+            .map(|d| {
+                if !inside(&d.point) {
+                    return false;
+                }
+                let f = projector.project(&d.point);
+                f.distance <= tol
+                    && angle_deg(d.normal(), other.derivatives(f.u, f.v).normal())
+                        .is_some_and(|a| a <= TANGENT_EDGE_DEG)
+            })
+            .collect()
+    }
+
+    /// The shared edge on surface `other` over the longest run of samples `on` it, if that run
+    /// holds at least [`MIN_RUN`] samples.
+    fn edge(&self, other: usize, on: &[bool]) -> Option<SharedEdge> {
+        let (first, end) = longest_run(on);
+        if end - first < MIN_RUN {
+            return None;
+        }
+        let (a, b) = self.domain;
+        let run = self.ts[first..end].to_vec();
+        let fraction = (run[run.len() - 1] - run[0]) / (b - a);
+        Some(SharedEdge {
+            surface: self.surface,
+            side: self.side,
+            other,
+            ts: run,
+            fraction,
+        })
+    }
+}
+
+/// The longest run of consecutive `true`s in `on`, as the index range `(first, end)` (the first
+/// of equally long runs; `(0, 0)` when there is none).
+fn longest_run(on: &[bool]) -> (usize, usize) {
+    let (mut best, mut start) = ((0, 0), None);
+    for (i, &yes) in on.iter().chain(std::iter::once(&false)).enumerate() {
+        match (yes, start) {
+            (true, None) => start = Some(i),
+            (false, Some(a)) => {
+                if i - a > best.1 - best.0 {
+                    best = (a, i);
+                }
+                start = None;
+            }
+            _ => {}
+        }
+    }
+    best
 }
 
 /// The edges of `edges` that `model` (the model with its found links, [`link_edges`]) does not
