@@ -9,7 +9,9 @@
 //! thinning would keep every sample without being truer to the edge; at the G0 tolerance a
 //! lofted block's loops shrink from about 1,000 points to about 400.
 
-use nurbs_core::Point3;
+use nurbs_core::{BSplineSurface, Point3};
+
+use crate::error::{Error, Result};
 
 /// Share of the G0 tolerance a thinned trim loop may deviate from the points it came from (the
 /// module docs say why the whole of it).
@@ -65,6 +67,84 @@ fn distance_to_segment(x: &Point3, p: &Point3, q: &Point3) -> f64 {
     }
     let t = ((x - p).dot(&d) / len2).clamp(0.0, 1.0);
     (x - (p + d * t)).norm()
+}
+
+/// Two trim points closer than this fraction of the surface size are one point: the rounding of
+/// two projections of the same point (nurbs-io's export merges vertices at the same share).
+const TRIM_SAME_POINT_RELATIVE: f64 = 1e-9;
+
+/// A surface entry's `trim` loops as points: each loop at least three finite points, three of
+/// them distinct, none farther from the box of the surface's control net than the surface's
+/// size (a trim lies on its surface, which lies in that box; the margin leaves room for a
+/// surface moved in fairing, and only a loop of another part or of other units is refused).
+pub(crate) fn checked_loops(
+    name: &str,
+    loops: &[Vec<[f64; 3]>],
+    surface: &BSplineSurface,
+) -> Result<Vec<Vec<Point3>>> {
+    let size = surface.size();
+    let (lo, hi) = surface.control_points().iter().fold(
+        ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
+        |(mut lo, mut hi), p| {
+            for c in 0..3 {
+                lo[c] = lo[c].min(p[c]);
+                hi[c] = hi[c].max(p[c]);
+            }
+            (lo, hi)
+        },
+    );
+    let outside = |p: &[f64; 3]| {
+        (0..3)
+            .map(|c| (lo[c] - p[c]).max(p[c] - hi[c]).max(0.0).powi(2))
+            .sum::<f64>()
+            .sqrt()
+    };
+    let bad = |k: usize, why: String| Error::Format {
+        detail: format!("surface {name}: trim loop {k} {why}"),
+    };
+    loops
+        .iter()
+        .enumerate()
+        .map(|(k, l)| {
+            if l.len() < 3 || l.iter().flatten().any(|x| !x.is_finite()) {
+                return Err(bad(
+                    k,
+                    format!(
+                        "needs at least three finite points, got {} point(s)",
+                        l.len()
+                    ),
+                ));
+            }
+            let points: Vec<Point3> = l.iter().map(|p| Point3::new(p[0], p[1], p[2])).collect();
+            let mut distinct: Vec<Point3> = Vec::new();
+            for p in &points {
+                if distinct.len() < 3
+                    && distinct
+                        .iter()
+                        .all(|q| (p - q).norm() > TRIM_SAME_POINT_RELATIVE * size)
+                {
+                    distinct.push(*p);
+                }
+            }
+            if distinct.len() < 3 {
+                return Err(bad(k, "has fewer than three distinct points".into()));
+            }
+            if let Some((j, d)) = l
+                .iter()
+                .map(outside)
+                .enumerate()
+                .find(|&(_, d)| d > size)
+            {
+                return Err(bad(
+                    k,
+                    format!(
+                        "point {j} lies {d:.3e} outside the surface's control net box (size {size:.3e})"
+                    ),
+                ));
+            }
+            Ok(points)
+        })
+        .collect()
 }
 
 #[cfg(test)]

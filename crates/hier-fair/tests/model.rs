@@ -229,7 +229,10 @@ fn a_bad_trim_loop_is_an_error_naming_the_surface() {
     assert_eq!(back.surfaces[0].trim, m.surfaces[0].trim);
     // one point repeated, and a loop of another part (far outside the surface's box)
     for (bad, says) in [
-        (json!([[[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]]), "distinct"),
+        (
+            json!([[[0.0, 0.0, 0.0], [0.0, 0.0, 0.0], [0.0, 0.0, 0.0]]]),
+            "distinct",
+        ),
         (
             json!([[[0.0, 0.0, 0.0], [1e6, 0.0, 0.0], [1.0, 1.0, 0.0]]]),
             "outside the surface",
@@ -239,6 +242,9 @@ fn a_bad_trim_loop_is_an_error_naming_the_surface() {
         p["trim"] = bad;
         let text = json!({"surfaces": [p], "links": []}).to_string();
         let e = Model::from_json(&text).unwrap_err().to_string();
-        assert!(e.contains("surface p: trim loop 0") && e.contains(says), "{e}");
+        assert!(
+            e.contains("surface p: trim loop 0") && e.contains(says),
+            "{e}"
+        );
     }
 }
