@@ -44,7 +44,12 @@ fn cod_solve(a: DMatrix<f64>, b: &DMatrix<f64>) -> Result<DMatrix<f64>, String> 
     let n = a.ncols();
     let qr = a.col_piv_qr();
     let r = qr.r();
-    let largest = r[(0, 0)].abs();
+    // no row or no column: nothing constrains the unknowns (an error, as a zero matrix)
+    let largest = if r.nrows() > 0 && n > 0 {
+        r[(0, 0)].abs()
+    } else {
+        0.0
+    };
     if !(largest > 0.0) {
         return Err(format!(
             "the system matrix is zero or not finite (no sample constrains the free control points; largest pivot {largest})"
@@ -239,6 +244,14 @@ mod tests {
             (&by_svd - &by_cod).norm() < 1e-9 * by_svd.norm(),
             "{by_svd} {by_cod}"
         );
+    }
+
+    #[test]
+    fn an_empty_or_zero_system_is_an_error() {
+        let b = DMatrix::zeros(0, 1);
+        assert!(solve_min_norm(DMatrix::zeros(0, 2), &b).is_err());
+        let b = DMatrix::zeros(2, 1);
+        assert!(solve_min_norm(DMatrix::zeros(2, 2), &b).is_err());
     }
 
     #[test]
