@@ -11,6 +11,20 @@ use super::records::{DirEntry, entity_params};
 use crate::error::IgesError;
 
 impl Reader<'_> {
+    /// The surface read from entity `e` over `param_range`, untrimmed until a 144 claims it.
+    fn untrimmed(e: &DirEntry, surface: BSplineSurface, param_range: [f64; 4]) -> IgesSurface {
+        IgesSurface {
+            de: e.seq,
+            name: Self::name(e),
+            surface,
+            trimmed: false,
+            param_range,
+            underlying: None,
+            trim: Vec::new(),
+            holes: Vec::new(),
+        }
+    }
+
     /// Entity 128, the rational B-spline surface ([IGES] §4.24), its net turned to u-major order.
     pub(super) fn surface(&self, e: &DirEntry, scale: f64) -> Result<IgesSurface, IgesError> {
         let params = entity_params(e, &self.p, &self.global)?;
@@ -46,16 +60,11 @@ impl Reader<'_> {
         let surface =
             BSplineSurface::new(knots_u, knots_v, points, (!polynomial).then_some(weights))
                 .map_err(&g)?;
-        Ok(IgesSurface {
-            de: e.seq,
-            name: Self::name(e),
+        Ok(Self::untrimmed(
+            e,
             surface,
-            trimmed: false,
-            param_range: [range[0], range[1], range[2], range[3]],
-            underlying: None,
-            trim: Vec::new(),
-            holes: Vec::new(),
-        })
+            [range[0], range[1], range[2], range[3]],
+        ))
     }
 
     /// Entity 120, the surface of revolution ([IGES] §4.16): the generatrix C turned about the
@@ -118,16 +127,7 @@ impl Reader<'_> {
             local.weights().map(<[f64]>::to_vec),
         )
         .map_err(Self::geometry_err(e))?;
-        Ok(IgesSurface {
-            de: e.seq,
-            name: Self::name(e),
-            surface,
-            trimmed: false,
-            param_range,
-            underlying: None,
-            trim: Vec::new(),
-            holes: Vec::new(),
-        })
+        Ok(Self::untrimmed(e, surface, param_range))
     }
 
     /// Entity 122, the tabulated cylinder ([IGES] §4.19): the directrix C (110, 100 or 126)
@@ -240,16 +240,7 @@ impl Reader<'_> {
             d = -d;
         }
         let surface = crate::offset::approximate_offset(&base, d).map_err(err)?;
-        Ok(IgesSurface {
-            de: e.seq,
-            name: Self::name(e),
-            surface,
-            trimmed: false,
-            param_range: [du.0, du.1, dv.0, dv.1],
-            underlying: None,
-            trim: Vec::new(),
-            holes: Vec::new(),
-        })
+        Ok(Self::untrimmed(e, surface, [du.0, du.1, dv.0, dv.1]))
     }
 }
 
