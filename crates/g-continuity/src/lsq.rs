@@ -153,7 +153,8 @@ pub(crate) fn dense_r(f: &BandedQr) -> DMatrix<f64> {
 /// Qᵀb of a banded factor as a dense n × k matrix (k right-hand sides).
 pub(crate) fn dense_qtb(f: &BandedQr) -> DMatrix<f64> {
     let n = f.unknowns();
-    let k = f.rows().next().map_or(1, |(_, _, rhs)| rhs.len());
+    // one squared residual per right-hand side, rows filled or not
+    let k = f.residual_squared().len();
     let mut c = DMatrix::zeros(n, k);
     for (i, _, rhs) in f.rows() {
         for (j, v) in rhs.iter().enumerate() {
