@@ -136,6 +136,45 @@ pub fn solve_row_in(
     movable: &[bool],
     params: &SetParams,
 ) -> Result<RowMove> {
+    solve_row_with(master, slave, side, range, step, movable, params, &[])
+}
+
+/// A corner of a side's boundary where the neighbouring side carries G2: the boundary curve's
+/// normal curvature there is that of the neighbour's master in the curve's direction (see
+/// [`solve_row_with`]).
+#[derive(Clone, Copy)]
+pub(crate) struct CornerCurvature<'a> {
+    /// the end's parameter along the side
+    pub(crate) t: f64,
+    /// the neighbouring side's master
+    pub(crate) master: &'a BSplineSurface,
+}
+
+/// [`solve_row_in`] with, for the C0 step, one more equation per corner of `corners`: at a
+/// corner where the neighbouring side B carries G2, B's condition there asks the slave's normal
+/// curvature in B's cross direction — the direction of this side's boundary curve C — to be
+/// that of B's master, and that curvature is n · C''/|C'|² (Meusnier), set by this side's
+/// boundary row alone. Fitted to its own master by positions only, the boundary's end curvature
+/// is off by its fit error over the span squared (1e-6 mm over a 0.1 mm span: 1e-4 /mm, far
+/// above the flatness cut-off of a blend between faired fillets), which no row of B can take
+/// back; and where the two masters disagree a little in that direction (fillets faired G2 to
+/// their faces, flat at the corner to 1e-4), B's G2 is what the tolerances ask for, while the
+/// boundary may leave its own master by the little that costs (a curvature change Δκ over a
+/// length L moves it Δκ L²/2 and turns it Δκ L). The equation prescribes C''(t) with its
+/// tangential part as it is and its normal part from B's master; it is scaled to a position
+/// (× h²/(q(q−1)), h the end span: the size of a position change that makes that curvature
+/// change) and weighted by √K, as much as the K samples of the side together.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn solve_row_with(
+    master: &BSplineSurface,
+    slave: &BSplineSurface,
+    side: Side,
+    range: Option<(f64, f64)>,
+    step: Continuity,
+    movable: &[bool],
+    params: &SetParams,
+    corners: &[CornerCurvature<'_>],
+) -> Result<RowMove> {
     let ranged: Option<Vec<f64>> = range.map(|_| {
         let (x, y) = crate::sampling::side_part(slave, side, range);
         let mut ts: Vec<f64> = vec![x];
@@ -148,7 +187,16 @@ pub fn solve_row_in(
         ts
     });
     let samples = ranged.as_deref();
-    let mut total = solve_row_once(master, slave, side, step, movable, samples, params)?;
+    let once = Once {
+        master,
+        side,
+        step,
+        movable,
+        samples,
+        params,
+        corners,
+    };
+    let mut total = once.solve(slave)?;
     if step != Continuity::G1 || total.indices.is_empty() {
         return Ok(total);
     }
@@ -158,7 +206,11 @@ pub fn solve_row_in(
     let first_move = total.max_displacement();
     for _ in 1..params.g1_passes.max(1) {
         pass_params.g1_tangential_weight *= G1_WEIGHT_STEP;
-        let more = solve_row_once(master, &work, side, step, movable, samples, &pass_params)?;
+        let more = Once {
+            params: &pass_params,
+            ..once
+        }
+        .solve(&work)?;
         if more.max_displacement() > G1_POLISH_MOVE_FACTOR * first_move {
             break;
         }
@@ -183,83 +235,296 @@ pub fn solve_row_at(
     ts: &[f64],
     params: &SetParams,
 ) -> Result<RowMove> {
-    solve_row_once(master, slave, side, step, movable, Some(ts), params)
-}
-
-fn solve_row_once(
-    master: &BSplineSurface,
-    slave: &BSplineSurface,
-    side: Side,
-    step: Continuity,
-    movable: &[bool],
-    samples: Option<&[f64]>,
-    params: &SetParams,
-) -> Result<RowMove> {
-    let k = row_of(step);
-    let row = side.row(k, slave.num_u(), slave.num_v());
-    let (column, indices) = movable_columns(&row, movable);
-    let free = indices.len();
-    if free == 0 {
-        return Ok(RowMove::still(side));
-    }
-    let mut basis = SideBasis::new(slave, side);
-    let a_k = basis.row_coefficient[k];
-    if a_k == 0.0 {
-        return Err(Error::SingularSystem {
-            side,
-            target: step,
-            reason: format!("the degree across the side is below {k}"),
-        });
-    }
-    let ts = samples.map_or_else(
-        || solve_side_params(slave, side, params.samples_per_span, params.min_samples),
-        <[f64]>::to_vec,
-    );
-    let mut slave_eval = slave.evaluator();
-    let directions = if step == Continuity::G2 && params.g2_method == G2Method::FixedDirections {
-        fixed_directions(slave, side, &basis, row.len(), &mut slave_eval)
-    } else {
-        Vec::new()
-    };
-    let mut sys = RowSystem::new(step, params, ts.len(), free, a_k);
-    let ctx = RowContext {
+    let once = Once {
         master,
-        slave,
         side,
         step,
-        k,
-        column: &column,
-        directions: &directions,
+        movable,
+        samples: Some(ts),
         params,
+        corners: &[],
     };
-    sys.fill(&ctx, &ts, &mut basis, &mut slave_eval);
-    if step == Continuity::G0 && {
-        let exact = crate::slave::C0_EXACT * slave.size();
-        sys.b.iter().all(|d| d.abs() <= exact)
-    } {
-        // already on the master: keep the row bit-identical
-        return Ok(RowMove::still(side));
+    once.solve(slave)
+}
+
+/// One solve of a row: what stays the same over the passes of [`solve_row_with`] (the slave
+/// changes from pass to pass).
+#[derive(Clone, Copy)]
+struct Once<'a> {
+    master: &'a BSplineSurface,
+    side: Side,
+    step: Continuity,
+    movable: &'a [bool],
+    samples: Option<&'a [f64]>,
+    params: &'a SetParams,
+    corners: &'a [CornerCurvature<'a>],
+}
+
+impl Once<'_> {
+    /// The row's moves on `slave`.
+    fn solve(&self, slave: &BSplineSurface) -> Result<RowMove> {
+        let (side, step) = (self.side, self.step);
+        let row = side.row(row_of(step), slave.num_u(), slave.num_v());
+        let (column, indices) = movable_columns(&row, self.movable);
+        if indices.is_empty() {
+            return Ok(RowMove::still(side));
+        }
+        let (sys, directions) = self.system(slave, &row, &column, indices.len())?;
+        if step == Continuity::G0 && {
+            let exact = crate::slave::C0_EXACT * slave.size();
+            sys.b.iter().all(|d| d.abs() <= exact)
+        } {
+            // already on the master: keep the row bit-identical
+            return Ok(RowMove::still(side));
+        }
+        let (needed, unknowns) = (sys.needed, sys.unknowns);
+        let (x, g2_slack) =
+            sys.solve(self.params.g2_move_factor)
+                .map_err(|reason| Error::SingularSystem {
+                    side,
+                    target: step,
+                    reason,
+                })?;
+        let displacements = point_moves(&x, step, unknowns, &row, &indices, &directions);
+        if displacements
+            .iter()
+            .any(|d| !d.iter().all(|x| x.is_finite()))
+        {
+            return Err(Error::NonFiniteSolution { side, target: step });
+        }
+        Ok(RowMove {
+            side,
+            indices,
+            displacements,
+            needed,
+            g2_slack,
+        })
     }
-    let (needed, unknowns) = (sys.needed, sys.unknowns);
-    let (x, g2_slack) =
-        sys.solve(params.g2_move_factor)
-            .map_err(|reason| Error::SingularSystem {
+
+    /// The least-squares system of the row (`free` movable points, their column blocks in
+    /// `column`) with the corner equations of a C0 step, and the fixed G2 directions.
+    fn system(
+        &self,
+        slave: &BSplineSurface,
+        row: &[(usize, usize)],
+        column: &[Option<usize>],
+        free: usize,
+    ) -> Result<(RowSystem, Vec<Vector3>)> {
+        let Once {
+            master,
+            side,
+            step,
+            samples,
+            params,
+            corners,
+            ..
+        } = *self;
+        let k = row_of(step);
+        let mut basis = SideBasis::new(slave, side);
+        let a_k = basis.row_coefficient[k];
+        if a_k == 0.0 {
+            return Err(Error::SingularSystem {
                 side,
                 target: step,
-                reason,
-            })?;
-    let displacements = point_moves(&x, step, unknowns, &row, &indices, &directions);
-    if displacements
-        .iter()
-        .any(|d| !d.iter().all(|x| x.is_finite()))
-    {
-        return Err(Error::NonFiniteSolution { side, target: step });
+                reason: format!("the degree across the side is below {k}"),
+            });
+        }
+        let ts = samples.map_or_else(
+            || solve_side_params(slave, side, params.samples_per_span, params.min_samples),
+            <[f64]>::to_vec,
+        );
+        let mut slave_eval = slave.evaluator();
+        let directions = if step == Continuity::G2 && params.g2_method == G2Method::FixedDirections
+        {
+            fixed_directions(slave, side, &basis, row.len(), &mut slave_eval)
+        } else {
+            Vec::new()
+        };
+        let mut sys = RowSystem::new(step, params, ts.len(), free, a_k);
+        let ctx = RowContext {
+            master,
+            slave,
+            side,
+            step,
+            k,
+            column,
+            directions: &directions,
+            params,
+        };
+        sys.fill(&ctx, &ts, &mut basis, &mut slave_eval);
+        if step == Continuity::G0 {
+            for c in corners {
+                corner_row(
+                    &mut sys,
+                    slave,
+                    side,
+                    c,
+                    column,
+                    &mut basis,
+                    params,
+                    ts.len(),
+                );
+            }
+        }
+        Ok((sys, directions))
     }
-    Ok(RowMove {
-        side,
-        indices,
-        displacements,
-        needed,
-        g2_slack,
-    })
+}
+
+/// The equation of corner `c` in the C0 system `sys` of `side` (see [`solve_row_with`]): the
+/// boundary's second derivative at the corner with its normal part that of the neighbour's
+/// master, scaled to a position and weighted by √`samples`.
+#[allow(clippy::too_many_arguments)]
+fn corner_row(
+    sys: &mut RowSystem,
+    slave: &BSplineSurface,
+    side: Side,
+    c: &CornerCurvature<'_>,
+    column: &[Option<usize>],
+    basis: &mut SideBasis,
+    params: &SetParams,
+    samples: usize,
+) {
+    let (u, v) = side.params(slave, c.t);
+    let ds = slave.derivatives(u, v);
+    let (d1, d2) = match side.along_direction() {
+        nurbs_core::Direction::U => (ds.du, ds.duu),
+        nurbs_core::Direction::V => (ds.dv, ds.dvv),
+    };
+    let foot = nurbs_core::project_to_surface(c.master, &ds.point, &params.projection);
+    let dm = c.master.derivatives(foot.u, foot.v);
+    let (Some(n), Some(kappa)) = (dm.normal(), dm.normal_curvature(&d1)) else {
+        return;
+    };
+    let tangential = d1 - n * n.dot(&d1);
+    let change = n * (kappa * tangential.norm_squared() - n.dot(&d2));
+    let q = basis.along_degree();
+    let kv = crate::sampling::along_knots(slave, side);
+    let span = kv.span(kv.clamp_param(c.t));
+    let h = kv.knots()[span + 1] - kv.knots()[span];
+    if q < 2 || !(h > 0.0) {
+        return;
+    }
+    let scale = (samples as f64).sqrt() * h * h / (q * (q - 1)) as f64;
+    let mut values = vec![0.0; q + 1];
+    let first = basis.boundary_second_derivative(c.t, &mut values);
+    let a0 = basis.row_coefficient[0];
+    let cols: Vec<(usize, f64)> = values
+        .iter()
+        .enumerate()
+        .filter_map(|(l, &m)| column[first + l].map(|col| (col, scale * a0 * m)))
+        .collect();
+    sys.push_g0_row(&cols, change * scale);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nurbs_core::shapes::{plane_patch, revolve_curve};
+    use nurbs_core::{BSplineCurve, Direction, KnotVector, Point3, ProjectionParams};
+
+    /// A bicubic patch of the plane z = 0 over [0, 1]², four spans along v.
+    fn flat_slave() -> BSplineSurface {
+        plane_patch(
+            Point3::origin(),
+            Vector3::x(),
+            Vector3::y(),
+            (0.0, 1.0),
+            (0.0, 1.0),
+        )
+        .unwrap()
+        .elevate_degree(Direction::U, 2)
+        .unwrap()
+        .elevate_degree(Direction::V, 2)
+        .unwrap()
+        .refine(Direction::V, &[0.25, 0.5, 0.75])
+        .unwrap()
+    }
+
+    /// The normal curvature of `s` along its side u = 0 (direction S_v) at v = 0, signed with
+    /// respect to `n`.
+    fn end_curvature(s: &BSplineSurface, n: &Vector3) -> f64 {
+        let d = s.derivatives(0.0, 0.0);
+        n.dot(&d.dvv) / d.dv.norm_squared()
+    }
+
+    #[test]
+    fn a_corner_row_gives_the_boundary_the_neighbours_curvature_at_the_corner() {
+        // the side u = 0 lies on the plane z = 0 (its master); the neighbouring side v = 0 is
+        // G2 to a cylinder of radius 50 about the line y = 0, z = 50, which touches the plane
+        // along the x axis: at the corner its normal curvature along y is 1/50, the plane's 0
+        let slave = flat_slave();
+        let plane = plane_patch(
+            Point3::new(-1.0, 0.0, 0.0),
+            Vector3::x(),
+            Vector3::y(),
+            (0.0, 1.0),
+            (0.0, 1.0),
+        )
+        .unwrap();
+        let r = 50.0;
+        let axis_line = BSplineCurve::new(
+            KnotVector::bezier(1).unwrap(),
+            vec![Point3::new(-1.0, 0.0, 0.0), Point3::new(2.0, 0.0, 0.0)],
+            None,
+        )
+        .unwrap();
+        let cylinder = revolve_curve(
+            &axis_line,
+            Point3::new(0.0, 0.0, r),
+            Vector3::x(),
+            -0.1,
+            0.1,
+        )
+        .unwrap();
+        let params = SetParams::default();
+        let movable = vec![true; slave.num_v()];
+        let solve = |corners: &[CornerCurvature<'_>]| {
+            let mv = solve_row_with(
+                &plane,
+                &slave,
+                Side::U0,
+                None,
+                Continuity::G0,
+                &movable,
+                &params,
+                corners,
+            )
+            .unwrap();
+            let mut s = slave.clone();
+            mv.apply(&mut s);
+            s
+        };
+        let foot = nurbs_core::project_to_surface(
+            &cylinder,
+            &Point3::origin(),
+            &ProjectionParams::default(),
+        );
+        let dm = cylinder.derivatives(foot.u, foot.v);
+        let n = dm.normal().unwrap();
+        let target = dm.normal_curvature(&Vector3::y()).unwrap();
+        assert!((target.abs() - 1.0 / r).abs() < 1e-12, "{target}");
+        // on its master already: without the corner the row stays, flat
+        let plain = solve(&[]);
+        assert_eq!(plain.control_points(), slave.control_points());
+        assert!(end_curvature(&plain, &n).abs() < 1e-12);
+        // with it the boundary bends at the corner to the cylinder's curvature (measured
+        // 1.9927e-2 against 2e-2: the row weighs as much as the side's samples, not more),
+        // leaving the plane by less than κ h²/2 over the first span h = 1/4 (6.3e-4; 5.5e-5)
+        let bent = solve(&[CornerCurvature {
+            t: 0.0,
+            master: &cylinder,
+        }]);
+        let got = end_curvature(&bent, &n);
+        assert!(
+            (got - target).abs() < 0.01 * target.abs(),
+            "corner curvature {got:.4e} against {target:.4e}"
+        );
+        let gap = (0..=40)
+            .map(|k| bent.point(0.0, f64::from(k) / 40.0).z.abs())
+            .fold(0.0, f64::max);
+        assert!(
+            gap > 0.0 && gap < 0.5 * target.abs() * 0.25 * 0.25,
+            "gap {gap:.3e}"
+        );
+    }
 }

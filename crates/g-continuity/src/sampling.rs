@@ -197,6 +197,32 @@ impl SideBasis {
         first
     }
 
+    /// The second derivative along the side, at `t`, of the basis with which the boundary row
+    /// (row 0) enters the boundary curve C(t) = S(c, t): M_j''(t) for a polynomial slave, the
+    /// second derivative of w_0j M_j(t) / W(c, t) for a rational one. Returns the first along
+    /// index; the q + 1 values go into `out`.
+    pub fn boundary_second_derivative(&mut self, t: f64, out: &mut [f64]) -> usize {
+        let q1 = self.along.degree() + 1;
+        let (span, ders) = basis_derivatives(&self.along, t, 2);
+        let first = span - self.along.degree();
+        let (m0, m1, m2) = (&ders[..q1], &ders[q1..2 * q1], &ders[2 * q1..3 * q1]);
+        match &self.row_weights {
+            None => out[..q1].copy_from_slice(m2),
+            Some(w) => {
+                // R = w M / W: R' = (w M' − R W') / W, R'' = (w M'' − 2 R' W' − R W'') / W
+                let w0 = &w[0][first..first + q1];
+                let dot = |m: &[f64]| w0.iter().zip(m).map(|(a, b)| a * b).sum::<f64>();
+                let (big_w, w1, w2) = (dot(m0), dot(m1), dot(m2));
+                for l in 0..q1 {
+                    let r = w0[l] * m0[l] / big_w;
+                    let r1 = (w0[l] * m1[l] - r * w1) / big_w;
+                    out[l] = (w0[l] * m2[l] - 2.0 * r1 * w1 - r * w2) / big_w;
+                }
+            }
+        }
+        first
+    }
+
     /// Degree along the side.
     pub fn along_degree(&self) -> usize {
         self.along.degree()
@@ -279,7 +305,50 @@ impl<'m> MasterTracker<'m> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nurbs_core::Point3;
+    use nurbs_core::{Point3, Vector3};
+
+    #[test]
+    fn boundary_second_derivative_gives_the_curvature_of_a_cylinders_boundaries() {
+        // a rational quarter cylinder of radius 2: two boundaries are quarter circles (curvature
+        // 1/2), two are straight segments (curvature 0); from the basis alone, C'' = Σ R_j'' P_j
+        let r = 2.0;
+        let s = nurbs_core::shapes::cylinder(r, 3.0)
+            .unwrap()
+            .elevate_degree(nurbs_core::Direction::U, 2)
+            .unwrap();
+        for side in Side::ALL {
+            let mut basis = SideBasis::new(&s, side);
+            let q = basis.along_degree();
+            let row = side.row(0, s.num_u(), s.num_v());
+            let (t0, t1) = side.along_domain(&s);
+            for k in 0..=4 {
+                let t = t0 + (t1 - t0) * f64::from(k) / 4.0;
+                let mut values = vec![0.0; q + 1];
+                let first = basis.boundary_second_derivative(t, &mut values);
+                let second = values
+                    .iter()
+                    .enumerate()
+                    .fold(Vector3::zeros(), |acc, (l, m)| {
+                        let (i, j) = row[first + l];
+                        acc + (s.control_point(i, j) - Point3::origin()) * *m
+                    });
+                let (u, v) = side.params(&s, t);
+                let d = s.derivatives(u, v);
+                let first_derivative = match side.along_direction() {
+                    nurbs_core::Direction::U => d.du,
+                    nurbs_core::Direction::V => d.dv,
+                };
+                let curvature =
+                    first_derivative.cross(&second).norm() / first_derivative.norm().powi(3);
+                let circle = first_derivative.z.abs() < 1e-12;
+                let expected = if circle { 1.0 / r } else { 0.0 };
+                assert!(
+                    (curvature - expected).abs() < 1e-12,
+                    "{side:?} t = {t}: {curvature} against {expected}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn row_coefficients_match_the_end_derivative_formulas() {

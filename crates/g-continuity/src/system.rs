@@ -192,6 +192,22 @@ impl RowSystem {
         }
     }
 
+    /// One more row of the G0 system: coefficients `cols` (column, value), right-hand side `rhs`.
+    pub(crate) fn push_g0_row(&mut self, cols: &[(usize, f64)], rhs: Vector3) {
+        let r = self.a.nrows();
+        let a = std::mem::replace(&mut self.a, DMatrix::zeros(0, 0));
+        self.a = a.insert_row(r, 0.0);
+        let b = std::mem::replace(&mut self.b, DMatrix::zeros(0, 0));
+        self.b = b.insert_row(r, 0.0);
+        for &(c, value) in cols {
+            self.a[(r, c)] = value;
+        }
+        for d in 0..3 {
+            self.b[(r, d)] = rhs[d];
+        }
+        self.rows += 1;
+    }
+
     /// Sample `r` of the G0 step: the row moves onto the master point, `gap` = master − slave.
     fn g0_sample(&mut self, r: usize, cols: &[(usize, usize, f64)], gap: Vector3) {
         for &(_, c, coef) in cols {

@@ -9,7 +9,7 @@
 use nurbs_core::{BSplineSurface, Continuity, Side};
 
 use super::refine::{Refiner, insert_along, new_breakpoints, worst_excess};
-use super::step::step_all;
+use super::step::{step_all, step_all_with};
 use super::{C0_CONVERGED, SideLink, check_links, measure_links};
 use crate::error::Result;
 use crate::measure::LinkMeasure;
@@ -225,7 +225,10 @@ fn solve_round(
             1
         };
         for _ in 0..passes {
-            let o = step_all(s, links, level, params)?;
+            // the C0 rows solved again inside a G2 step carry the corner curvatures the G2
+            // sides ask of them ([`crate::rows::solve_row_with`])
+            let corners = step == Continuity::G2 && level == Continuity::G0;
+            let o = step_all_with(s, links, level, params, corners)?;
             report.twists_averaged = report.twists_averaged.max(o.twists);
             report.g2_slack = report.g2_slack.min(o.g2_slack);
             moved = moved.max(o.max_move);

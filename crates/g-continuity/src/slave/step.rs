@@ -59,6 +59,8 @@ struct StepSides<'a> {
     step: Continuity,
     /// the settings of the row solves
     params: &'a SetParams,
+    /// whether the C0 rows also set the normal curvature at corners with a G2 neighbour
+    corner_curvature: bool,
 }
 
 impl StepSides<'_> {
@@ -81,8 +83,13 @@ impl StepSides<'_> {
                 if l.range.is_some() {
                     within_part(&mut free, l, surface);
                 }
-                let mut mv = crate::rows::solve_row_in(
-                    l.master, surface, l.side, l.range, step, &free, params,
+                let corners = if step == Continuity::G0 && self.corner_curvature {
+                    corner_curvatures(l, self.links, surface)
+                } else {
+                    Vec::new()
+                };
+                let mut mv = crate::rows::solve_row_with(
+                    l.master, surface, l.side, l.range, step, &free, params, &corners,
                 )?;
                 slide(&mut mv, k, status, l.side, self.links, surface, params);
                 Ok(mv)
@@ -137,6 +144,36 @@ impl StepSides<'_> {
     }
 }
 
+/// The corners of side link `l` whose neighbouring side carries G2 to a master along the whole
+/// side (neither side collapsed): there the C0 row also sets the boundary's normal curvature
+/// ([`crate::rows::solve_row_with`]).
+fn corner_curvatures<'a>(
+    l: &SideLink<'_>,
+    links: &'a [SideLink<'a>],
+    surface: &BSplineSurface,
+) -> Vec<crate::rows::CornerCurvature<'a>> {
+    if l.range.is_some() || is_collapsed(surface, l.side) {
+        return Vec::new();
+    }
+    let (t0, t1) = l.side.along_domain(surface);
+    let (start, end) = l.side.neighbours();
+    [(t0, start), (t1, end)]
+        .into_iter()
+        .filter_map(|(t, adj)| {
+            let b = links.iter().find(|x| {
+                x.side == adj
+                    && x.target >= Continuity::G2
+                    && x.range.is_none()
+                    && !is_collapsed(surface, adj)
+            })?;
+            Some(crate::rows::CornerCurvature {
+                t,
+                master: b.master,
+            })
+        })
+        .collect()
+}
+
 /// Clears the points of `free` whose along-side support misses the part of the side link `l`
 /// holds on: they have no equation.
 fn within_part(free: &mut [bool], l: &SideLink, surface: &BSplineSurface) {
@@ -155,6 +192,18 @@ pub(super) fn step_all(
     step: Continuity,
     params: &SetParams,
 ) -> Result<StepOutcome> {
+    step_all_with(slave, links, step, params, false)
+}
+
+/// [`step_all`]; with `corner_curvature` the C0 rows also set the boundary's normal curvature
+/// at each corner whose neighbouring side carries G2 ([`crate::rows::solve_row_with`]).
+pub(super) fn step_all_with(
+    slave: &mut BSplineSurface,
+    links: &[SideLink],
+    step: Continuity,
+    params: &SetParams,
+    corner_curvature: bool,
+) -> Result<StepOutcome> {
     let active: Vec<&SideLink> = links
         .iter()
         .filter(|l| l.target >= step && !is_collapsed(slave, l.side))
@@ -171,6 +220,7 @@ pub(super) fn step_all(
         links,
         step,
         params,
+        corner_curvature,
     };
     let moves = sides.solve(&base, |s| s != Status::Fixed)?;
     let shared = sides.shared_candidates(&moves, nu, nv);

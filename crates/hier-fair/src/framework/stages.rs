@@ -128,16 +128,19 @@ impl Job<'_> {
             && let Some(worse) = self.worse_link(labelled, &dry.steps[k].1)
         {
             let (step, below) = (dry.steps[k].0, dry.steps[k - 1].0);
-            problems.push(Problem {
-                kind: ProblemKind::Limited,
-                surface: self.model.surfaces[self.surface].name.clone(),
-                link: None,
-                message: format!(
-                    "setting {step:?} misses its links within the deviations tried (up to {:.4}) and {worse}; the surface is kept at {below:?}",
-                    dry.steps[k].2
-                ),
-                amount: Some(dry.steps[k].2),
-            });
+            // named on every link of that level: each is left at the level below for it
+            for (j, _) in labelled.iter().filter(|(_, l)| l.target >= step) {
+                problems.push(Problem {
+                    kind: ProblemKind::Limited,
+                    surface: self.model.surfaces[self.surface].name.clone(),
+                    link: Some(self.model.link_label(*j)),
+                    message: format!(
+                        "setting {step:?} misses its links within the deviations tried (up to {:.4}) and {worse}; the surface is kept at {below:?}",
+                        dry.steps[k].2
+                    ),
+                    amount: Some(dry.steps[k].2),
+                });
+            }
             return Some(below);
         }
         highest
@@ -500,11 +503,14 @@ impl Job<'_> {
         (kept, stages)
     }
 
-    /// Where a missed G2 link is worst at an end of its side and the neighbouring side is G2
-    /// too, whether the two masters disagree there: their normal curvatures in the slave's
-    /// cross direction at the corner point differ by more than the G2 tolerance, so that no
-    /// surface can be G2 to both at that point (two fillets of different radii meeting at a
-    /// vertex blend's corner). Returns the phrase for the report.
+    /// Whether, at a corner of a missed G2 link's side where the neighbouring side is G2 too,
+    /// the two masters disagree: their normal curvatures in the slave's cross direction at the
+    /// corner point differ, so that no surface can be G2 to both at that point (two fillets of
+    /// different radii meeting at a vertex blend's corner). The larger disagreement of the two
+    /// corners is named when it accounts for at least half of the slave's largest miss along
+    /// the side (wherever that lies: a corner conflict spreads over the spans next to the
+    /// corner) and is above the flatness cut-off of the measure. Returns the phrase for the
+    /// report.
     pub(super) fn vertex_conflict(
         &self,
         labelled: &[(usize, SideLink<'_>)],
@@ -512,51 +518,55 @@ impl Job<'_> {
         slave: &BSplineSurface,
         m: &LinkMeasure,
     ) -> Option<String> {
-        // the sample of the largest absolute difference (the relative figure peaks where both
-        // curvatures are near the flatness cut-off)
-        let (t, worst) = m
+        // the largest absolute difference (the relative figure peaks where both curvatures are
+        // near the flatness cut-off)
+        let worst = m
             .detail
             .iter()
-            .filter_map(|x| Some((x.t, (x.kappa_slave? - x.kappa_master?).abs())))
-            .max_by(|x, y| x.1.total_cmp(&y.1))?;
+            .filter_map(|x| Some((x.kappa_slave? - x.kappa_master?).abs()))
+            .fold(0.0, f64::max);
         let (a, b) = link.side.along_domain(slave);
-        let near = 1e-9 * (b - a).abs();
         let (start, end) = link.side.neighbours();
-        let neighbour = if (t - a).abs() <= near {
-            start
-        } else if (t - b).abs() <= near {
-            end
-        } else {
-            return None;
-        };
-        let (k, other) = labelled
-            .iter()
-            .find(|(_, l)| l.side == neighbour && l.target >= Continuity::G2)?;
-        let (u, v) = link.side.params(slave, t);
-        let d = slave.derivatives(u, v);
-        let dir = match link.side.cross_direction() {
-            Direction::U => d.du,
-            Direction::V => d.dv,
-        };
-        let params = nurbs_core::ProjectionParams::default();
-        let curvature = |master: &BSplineSurface| {
-            let f = nurbs_core::project_to_surface(master, &d.point, &params);
-            let dm = master.derivatives(f.u, f.v);
-            let n = dm.normal()?;
-            let k = dm.normal_curvature(&dir)?;
-            Some((k, n))
-        };
-        let ((k1, n1), (k2, n2)) = (curvature(link.master)?, curvature(other.master)?);
-        let k2 = if n1.dot(&n2) < 0.0 { -k2 } else { k2 };
-        let diff = (k1 - k2).abs();
-        // the masters' disagreement is the reason when it accounts for at least half of the
-        // slave's miss there and is above the flatness cut-off of the measure
         let flat = 1.0 / (g_continuity::measure::FLAT_RADIUS_FACTOR * slave.size());
+        let params = nurbs_core::ProjectionParams::default();
+        let mut found: Option<(f64, f64, f64, Side, usize)> = None;
+        for (t, neighbour) in [(a, start), (b, end)] {
+            let Some((k, other)) = labelled
+                .iter()
+                .find(|(_, l)| l.side == neighbour && l.target >= Continuity::G2)
+            else {
+                continue;
+            };
+            let (u, v) = link.side.params(slave, t);
+            let d = slave.derivatives(u, v);
+            let dir = match link.side.cross_direction() {
+                Direction::U => d.du,
+                Direction::V => d.dv,
+            };
+            let curvature = |master: &BSplineSurface| {
+                let f = nurbs_core::project_to_surface(master, &d.point, &params);
+                let dm = master.derivatives(f.u, f.v);
+                let n = dm.normal()?;
+                let k = dm.normal_curvature(&dir)?;
+                Some((k, n))
+            };
+            let (Some((k1, n1)), Some((k2, n2))) =
+                (curvature(link.master), curvature(other.master))
+            else {
+                continue;
+            };
+            let k2 = if n1.dot(&n2) < 0.0 { -k2 } else { k2 };
+            let diff = (k1 - k2).abs();
+            if found.is_none_or(|f| diff > f.0) {
+                found = Some((diff, k1, k2, neighbour, *k));
+            }
+        }
+        let (diff, k1, k2, neighbour, k) = found?;
         (diff >= 0.5 * worst && diff > flat).then(|| {
             format!(
                 "; at its corner with {} ({}), the two masters differ in normal curvature across this side by {diff:.3e} (1/length unit, {k1:.3e} against {k2:.3e}): no surface is G2 to both at that point",
                 neighbour.name(),
-                self.model.link_label(*k)
+                self.model.link_label(k)
             )
         })
     }
