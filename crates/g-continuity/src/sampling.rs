@@ -80,7 +80,13 @@ pub fn uniform_part_params(
 }
 
 /// Parameters for solving: `per_span` samples in every non-empty knot span of the along direction
-/// (the span start included) plus the domain end, and never fewer than `min_total` (then uniform).
+/// (the span start included) plus the domain end, and never fewer than `min_total` — then
+/// uniform, unless the uniform samples leave a basis function of the along direction without
+/// a sample of its own (Schoenberg–Whitney: the row system is then rank-deficient, its solve
+/// falls back to the minimum-norm solution and the condition holds only at the samples). A span
+/// of a degree-q spline whose knots have multiplicity q (a kernel's degree-11 fillet of
+/// C0-joined pieces) carries q + 1 coefficients of its own; such sides get
+/// max(`per_span`, q + 1, ⌈(`min_total` − 1)/spans⌉) samples in every span.
 pub fn solve_side_params(
     slave: &BSplineSurface,
     side: Side,
@@ -91,11 +97,40 @@ pub fn solve_side_params(
     let mut out = kv.span_samples(per_span);
     if out.len() < min_total {
         let (a, b) = kv.domain();
-        out = (0..min_total)
+        let uniform: Vec<f64> = (0..min_total)
             .map(|i| a + (b - a) * i as f64 / (min_total - 1).max(1) as f64)
             .collect();
+        out = if determines_every_basis(kv, &uniform) {
+            uniform
+        } else {
+            let spans = kv.spans().count().max(1);
+            let per = per_span
+                .max(kv.degree() + 1)
+                .max((min_total - 1).div_ceil(spans));
+            kv.span_samples(per)
+        };
     }
     out
+}
+
+/// Whether the sorted parameters `ts` can be matched, in order, to the basis functions of `kv`
+/// with every parameter inside its function's support (the Schoenberg–Whitney condition: the
+/// collocation matrix then has full column rank).
+fn determines_every_basis(kv: &KnotVector, ts: &[f64]) -> bool {
+    let (k, q) = (kv.knots(), kv.degree());
+    let (a, b) = kv.domain();
+    let mut j = 0;
+    for i in 0..kv.num_basis() {
+        let (lo, hi) = (k[i], k[i + q + 1]);
+        while j < ts.len() && !(ts[j] > lo || (lo <= a && ts[j] >= lo)) {
+            j += 1;
+        }
+        if j >= ts.len() || !(ts[j] < hi || (hi >= b && ts[j] <= hi)) {
+            return false;
+        }
+        j += 1;
+    }
+    true
 }
 
 /// The knot vector running along `side`.
