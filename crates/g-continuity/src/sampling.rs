@@ -342,6 +342,43 @@ mod tests {
     use super::*;
     use nurbs_core::{Point3, Vector3};
 
+    /// A plane patch, linear in u, with the knot vector `kv` in v.
+    fn along_v(kv: KnotVector) -> BSplineSurface {
+        let n = kv.num_basis();
+        let pts = (0..2)
+            .flat_map(|i| (0..n).map(move |j| Point3::new(i as f64, j as f64, 0.0)))
+            .collect();
+        BSplineSurface::new(KnotVector::bezier(1).unwrap(), kv, pts, None).unwrap()
+    }
+
+    #[test]
+    fn solve_samples_give_every_basis_function_of_a_side_its_own() {
+        // degree 11, two interior knots of multiplicity 10 (C1-joined pieces of 12 coefficients
+        // each) and a short middle span: 101 uniform samples put only 5 into it
+        let mut knots = vec![0.0; 12];
+        knots.extend([0.45; 10]);
+        knots.extend([0.5; 10]);
+        knots.extend([1.0; 12]);
+        let kv = KnotVector::new(11, knots).unwrap();
+        let s = along_v(kv.clone());
+        let uniform: Vec<f64> = (0..101).map(|i| f64::from(i) / 100.0).collect();
+        assert!(!determines_every_basis(&kv, &uniform));
+        let ts = solve_side_params(&s, Side::U0, 10, 101);
+        assert!(determines_every_basis(&kv, &ts));
+        for (x, y) in [(0.0, 0.45), (0.45, 0.5), (0.5, 1.0)] {
+            let inside = ts.iter().filter(|&&t| t >= x && t < y).count();
+            assert!(inside >= 12, "[{x}, {y}): {inside} samples");
+        }
+        assert!(ts.len() >= 101);
+        // a cubic with simple knots keeps its uniform samples
+        let cubic =
+            KnotVector::new(3, vec![0.0, 0.0, 0.0, 0.0, 0.1, 0.12, 1.0, 1.0, 1.0, 1.0]).unwrap();
+        assert_eq!(
+            solve_side_params(&along_v(cubic), Side::U0, 10, 101),
+            uniform
+        );
+    }
+
     #[test]
     fn boundary_second_derivative_gives_the_curvature_of_a_cylinders_boundaries() {
         // a rational quarter cylinder of radius 2: two boundaries are quarter circles (curvature
