@@ -150,20 +150,20 @@ pub(crate) struct CornerCurvature<'a> {
     pub(crate) master: &'a BSplineSurface,
 }
 
-/// [`solve_row_in`] with, for the C0 step, one more equation per corner of `corners`: at a
-/// corner where the neighbouring side B carries G2, B's condition there asks the slave's normal
-/// curvature in B's cross direction — the direction of this side's boundary curve C — to be
-/// that of B's master, and that curvature is n · C''/|C'|² (Meusnier), set by this side's
-/// boundary row alone. Fitted to its own master by positions only, the boundary's end curvature
-/// is off by its fit error over the span squared (1e-6 mm over a 0.1 mm span: 1e-4 /mm, far
-/// above the flatness cut-off of a blend between faired fillets), which no row of B can take
-/// back; and where the two masters disagree a little in that direction (fillets faired G2 to
-/// their faces, flat at the corner to 1e-4), B's G2 is what the tolerances ask for, while the
-/// boundary may leave its own master by the little that costs (a curvature change Δκ over a
-/// length L moves it Δκ L²/2 and turns it Δκ L). The equation prescribes C''(t) with its
-/// tangential part as it is and its normal part from B's master; it is scaled to a position
-/// (× h²/(q(q−1)), h the end span: the size of a position change that makes that curvature
-/// change) and weighted by √K, as much as the K samples of the side together.
+/// [`solve_row_in`] with, for the C0 step, one more equation per corner of `corners`: at a corner
+/// where the neighbouring side B carries G2, B's condition there asks the slave's normal curvature
+/// in B's cross direction — the direction of this side's boundary curve C — to be that of B's
+/// master, and that curvature is n · C''/|C'|² (Meusnier, [DC] §3-2), set by this side's boundary
+/// row alone ([SV] §3.3: the corner compatibility of two sides' frames, one order up). Fitted to
+/// its own master by positions only, the boundary's end curvature is off by its fit error over the
+/// span squared (1e-6 mm over a 0.1 mm span: 1e-4 /mm, far above the flatness cut-off of a blend
+/// between faired fillets), which no row of B can take back; and where the two masters disagree a
+/// little in that direction (fillets faired G2 to their faces, flat at the corner to 1e-4), B's G2
+/// is what the tolerances ask for, while the boundary may leave its own master by the little that
+/// costs (a curvature change Δκ over a length L moves it Δκ L²/2 and turns it Δκ L). The equation
+/// prescribes C''(t) with its tangential part as it is and its normal part from B's master; it is
+/// scaled to a position (× h²/(q(q−1)), h the end span: the size of a position change that makes
+/// that curvature change) and weighted by √K, as much as the K samples of the side together.
 #[allow(clippy::too_many_arguments)]
 pub(crate) fn solve_row_with(
     master: &BSplineSurface,
