@@ -123,24 +123,7 @@ impl BandedQr {
                 self.filled[col] = true;
                 break;
             }
-            let (a, b) = (row[0], live[0]);
-            // √(a² + b²) without libm's hypot (5× slower); hypot only when a² + b² overflows
-            let h = match (a * a + b * b).sqrt() {
-                h if h.is_finite() && h > 0.0 => h,
-                _ => a.hypot(b),
-            };
-            let (c, s) = (a / h, b / h);
-            for (rt, xt) in row.iter_mut().zip(live.iter_mut()) {
-                let (p, q) = (*rt, *xt);
-                *rt = c * p + s * q;
-                *xt = c * q - s * p;
-            }
-            for (rt, yt) in row_rhs.iter_mut().zip(y.iter_mut()) {
-                let (p, q) = (*rt, *yt);
-                *rt = c * p + s * q;
-                *yt = c * q - s * p;
-            }
-            live[0] = 0.0;
+            rotate(row, row_rhs, live, &mut y);
         }
         self.scratch = x;
         self.scratch_rhs = y;
@@ -197,6 +180,29 @@ impl BandedQr {
         }
         Ok(x)
     }
+}
+
+/// The Givens rotation that zeroes the first entry of the new row (`x`, right-hand sides `y`)
+/// against the stored row `row` (right-hand sides `row_rhs`) of the same leading column.
+fn rotate(row: &mut [f64], row_rhs: &mut [f64], x: &mut [f64], y: &mut [f64]) {
+    let (a, b) = (row[0], x[0]);
+    // √(a² + b²) without libm's hypot (5× slower); hypot only when a² + b² overflows
+    let h = match (a * a + b * b).sqrt() {
+        h if h.is_finite() && h > 0.0 => h,
+        _ => a.hypot(b),
+    };
+    let (c, s) = (a / h, b / h);
+    for (rt, xt) in row.iter_mut().zip(x.iter_mut()) {
+        let (p, q) = (*rt, *xt);
+        *rt = c * p + s * q;
+        *xt = c * q - s * p;
+    }
+    for (rt, yt) in row_rhs.iter_mut().zip(y.iter_mut()) {
+        let (p, q) = (*rt, *yt);
+        *rt = c * p + s * q;
+        *yt = c * q - s * p;
+    }
+    x[0] = 0.0;
 }
 
 #[cfg(test)]
