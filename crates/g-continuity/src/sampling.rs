@@ -85,7 +85,7 @@ pub fn uniform_part_params(
 /// a sample of its own (Schoenberg–Whitney: the row system is then rank-deficient, its solve
 /// falls back to the minimum-norm solution and the condition holds only at the samples). A span
 /// of a degree-q spline whose knots have multiplicity q (a kernel's degree-11 fillet of
-/// C0-joined pieces) carries q + 1 coefficients of its own; such sides get
+/// C1-joined pieces) carries q + 1 coefficients of its own; such sides get
 /// max(`per_span`, q + 1, ⌈(`min_total` − 1)/spans⌉) samples in every span.
 pub fn solve_side_params(
     slave: &BSplineSurface,
