@@ -84,8 +84,8 @@ pub fn uniform_part_params(
 /// uniform, unless the uniform samples leave a basis function of the along direction without
 /// a sample of its own (Schoenberg–Whitney: the row system is then rank-deficient, its solve
 /// falls back to the minimum-norm solution and the condition holds only at the samples). A span
-/// of a degree-q spline whose knots have multiplicity q (a kernel's degree-11 fillet of
-/// C1-joined pieces) carries q + 1 coefficients of its own; such sides get
+/// between knots of high multiplicity (a kernel's degree-11 fillet of C1-joined pieces) is
+/// nearly a Bézier piece of q + 1 coefficients, most of them its own; such sides get
 /// max(`per_span`, q + 1, ⌈(`min_total` − 1)/spans⌉) samples in every span.
 pub fn solve_side_params(
     slave: &BSplineSurface,
