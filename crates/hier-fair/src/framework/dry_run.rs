@@ -18,6 +18,11 @@ pub const LEAD_IN_TRIALS: usize = 6;
 /// deviation (0.9² ≈ 0.81) still lands within the budget.
 pub const LEAD_IN_MARGIN: f64 = 0.9;
 
+/// After a trial that misses a link within the budget, the next lead-in is this factor
+/// narrower: its three knots at half the distance from the side, one level of the span halving
+/// the refinement rounds use.
+pub const LEAD_IN_MISS_NARROWING: f64 = 2.0;
+
 /// A trial narrows the lead-in by at most this factor (the square law is a local estimate).
 pub const LEAD_IN_MAX_NARROWING: f64 = 8.0;
 
@@ -136,7 +141,11 @@ impl Job<'_> {
     /// lead-in at its G2 sides whose deviation fits [`LEAD_IN_SHARE`] of the tolerance
     /// ([`g_continuity::lead_in`]): the deviation of the G2 step grows with the square of the
     /// lead-in width, so after a trial the next width is w·√(budget/d), narrowed by
-    /// [`LEAD_IN_MARGIN`] against the neglected higher-order terms. Returns the chosen trial and
+    /// [`LEAD_IN_MARGIN`] against the neglected higher-order terms. A trial within the budget
+    /// that misses a link is followed by one [`LEAD_IN_MISS_NARROWING`] times narrower, while
+    /// its misses are of accuracy ([`Job::excess`]), narrowing brings the worst link nearer its
+    /// tolerances, and no corner's masters rule G2 out ([`super::vertex`]): the least deviation
+    /// at which G2 holds is searched before a link is called missed. Returns the chosen trial and
     /// the smallest deviation any trial that met every link needed (the honest figure of a
     /// conflict).
     pub(super) fn prepare_and_dry_run(
@@ -149,7 +158,9 @@ impl Job<'_> {
         });
         let budget = self.params.budget.lead_in(self.tolerance);
         let mut width = g2.then_some(g_continuity::MAX_LEAD_IN);
-        let mut trials: Vec<DryRun> = Vec::new();
+        let rho = self.set_params().tolerances.g2_rel;
+        let hopeless = g2 && super::vertex::incompatible_corner(links, self.start, rho);
+        let mut trials: Vec<(DryRun, f64)> = Vec::new();
         for _ in 0..LEAD_IN_TRIALS {
             let connect = ConnectParams {
                 lead_in: width,
@@ -160,15 +171,28 @@ impl Job<'_> {
             let (prepared, _) = free_rows(prepared, links, self.params.min_free_rows)
                 .map_err(|e| format!("inserting knots into {name}: {e}"))?;
             let dry = self.dry_run(&prepared, links)?;
-            let d = dry.deviation();
-            let done = d <= budget;
-            trials.push(dry);
+            let (d, met) = (dry.deviation(), dry.met);
+            let (excess, narrowable) = if met {
+                (0.0, false)
+            } else {
+                self.excess(&dry, links)
+            };
+            // a narrower lead-in is tried after a miss within the budget only where the miss is
+            // one of accuracy ([`Job::excess`]), no corner rules G2 out, and while narrowing
+            // helps (the worst link comes nearer its tolerances)
+            let helped = narrowable && trials.last().is_none_or(|(_, e)| excess < *e);
+            trials.push((dry, excess));
             let Some(w) = width else { break };
-            if done {
+            let within = d <= budget;
+            if within && (met || hopeless || !helped) {
                 break;
             }
-            let next = w * (budget / d).sqrt() * LEAD_IN_MARGIN;
-            let next = next.clamp(w / LEAD_IN_MAX_NARROWING, w * LEAD_IN_MARGIN);
+            let next = if within {
+                w / LEAD_IN_MISS_NARROWING
+            } else {
+                let next = w * (budget / d).sqrt() * LEAD_IN_MARGIN;
+                next.clamp(w / LEAD_IN_MAX_NARROWING, w * LEAD_IN_MARGIN)
+            };
             if next < MIN_LEAD_IN {
                 break;
             }
@@ -176,25 +200,63 @@ impl Job<'_> {
         }
         let needed = trials
             .iter()
-            .filter(|t| t.met)
-            .map(DryRun::deviation)
+            .filter(|(t, _)| t.met)
+            .map(|(t, _)| t.deviation())
             .fold(None, |a: Option<f64>, d| Some(a.map_or(d, |a| a.min(d))));
         // the widest trial that met its links within the budget; else the one that met them
-        // with the least deviation; else the one with the least deviation
+        // with the least deviation; else the one within the budget that came nearest its
+        // tolerances; else the one with the least deviation
+        let least = |keep: &dyn Fn(&(DryRun, f64)) -> bool, key: &dyn Fn(&(DryRun, f64)) -> f64| {
+            (0..trials.len())
+                .filter(|&k| keep(&trials[k]))
+                .min_by(|&a, &b| key(&trials[a]).total_cmp(&key(&trials[b])))
+        };
         let pick = trials
             .iter()
-            .position(|t| t.met && t.deviation() <= budget)
-            .or_else(|| {
-                (0..trials.len())
-                    .filter(|&k| trials[k].met)
-                    .min_by(|&a, &b| trials[a].deviation().total_cmp(&trials[b].deviation()))
-            })
-            .unwrap_or_else(|| {
-                (0..trials.len())
-                    .min_by(|&a, &b| trials[a].deviation().total_cmp(&trials[b].deviation()))
-                    .unwrap_or(0)
-            });
-        Ok((trials.swap_remove(pick), needed))
+            .position(|(t, _)| t.met && t.deviation() <= budget)
+            .or_else(|| least(&|(t, _)| t.met, &|(t, _)| t.deviation()))
+            .or_else(|| least(&|(t, _)| t.deviation() <= budget, &|(_, e)| *e))
+            .or_else(|| least(&|_| true, &|(t, _)| t.deviation()))
+            .unwrap_or(0);
+        Ok((trials.swap_remove(pick).0, needed))
+    }
+}
+
+impl Job<'_> {
+    /// How far the last step of `dry` is from meeting its links: the largest ratio of a
+    /// measure (gap, angle, relative curvature, up to each link's target) to its tolerance over
+    /// every link (≤ 1 where all are met; ∞ where a link cannot be measured); and whether the
+    /// misses are of accuracy only — every gap and angle within its tolerance and every relative
+    /// curvature figure below 1, i.e. the slave bends the same way as its master all along each
+    /// side — which a narrower curvature lead-in can improve. A figure of 1 or more (curvatures
+    /// of opposite signs, or one of them 0) means the G2 rows did not take hold there at all (a
+    /// corner conflict, the end of a partial link), which the width of the transition does not
+    /// change.
+    fn excess(&self, dry: &DryRun, links: &[SideLink<'_>]) -> (f64, bool) {
+        let Some((step, last, _)) = dry.steps.last() else {
+            return (0.0, false);
+        };
+        let t = &self.set_params().tolerances;
+        let mut narrowable = true;
+        let mut worst = 0.0f64;
+        for l in links {
+            let Ok(m) = l.measure(last, &self.connect.measure) else {
+                return (f64::INFINITY, false);
+            };
+            let target = l.target.min(*step);
+            let (g1, g2) = (m.g1_deg.unwrap_or(0.0), m.g2_rel.unwrap_or(0.0));
+            let mut e = m.g0 / t.g0;
+            if target >= Continuity::G1 {
+                e = e.max(g1 / t.g1_deg);
+            }
+            if target >= Continuity::G2 {
+                narrowable &= g2 < 1.0;
+                e = e.max(g2 / t.g2_rel);
+            }
+            narrowable &= m.g0 <= t.g0 && (target < Continuity::G1 || g1 <= t.g1_deg);
+            worst = worst.max(e);
+        }
+        (worst, narrowable)
     }
 }
 

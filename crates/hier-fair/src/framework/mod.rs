@@ -66,6 +66,7 @@ mod masks;
 mod plan;
 mod report;
 mod stages;
+mod vertex;
 
 pub use budget::{DEVIATION_SAFETY, DeviationBudget, GROUP_SHARE, LEAD_IN_SHARE, MASTER_SHARE};
 pub use dry_run::{

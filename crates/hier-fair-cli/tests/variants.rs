@@ -1,0 +1,122 @@
+//! `hier-fair fair NAME.step` on the kernel models of `fixtures/occt_variants`: the six kinds of
+//! `fixtures/occt` with other dimensions and radii, read as a CAD system writes them (STEP, the
+//! hierarchy found from the geometry), with 0.05 mm on primaries and 0.5 mm on connecting and
+//! corner surfaces. Whatever a model's links reach, no link and no shared edge may leave worse
+//! than it came and no surface may leave its own deviation.
+
+use std::path::Path;
+use std::process::Command;
+
+use serde_json::Value;
+
+/// The model's default continuity tolerances (model-format.md): a link is worse than its input
+/// when its gap or angle grew by more than these.
+const G0: f64 = 1e-3;
+const G1_DEG: f64 = 1e-2;
+
+/// Fairs `fixtures/occt_variants/NAME.step` per role and returns the report.
+fn fair(name: &str) -> Value {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/occt_variants");
+    let tmp = tempfile::tempdir().unwrap();
+    let (out, report) = (tmp.path().join("out.json"), tmp.path().join("report.json"));
+    let o = Command::new(env!("CARGO_BIN_EXE_hier-fair"))
+        .args(["fair", dir.join(format!("{name}.step")).to_str().unwrap()])
+        .args(["-o", out.to_str().unwrap()])
+        .args(["--report", report.to_str().unwrap()])
+        .args(["--tolerance-role", "primary=0.05"])
+        .args(["--tolerance-role", "connecting=0.5"])
+        .args(["--tolerance-role", "corner=0.5", "--quiet"])
+        .output()
+        .unwrap();
+    assert!(
+        o.status.success(),
+        "{name}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap()
+}
+
+/// The links of `report` that end unmet, as "slave.side".
+fn unmet(report: &Value) -> Vec<String> {
+    let links = report["links"].as_array().unwrap();
+    links
+        .iter()
+        .filter(|l| !l["met"].as_bool().unwrap())
+        .map(|l| {
+            format!(
+                "{}.{}",
+                l["slave"].as_str().unwrap(),
+                l["side"].as_str().unwrap()
+            )
+        })
+        .collect()
+}
+
+/// Fairs each of `names` and checks that nothing leaves worse than it came: every link's gap and
+/// angle, every shared edge, every surface's deviation. Returns the reports.
+fn never_worse(names: &[&str]) -> Vec<Value> {
+    names
+        .iter()
+        .map(|name| {
+            let r = fair(name);
+            for l in r["links"].as_array().unwrap() {
+                let (b, a) = (&l["before"], &l["after"]);
+                let grew =
+                    |k: &str, tol: f64| a[k].as_f64().unwrap() > b[k].as_f64().unwrap() + tol;
+                assert!(
+                    !grew("g0", G0) && !grew("g1_deg", G1_DEG),
+                    "{name}: {}.{} worse than its input: {b} -> {a}",
+                    l["slave"],
+                    l["side"]
+                );
+            }
+            for e in r["shared_edges"].as_array().unwrap() {
+                assert!(!e["worse"].as_bool().unwrap(), "{name}: edge {e}");
+            }
+            for s in r["surfaces"].as_array().unwrap() {
+                let (d, t) = (
+                    s["max_deviation"].as_f64().unwrap(),
+                    s["tolerance"].as_f64().unwrap(),
+                );
+                assert!(d <= t, "{name}: {} deviates {d} > {t}", s["name"]);
+            }
+            r
+        })
+        .collect()
+}
+
+#[test]
+fn boxes_with_spherical_corners_reach_g2_everywhere() {
+    // the larger radius puts the blends' curvature above the flatness cut-off near their poles,
+    // where the widest lead-in misses by accuracy: the narrower one the search tries meets
+    for r in never_worse(&["box12_r4", "box12_r7"]) {
+        assert!(unmet(&r).is_empty(), "unmet: {:?}", unmet(&r));
+    }
+}
+
+#[test]
+fn variable_radius_boxes_never_get_worse() {
+    never_worse(&["box12_var", "box12_var2"]);
+}
+
+#[test]
+fn three_radii_corners_never_get_worse() {
+    never_worse(&["corner3_a", "corner3_b"]);
+}
+
+#[test]
+fn plates_with_bosses_reach_g2_everywhere() {
+    for r in never_worse(&["plate_boss_a", "plate_boss_b"]) {
+        assert!(unmet(&r).is_empty(), "unmet: {:?}", unmet(&r));
+    }
+}
+
+#[test]
+fn pipe_tees_never_get_worse() {
+    never_worse(&["pipe_tee_a", "pipe_tee_b"]);
+}
+
+#[test]
+fn lofted_blocks_never_get_worse() {
+    never_worse(&["loft_block_a", "loft_block_b"]);
+}
