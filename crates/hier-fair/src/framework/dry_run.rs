@@ -45,7 +45,6 @@ impl Job<'_> {
         &self,
         prepared: &BSplineSurface,
         links: &[SideLink<'_>],
-        hopeless: bool,
     ) -> std::result::Result<DryRun, String> {
         let original = &self.model.surfaces[self.surface].surface;
         let mut steps = Vec::new();
@@ -70,7 +69,7 @@ impl Job<'_> {
                 break;
             }
             let next;
-            (next, met, set) = self.dry_step(&s, links, step, &params, set, hopeless)?;
+            (next, met, set) = self.dry_step(&s, links, step, &params, set)?;
             let d = max_deviation(original, &next, self.params.deviation_grid);
             steps.push((step, next.clone(), d));
             met_steps.push(met);
@@ -95,7 +94,6 @@ impl Job<'_> {
         step: Continuity,
         params: &ConnectParams,
         set: g_continuity::SetParams,
-        hopeless: bool,
     ) -> std::result::Result<(BSplineSurface, bool, g_continuity::SetParams), String> {
         let name = &self.model.surfaces[self.surface].name;
         let t = &params.tolerances;
@@ -112,11 +110,6 @@ impl Job<'_> {
         let (next, report) = run(set)?;
         if meets(&report.after) {
             return Ok((next, true, set));
-        }
-        // a variant serves only where it meets every link: at G2 with a corner whose masters
-        // rule G2 out ([`super::vertex`]) none can, and the step's own run is the result
-        if hopeless && step == Continuity::G2 {
-            return Ok((next, false, set));
         }
         // the G2 slack of the runs with the step's move bound, per corner setting: a variant
         // that only raises the bound to below it would repeat that run bit for bit
@@ -177,7 +170,7 @@ impl Job<'_> {
                 .map_err(|e| format!("preparing {name}: {e}"))?;
             let (prepared, _) = free_rows(prepared, links, self.params.min_free_rows)
                 .map_err(|e| format!("inserting knots into {name}: {e}"))?;
-            let dry = self.dry_run(&prepared, links, hopeless)?;
+            let dry = self.dry_run(&prepared, links)?;
             let (d, met) = (dry.deviation(), dry.met);
             let (excess, narrowable) = if met {
                 (0.0, false)
