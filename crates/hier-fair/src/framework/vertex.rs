@@ -6,8 +6,11 @@
 //! fundamental form equals that master's at every point of B, the corner included (linkage curve
 //! theorem, [SV] §2); so in A's cross direction d the slave's normal curvature there is κ_B(d),
 //! and A's G2 asks κ_A(d). With the relative measure of `g_continuity::measure` and its
-//! tolerance ρ, the best the slave can do is the mean of the two, which meets both only when
-//! |κ_A − κ_B| ≤ 2ρ·max(|κ_A|, |κ_B|) or both are below the flatness cut-off.
+//! tolerance ρ, the best the slave can do at that point with its boundary on A's master is the
+//! mean of the two, which meets both only when |κ_A − κ_B| ≤ 2ρ·max(|κ_A|, |κ_B|) or both are
+//! below the flatness cut-off; beyond that only a boundary bent off its master near the corner
+//! meets both (a curvature change Δκ over a length L costs a gap Δκ L²/2 and an angle Δκ L), which
+//! the gap and angle tolerances allow for small Δκ only.
 
 use super::*;
 
@@ -96,8 +99,11 @@ impl Job<'_> {
 }
 
 /// Whether some corner of `slave` joins two G2 links whose masters disagree beyond what the
-/// relative tolerance `rho` lets one surface meet (module doc), in either side's cross
-/// direction: then no curvature lead-in can meet every link, and a narrower one is not tried.
+/// relative tolerance `rho` lets one surface meet at that point (module doc), in either side's
+/// cross direction. The slave can still meet both where the disagreement is small, by bending
+/// its boundary off its own master near the corner within the gap and angle tolerances (the
+/// corner curvature equation of `g_continuity::rows`); what it rules out is that the width of
+/// a curvature lead-in decides, so no narrower one is tried.
 pub(super) fn incompatible_corner(
     links: &[SideLink<'_>],
     slave: &BSplineSurface,
