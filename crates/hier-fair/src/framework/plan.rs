@@ -134,14 +134,59 @@ impl Plan<'_> {
         };
         let again =
             crate::edges::opened_seams(self.model, &now, self.edges, self.edges_before, wave);
-        if !again.is_empty() {
-            for (k, outcome) in run(&again, false) {
-                if let Some(r) = results.iter_mut().find(|r| r.0 == k) {
-                    r.1 = outcome;
-                }
+        if again.is_empty() {
+            return results;
+        }
+        let why = self.opened_seam_notes(&now, &again);
+        for (k, mut outcome) in run(&again, false) {
+            outcome
+                .problems
+                .extend(why.iter().filter(|p| p.0 == k).map(|p| p.1.clone()));
+            if let Some(r) = results.iter_mut().find(|r| r.0 == k) {
+                r.1 = outcome;
             }
         }
         results
+    }
+
+    /// Per surface of `again`, why it runs again: each of its seams as the free continuity
+    /// steps left it (`now`), with the input's figures and the tolerances — the report then
+    /// names what the kept seam costs (its links' G2 at the seam's ends follows the input's
+    /// cross-section there).
+    fn opened_seam_notes<'a>(
+        &self,
+        now: &dyn Fn(usize) -> &'a BSplineSurface,
+        again: &[usize],
+    ) -> Vec<(usize, Problem)> {
+        let t = &self.model.tolerances;
+        self.edges
+            .iter()
+            .zip(self.edges_before)
+            .filter(|(e, _)| again.contains(&e.surface) && crate::edges::is_seam(self.model, e))
+            .filter_map(|(e, b)| {
+                let m = crate::edges::measure_edge(e, now(e.surface), now(e.other));
+                let opened = m.gap > b.gap + t.g0 || m.angle_deg > b.angle_deg + t.g1_deg;
+                opened.then(|| {
+                    (e.surface, Problem {
+                        kind: ProblemKind::Limited,
+                        surface: self.model.surfaces[e.surface].name.clone(),
+                        link: None,
+                        message: format!(
+                            "its seam {} with {} was opened by the continuity steps to a gap of {:.3e} and an angle of {:.4}° (input {:.3e}, {:.4}°; tolerances {}, {}°): run again with the seam kept as it came, so its links follow the input's cross-section at the seam's ends",
+                            e.side.name(),
+                            self.model.surfaces[e.other].name,
+                            m.gap,
+                            m.angle_deg,
+                            b.gap,
+                            b.angle_deg,
+                            t.g0,
+                            t.g1_deg
+                        ),
+                        amount: Some(m.angle_deg / t.g1_deg),
+                    })
+                })
+            })
+            .collect()
     }
 }
 
