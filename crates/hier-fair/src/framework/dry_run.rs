@@ -144,10 +144,10 @@ impl Job<'_> {
     /// [`LEAD_IN_MARGIN`] against the neglected higher-order terms. A trial within the budget
     /// that misses a link is followed by one [`LEAD_IN_MISS_NARROWING`] times narrower, while
     /// its misses are of accuracy ([`Job::excess`]), narrowing brings the worst link nearer its
-    /// tolerances, and no corner's masters disagree beyond ρ ([`super::vertex`]): the least deviation
-    /// at which G2 holds is searched before a link is called missed. Returns the chosen trial and
-    /// the smallest deviation any trial that met every link needed (the honest figure of a
-    /// conflict).
+    /// tolerances, and no corner's masters disagree beyond ρ ([`super::vertex`]): the least
+    /// deviation at which G2 holds is searched before a link is called missed. Returns the
+    /// chosen trial and the smallest deviation any trial that met every link needed (the honest
+    /// figure of a conflict).
     pub(super) fn prepare_and_dry_run(
         &self,
         links: &[SideLink<'_>],
@@ -178,8 +178,8 @@ impl Job<'_> {
                 self.excess(&dry, links)
             };
             // a narrower lead-in is tried after a miss within the budget only where the miss is
-            // one of accuracy ([`Job::excess`]), no corner's masters disagree beyond ρ, and while narrowing
-            // helps (the worst link comes nearer its tolerances)
+            // one of accuracy ([`Job::excess`]), no corner's masters disagree beyond ρ, and
+            // while narrowing helps (the worst link comes nearer its tolerances)
             let helped = narrowable && trials.last().is_none_or(|(_, e)| excess < *e);
             trials.push((dry, excess));
             let Some(w) = width else { break };
