@@ -18,7 +18,8 @@
 //!   primary band would be taken for one, and the user fixes its role); *corner* when three
 //!   or more sides lie across the ends of connecting surfaces, each no longer than
 //!   [`CORNER_SPAN`] × that surface's width (a vertex blend; a side collapsed to a pole counts as
-//!   none); the rest *primary*.
+//!   none) — a strip that turns and lies so across three is a vertex blend too, long and narrow
+//!   where the fillets meeting at it differ in radius; the rest *primary*.
 //! - **n-sided corner groups** ([SV] §3.4, a corner region already split into quads): n ≥ 3
 //!   surfaces around one centre point, each with the two sides that meet there lying tangentially
 //!   on its neighbours around the centre and its other two sides on surfaces outside the group,
@@ -506,23 +507,41 @@ fn find_roles(model: &mut Model, contacts: &[[Option<SideContact>; 4]], log: &mu
             }
         }
     }
-    for k in 0..n {
-        if roles[k] != Role::Primary {
-            continue;
-        }
-        // a side across a connecting surface's end, not along it: no longer than
-        // CORNER_SPAN × that surface's width
+    // a side across a connecting surface's end, not along it: no longer than CORNER_SPAN ×
+    // that surface's width
+    let across = |k: usize, roles: &[Role]| {
         let s = &model.surfaces[k].surface;
-        let on_connecting = SIDES
+        SIDES
             .iter()
             .zip(&contacts[k])
             .filter(|(side, c)| {
                 c.as_ref().is_some_and(|c| {
-                    roles[c.surface] == Role::Connecting
+                    c.surface != k
+                        && roles[c.surface] == Role::Connecting
                         && side_length(s, **side) <= CORNER_SPAN * widths[c.surface]
                 })
             })
-            .count();
+            .count()
+    };
+    // a strip lying across the ends of three or more strips is a vertex blend that turns
+    // between two opposite sides (three fillets of different radii make it long and narrow):
+    // a fillet's ends meet at most two of them, a blend or the other half of its ring
+    let blends: Vec<usize> = (0..n)
+        .filter(|&k| roles[k] == Role::Connecting && across(k, &roles) >= 3)
+        .collect();
+    for &k in &blends {
+        roles[k] = Role::Primary;
+        log.lines.push(format!(
+            "{}: not connecting after all — it lies across the ends of {} connecting surfaces",
+            model.surfaces[k].name,
+            across(k, &roles)
+        ));
+    }
+    for k in 0..n {
+        if roles[k] != Role::Primary {
+            continue;
+        }
+        let on_connecting = across(k, &roles);
         if on_connecting >= 3 {
             roles[k] = Role::Corner;
             log.lines.push(format!(
