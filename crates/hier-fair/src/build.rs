@@ -469,10 +469,14 @@ fn find_contacts(model: &Model, log: &mut BuildLog) -> Vec<[Option<SideContact>;
     contacts
 }
 
-/// The roles of a model of primaries only, from the topology (module docs), logged.
-fn find_roles(model: &mut Model, contacts: &[[Option<SideContact>; 4]], log: &mut BuildLog) {
+/// The strips that turn (module docs: *connecting*), logged: every surface's role (connecting
+/// or primary) and, for the connecting ones, the width across.
+fn strips(
+    model: &Model,
+    contacts: &[[Option<SideContact>; 4]],
+    log: &mut BuildLog,
+) -> (Vec<Role>, Vec<f64>) {
     let n = model.surfaces.len();
-    log.roles_found = true;
     let mut roles = vec![Role::Primary; n];
     // the width across each connecting surface
     let mut widths = vec![0.0; n];
@@ -507,6 +511,14 @@ fn find_roles(model: &mut Model, contacts: &[[Option<SideContact>; 4]], log: &mu
             }
         }
     }
+    (roles, widths)
+}
+
+/// The roles of a model of primaries only, from the topology (module docs), logged.
+fn find_roles(model: &mut Model, contacts: &[[Option<SideContact>; 4]], log: &mut BuildLog) {
+    let n = model.surfaces.len();
+    log.roles_found = true;
+    let (mut roles, widths) = strips(model, contacts, log);
     // a side across a connecting surface's end, not along it: no longer than CORNER_SPAN ×
     // that surface's width
     let across = |k: usize, roles: &[Role]| {
