@@ -112,6 +112,21 @@ pub struct LinkMeasure {
 }
 
 impl LinkMeasure {
+    /// The worst of its measures relative to its tolerance, up to `target` (G0: gap; G1: plus
+    /// angle; G2: plus relative curvature): ≤ 1 where the link meets them. Undefined values
+    /// (collapsed sides, poles) count as 0.
+    pub fn excess(&self, target: nurbs_core::Continuity, g0: f64, g1_deg: f64, g2_rel: f64) -> f64 {
+        use nurbs_core::Continuity::*;
+        let mut e = self.g0 / g0;
+        if target >= G1 {
+            e = e.max(self.g1_deg.unwrap_or(0.0) / g1_deg);
+        }
+        if target >= G2 {
+            e = e.max(self.g2_rel.unwrap_or(0.0) / g2_rel);
+        }
+        e
+    }
+
     /// Whether the link meets the tolerances up to `target` (G0: gap; G1: plus angle; G2: plus
     /// relative curvature). Undefined values (collapsed sides, poles) do not count against it.
     pub fn meets(&self, target: nurbs_core::Continuity, g0: f64, g1_deg: f64, g2_rel: f64) -> bool {

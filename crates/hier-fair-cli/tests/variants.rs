@@ -14,26 +14,50 @@ use serde_json::Value;
 const G0: f64 = 1e-3;
 const G1_DEG: f64 = 1e-2;
 
-/// Fairs `fixtures/occt_variants/NAME.step` per role and returns the report.
-fn fair(name: &str) -> Value {
+/// `fixtures/occt_variants/NAME.EXT`.
+fn variant(name: &str, ext: &str) -> String {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/occt_variants");
-    let tmp = tempfile::tempdir().unwrap();
-    let (out, report) = (tmp.path().join("out.json"), tmp.path().join("report.json"));
+    dir.join(format!("{name}.{ext}"))
+        .to_str()
+        .unwrap()
+        .to_string()
+}
+
+/// Runs `hier-fair ARGS` and asserts that it succeeds.
+fn hier_fair(args: &[&str]) {
     let o = Command::new(env!("CARGO_BIN_EXE_hier-fair"))
-        .args(["fair", dir.join(format!("{name}.step")).to_str().unwrap()])
-        .args(["-o", out.to_str().unwrap()])
-        .args(["--report", report.to_str().unwrap()])
-        .args(["--tolerance-role", "primary=0.05"])
-        .args(["--tolerance-role", "connecting=0.5"])
-        .args(["--tolerance-role", "corner=0.5", "--quiet"])
+        .args(args)
         .output()
         .unwrap();
     assert!(
         o.status.success(),
-        "{name}: {}",
+        "{args:?}: {}",
         String::from_utf8_lossy(&o.stderr)
     );
-    serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap()
+}
+
+/// Fairs `fixtures/occt_variants/NAME.step` per role and returns the report.
+fn fair(name: &str) -> Value {
+    let tmp = tempfile::tempdir().unwrap();
+    let (out, report) = (tmp.path().join("out.json"), tmp.path().join("report.json"));
+    let (out, report) = (out.to_str().unwrap(), report.to_str().unwrap());
+    let input = variant(name, "step");
+    hier_fair(&[
+        "fair",
+        &input,
+        "-o",
+        out,
+        "--report",
+        report,
+        "--tolerance-role",
+        "primary=0.05",
+        "--tolerance-role",
+        "connecting=0.5",
+        "--tolerance-role",
+        "corner=0.5",
+        "--quiet",
+    ]);
+    serde_json::from_str(&std::fs::read_to_string(report).unwrap()).unwrap()
 }
 
 /// The links of `report` that end unmet, as "slave.side".
@@ -136,22 +160,9 @@ fn lofted_blocks_never_get_worse() {
 /// `hier-fair import fixtures/occt_variants/NAME.EXT`: the surfaces' roles, counted (primary,
 /// connecting, corner).
 fn roles(name: &str, ext: &str) -> [usize; 3] {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/occt_variants");
     let tmp = tempfile::tempdir().unwrap();
     let out = tmp.path().join("model.json");
-    let o = Command::new(env!("CARGO_BIN_EXE_hier-fair"))
-        .args([
-            "import",
-            dir.join(format!("{name}.{ext}")).to_str().unwrap(),
-        ])
-        .args(["-o", out.to_str().unwrap()])
-        .output()
-        .unwrap();
-    assert!(
-        o.status.success(),
-        "{name}.{ext}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    hier_fair(&["import", &variant(name, ext), "-o", out.to_str().unwrap()]);
     let model: Value = serde_json::from_str(&std::fs::read_to_string(&out).unwrap()).unwrap();
     let count = |role: &str| {
         let surfaces = model["surfaces"].as_array().unwrap();

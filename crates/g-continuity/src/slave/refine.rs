@@ -104,14 +104,7 @@ pub const REFINE_MIN_KNOTS: usize = 16;
 
 /// Worst measure of a link relative to its tolerances, up to `target` (≤ 1: met).
 pub(super) fn excess(m: &LinkMeasure, target: Continuity, tol: &Tolerances) -> f64 {
-    let mut e = m.g0 / tol.g0;
-    if target >= Continuity::G1 {
-        e = e.max(m.g1_deg.unwrap_or(0.0) / tol.g1_deg);
-    }
-    if target >= Continuity::G2 {
-        e = e.max(m.g2_rel.unwrap_or(0.0) / tol.g2_rel);
-    }
-    e
+    m.excess(target, tol.g0, tol.g1_deg, tol.g2_rel)
 }
 
 /// Knot insertion state of the links of one slave across refinement rounds.

@@ -9,6 +9,15 @@ use super::*;
 /// this (a few roundings of the move quotient, so the skip stays exact).
 pub const SLACK_ROUNDING: f64 = 1e-12;
 
+/// One continuity step of the dry run ([`Job::dry_step`]): the result, whether it met every
+/// link up to its step, the settings that gave it, and the links' measures on it.
+type StepResult = (
+    BSplineSurface,
+    bool,
+    g_continuity::SetParams,
+    Vec<LinkMeasure>,
+);
+
 /// Trials of the lead-in width search: the first at the widest lead-in, each next one scaled by
 /// √(budget/d); the error of the square law shrinks with the width, so the third trial is
 /// usually within the budget and six are a bound, not a typical count.
@@ -54,6 +63,7 @@ impl Job<'_> {
                 steps,
                 met: true,
                 met_steps: Vec::new(),
+                after: Vec::new(),
                 prepared: prepared.clone(),
                 tangent_corners: false,
             });
@@ -61,6 +71,7 @@ impl Job<'_> {
         let mut s = prepared.clone();
         let mut met = false;
         let mut met_steps = Vec::new();
+        let mut after = Vec::new();
         // the step settings in use; a variant that met a step stays for the steps after it (a
         // G2 step solves the C0 and G1 rows again after refining)
         let mut set = params.set;
@@ -69,7 +80,7 @@ impl Job<'_> {
                 break;
             }
             let next;
-            (next, met, set) = self.dry_step(&s, links, step, &params, set)?;
+            (next, met, set, after) = self.dry_step(&s, links, step, &params, set)?;
             let d = max_deviation(original, &next, self.params.deviation_grid);
             steps.push((step, next.clone(), d));
             met_steps.push(met);
@@ -79,6 +90,7 @@ impl Job<'_> {
             steps,
             met,
             met_steps,
+            after,
             prepared: prepared.clone(),
             tangent_corners: set.tangent_corners,
         })
@@ -86,7 +98,7 @@ impl Job<'_> {
 
     /// One continuity step of the dry run from `s` with the settings `set`, and where it
     /// misses, its variants in order ([`step_variants`]) until one meets: the result, whether
-    /// it met every link up to `step`, and the settings that gave it.
+    /// it met every link up to `step`, the settings that gave it, and its links' measures.
     fn dry_step(
         &self,
         s: &BSplineSurface,
@@ -94,7 +106,7 @@ impl Job<'_> {
         step: Continuity,
         params: &ConnectParams,
         set: g_continuity::SetParams,
-    ) -> std::result::Result<(BSplineSurface, bool, g_continuity::SetParams), String> {
+    ) -> std::result::Result<StepResult, String> {
         let name = &self.model.surfaces[self.surface].name;
         let t = &params.tolerances;
         let meets = |after: &[g_continuity::LinkMeasure]| {
@@ -109,7 +121,7 @@ impl Job<'_> {
         };
         let (next, report) = run(set)?;
         if meets(&report.after) {
-            return Ok((next, true, set));
+            return Ok((next, true, set, report.after));
         }
         // the G2 slack of the runs with the step's move bound, per corner setting: a variant
         // that only raises the bound to below it would repeat that run bit for bit
@@ -131,10 +143,10 @@ impl Job<'_> {
                 slack.push((variant.tangent_corners, again.g2_slack));
             }
             if meets(&again.after) {
-                return Ok((other, true, variant));
+                return Ok((other, true, variant, again.after));
             }
         }
-        Ok((next, false, set))
+        Ok((next, false, set, report.after))
     }
 
     /// Prepares the surface and runs the continuity steps alone, with the widest curvature
@@ -225,7 +237,7 @@ impl Job<'_> {
 impl Job<'_> {
     /// How far the last step of `dry` is from meeting its links: the largest ratio of a
     /// measure (gap, angle, relative curvature, up to each link's target) to its tolerance over
-    /// every link (≤ 1 where all are met; ∞ where a link cannot be measured); and whether the
+    /// every link (≤ 1 where all are met), from the measures the step took; and whether the
     /// misses are of accuracy only — every gap and angle within its tolerance and every relative
     /// curvature figure below 1, i.e. the slave bends the same way as its master all along each
     /// side — which a narrower curvature lead-in can improve. A figure of 1 or more (curvatures
@@ -233,28 +245,20 @@ impl Job<'_> {
     /// corner conflict, the end of a partial link), which the width of the transition does not
     /// change.
     fn excess(&self, dry: &DryRun, links: &[SideLink<'_>]) -> (f64, bool) {
-        let Some((step, last, _)) = dry.steps.last() else {
+        let Some((step, _, _)) = dry.steps.last() else {
             return (0.0, false);
         };
         let t = &self.set_params().tolerances;
         let mut narrowable = true;
         let mut worst = 0.0f64;
-        for l in links {
-            let Ok(m) = l.measure(last, &self.connect.measure) else {
-                return (f64::INFINITY, false);
-            };
+        for (l, m) in links.iter().zip(&dry.after) {
             let target = l.target.min(*step);
-            let (g1, g2) = (m.g1_deg.unwrap_or(0.0), m.g2_rel.unwrap_or(0.0));
-            let mut e = m.g0 / t.g0;
-            if target >= Continuity::G1 {
-                e = e.max(g1 / t.g1_deg);
-            }
-            if target >= Continuity::G2 {
-                narrowable &= g2 < 1.0;
-                e = e.max(g2 / t.g2_rel);
-            }
+            let g1 = m.g1_deg.unwrap_or(0.0);
             narrowable &= m.g0 <= t.g0 && (target < Continuity::G1 || g1 <= t.g1_deg);
-            worst = worst.max(e);
+            if target >= Continuity::G2 {
+                narrowable &= m.g2_rel.unwrap_or(0.0) < 1.0;
+            }
+            worst = worst.max(m.excess(target, t.g0, t.g1_deg, t.g2_rel));
         }
         (worst, narrowable)
     }

@@ -341,6 +341,8 @@ struct DryRun {
     met: bool,
     /// per step, whether it met every link up to its level
     met_steps: Vec<bool>,
+    /// the links (in the order given) measured on the last step's result
+    after: Vec<LinkMeasure>,
     /// the prepared surface the steps started from
     prepared: BSplineSurface,
     /// whether a step met only with turned corner tangents (`SetParams::tangent_corners`);
