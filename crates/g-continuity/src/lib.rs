@@ -34,6 +34,7 @@ mod ladder;
 pub mod lead_in;
 pub mod lsq;
 pub mod measure;
+mod memo;
 pub mod params;
 pub mod rows;
 pub mod sampling;

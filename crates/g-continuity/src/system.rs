@@ -4,13 +4,13 @@
 //! tangential rows), built on the rational basis of the moving row, and their solve.
 
 use nalgebra::DMatrix;
-use nurbs_core::{BSplineSurface, Continuity, Side, SurfaceDerivatives, Vector3};
+use nurbs_core::{BSplineSurface, Continuity, Point3, Side, SurfaceDerivatives, Vector3};
 
 use crate::ladder::solve_g2_ladder;
 use crate::lsq::solve_least_squares;
 use crate::measure::cross_derivative;
 use crate::params::{G2Method, SetParams};
-use crate::sampling::{MasterTracker, SideBasis};
+use crate::sampling::SideBasis;
 
 /// The fixed directions of the G2 variant [`G2Method::FixedDirections`]: the slave normal at the
 /// Greville abscissae of the `m` points of the row.
@@ -159,14 +159,20 @@ impl RowSystem {
         let a_k = self.a_k;
         let q = basis.along_degree();
         let mut mvals = vec![0.0; q + 1];
-        let mut tracker = MasterTracker::new(master, params.projection);
         let mut master_eval = master.evaluator();
+        let order = if step == Continuity::G2 { 2 } else { 1 };
+        let slave_points: Vec<SurfaceDerivatives> = ts
+            .iter()
+            .map(|&t| {
+                let (u, v) = side.params(slave, t);
+                slave_eval.evaluate(u, v, order)
+            })
+            .collect();
+        let points: Vec<Point3> = slave_points.iter().map(|d| d.point).collect();
+        let feet = crate::memo::project_side(master, params.projection, &points);
         // one buffer for every sample's coefficients
         let mut cols: Vec<(usize, usize, f64)> = Vec::with_capacity(q + 1);
-        for (r, &t) in ts.iter().enumerate() {
-            let (u, v) = side.params(slave, t);
-            let ds = slave_eval.evaluate(u, v, if step == Continuity::G2 { 2 } else { 1 });
-            let proj = tracker.project(&ds.point);
+        for (r, ((&t, ds), proj)) in ts.iter().zip(slave_points).zip(feet).enumerate() {
             let first = basis.row_basis(k, t, &mut mvals);
             // the sample's row coefficients, per movable point: (row position, column block,
             // a_k · M_j(t))

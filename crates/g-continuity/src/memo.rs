@@ -1,0 +1,107 @@
+//! Master points of a whole side, remembered: the continuity steps solve a side's rows many
+//! times over the same boundary (the G1 polishing passes, the variants of a step, the weights of
+//! the G2 ladder's callers, the trials of a lead-in search). From the G1 step on the boundary row
+//! does not move, so the slave points of the samples repeat bit for bit, and so would their
+//! projections onto the master ([`MasterTracker`], [NB] §6.1).
+//!
+//! The memo is exact: an entry is used only when the master (its degrees, knots, weights and
+//! control points, bit for bit), the projection settings and every sample point are the same as
+//! when it was made. A side's projections are a function of exactly these (the tracker starts
+//! afresh per side and warm-starts each sample from the one before), so a hit returns what the
+//! projections would have returned, and results do not depend on the memo or on the thread a
+//! side runs on.
+//!
+//! # Bound
+//! At most [`MEMO_SIDES`] sides are kept (first in, first out), each as its sample points and
+//! foot points: a few hundred kB at the largest side counts.
+
+use std::collections::VecDeque;
+use std::sync::Mutex;
+
+use nurbs_core::{BSplineSurface, Point3, ProjectionParams, SurfaceProjection};
+
+use crate::sampling::MasterTracker;
+
+/// Sides kept: two waves of eight surfaces with four sides each, solved in parallel.
+pub const MEMO_SIDES: usize = 64;
+
+/// One remembered side.
+struct Entry {
+    hash: u64,
+    master: Vec<u64>,
+    points: Vec<[u64; 3]>,
+    feet: Vec<SurfaceProjection>,
+}
+
+static MEMO: Mutex<VecDeque<Entry>> = Mutex::new(VecDeque::new());
+
+/// FNV-1a over 64-bit words.
+fn fnv(words: impl Iterator<Item = u64>) -> u64 {
+    words.fold(0xcbf2_9ce4_8422_2325, |h, w| {
+        (h ^ w).wrapping_mul(0x0000_0100_0000_01b3)
+    })
+}
+
+/// Every bit of `master` and the projection settings that a projection reads.
+fn master_key(master: &BSplineSurface, params: &ProjectionParams) -> Vec<u64> {
+    let words = [
+        master.degree_u() as u64,
+        master.degree_v() as u64,
+        master.num_u() as u64,
+        master.num_v() as u64,
+        params.point_tolerance.to_bits(),
+        params.cosine_tolerance.to_bits(),
+        params.max_iterations as u64,
+        params.samples_per_span as u64,
+        params.starts as u64,
+        params.max_samples_per_direction as u64,
+    ];
+    let knots = master
+        .knots_u()
+        .knots()
+        .iter()
+        .chain(master.knots_v().knots())
+        .chain(master.weights().unwrap_or(&[]))
+        .map(|x| x.to_bits());
+    let points = master
+        .control_points()
+        .iter()
+        .flat_map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()]);
+    words.into_iter().chain(knots).chain(points).collect()
+}
+
+/// The master points of `points` (a side's samples in order), as a fresh [`MasterTracker`]
+/// would find them one after the other, from the memo where the same side was projected before.
+pub(crate) fn project_side(
+    master: &BSplineSurface,
+    params: ProjectionParams,
+    points: &[Point3],
+) -> Vec<SurfaceProjection> {
+    let key = master_key(master, &params);
+    let hash = fnv(key.iter().copied());
+    let bits: Vec<[u64; 3]> = points
+        .iter()
+        .map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
+        .collect();
+    if let Ok(memo) = MEMO.lock()
+        && let Some(e) = memo
+            .iter()
+            .find(|e| e.hash == hash && e.points == bits && e.master == key)
+    {
+        return e.feet.clone();
+    }
+    let mut tracker = MasterTracker::new(master, params);
+    let feet: Vec<SurfaceProjection> = points.iter().map(|p| tracker.project(p)).collect();
+    if let Ok(mut memo) = MEMO.lock() {
+        if memo.len() == MEMO_SIDES {
+            memo.pop_front();
+        }
+        memo.push_back(Entry {
+            hash,
+            master: key,
+            points: bits,
+            feet: feet.clone(),
+        });
+    }
+    feet
+}
