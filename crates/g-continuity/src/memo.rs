@@ -33,6 +33,8 @@ struct Entry {
     feet: Vec<SurfaceProjection>,
 }
 
+/// The remembered sides, oldest first (shared by all threads: a side's repeat may run on
+/// another worker).
 static MEMO: Mutex<VecDeque<Entry>> = Mutex::new(VecDeque::new());
 
 /// FNV-1a over 64-bit words.
@@ -70,6 +72,22 @@ fn master_key(master: &BSplineSurface, params: &ProjectionParams) -> Vec<u64> {
     words.into_iter().chain(knots).chain(points).collect()
 }
 
+/// The side's master points from the memo, if the same side was projected before.
+fn remembered(master: &[u64], hash: u64, points: &[[u64; 3]]) -> Option<Vec<SurfaceProjection>> {
+    let memo = MEMO.lock().ok()?;
+    memo.iter()
+        .find(|e| e.hash == hash && e.points == points && e.master == master)
+        .map(|e| e.feet.clone())
+}
+
+/// The bits of `points`.
+fn point_bits(points: &[Point3]) -> Vec<[u64; 3]> {
+    points
+        .iter()
+        .map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
+        .collect()
+}
+
 /// The master points of `points` (a side's samples in order), as a fresh [`MasterTracker`]
 /// would find them one after the other, from the memo where the same side was projected before.
 pub(crate) fn project_side(
@@ -79,16 +97,9 @@ pub(crate) fn project_side(
 ) -> Vec<SurfaceProjection> {
     let key = master_key(master, &params);
     let hash = fnv(key.iter().copied());
-    let bits: Vec<[u64; 3]> = points
-        .iter()
-        .map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
-        .collect();
-    if let Ok(memo) = MEMO.lock()
-        && let Some(e) = memo
-            .iter()
-            .find(|e| e.hash == hash && e.points == bits && e.master == key)
-    {
-        return e.feet.clone();
+    let bits = point_bits(points);
+    if let Some(feet) = remembered(&key, hash, &bits) {
+        return feet;
     }
     let mut tracker = MasterTracker::new(master, params);
     let feet: Vec<SurfaceProjection> = points.iter().map(|p| tracker.project(p)).collect();
@@ -104,4 +115,80 @@ pub(crate) fn project_side(
         });
     }
     feet
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nurbs_core::shapes::plane_patch;
+    use nurbs_core::{Point3, Vector3};
+
+    /// A quarter cylinder of radius 2 about the z axis, exact (rational).
+    fn cylinder() -> BSplineSurface {
+        let w = std::f64::consts::FRAC_1_SQRT_2;
+        let ring = [(2.0, 0.0, 1.0), (2.0, 2.0, w), (0.0, 2.0, 1.0)];
+        let mut pts = Vec::new();
+        let mut weights = Vec::new();
+        for &(x, y, wi) in &ring {
+            for z in [0.0, 3.0] {
+                pts.push(Point3::new(x, y, z));
+                weights.push(wi);
+            }
+        }
+        BSplineSurface::new(
+            nurbs_core::KnotVector::bezier(2).unwrap(),
+            nurbs_core::KnotVector::bezier(1).unwrap(),
+            pts,
+            Some(weights),
+        )
+        .unwrap()
+    }
+
+    fn fresh(master: &BSplineSurface, points: &[Point3]) -> Vec<SurfaceProjection> {
+        let mut t = MasterTracker::new(master, ProjectionParams::default());
+        points.iter().map(|p| t.project(p)).collect()
+    }
+
+    #[test]
+    fn a_remembered_side_is_what_a_fresh_projection_gives() {
+        let master = cylinder();
+        let points: Vec<Point3> = (0..20)
+            .map(|k| {
+                let a = 0.07 * k as f64;
+                Point3::new(2.1 * a.cos(), 2.1 * a.sin(), 0.1 * k as f64)
+            })
+            .collect();
+        let params = ProjectionParams::default();
+        let first = project_side(&master, params, &points);
+        let key = master_key(&master, &params);
+        let hash = fnv(key.iter().copied());
+        let kept = remembered(&key, hash, &point_bits(&points));
+        assert_eq!(kept.as_ref(), Some(&first), "the side is remembered");
+        assert_eq!(first, fresh(&master, &points));
+        assert_eq!(project_side(&master, params, &points), first);
+        // the feet are the cylinder's: 0.1 off the radius-2 surface
+        for f in &first {
+            assert!((f.distance - 0.1).abs() < 1e-12, "{}", f.distance);
+        }
+        // one point moved by a rounding unit: projected afresh, not taken from the memo
+        let mut moved = points.clone();
+        moved[7].x = f64::from_bits(moved[7].x.to_bits() + 1);
+        assert_eq!(remembered(&key, hash, &point_bits(&moved)), None);
+        assert_eq!(
+            project_side(&master, ProjectionParams::default(), &moved),
+            fresh(&master, &moved)
+        );
+        // another master with the same points: its own feet
+        let plane = plane_patch(
+            Point3::new(0.0, 0.0, 0.0),
+            Vector3::x(),
+            Vector3::y(),
+            (0.0, 3.0),
+            (0.0, 3.0),
+        )
+        .unwrap();
+        let on_plane = project_side(&plane, ProjectionParams::default(), &points);
+        assert_eq!(on_plane, fresh(&plane, &points));
+        assert_ne!(on_plane, first);
+    }
 }

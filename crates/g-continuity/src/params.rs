@@ -89,6 +89,12 @@ pub struct SetParams {
     /// surface that no link covers keeps its join as it came. The rows of the linked sides end
     /// on it there, so their end points stay too.
     pub kept_sides: [bool; 4],
+    /// Unlinked sides the slave shares with a surface that is faired in the same wave (a seam
+    /// of a closed fillet cut into parts), in the order u0, u1, v0, v1 (default none): after
+    /// each C0 step, a linked side's boundary row that ends on one has its end tangent turned
+    /// into its own master's tangent plane there (see `slave::seam_end_tangents`), so that both
+    /// parts of the seam take the master's normal at its end.
+    pub seam_end_tangents: [bool; 4],
 }
 
 impl Default for SetParams {
@@ -106,6 +112,7 @@ impl Default for SetParams {
             projection: ProjectionParams::default(),
             tangent_corners: false,
             kept_sides: [false; 4],
+            seam_end_tangents: [false; 4],
         }
     }
 }

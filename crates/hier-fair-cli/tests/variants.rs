@@ -136,17 +136,19 @@ fn plates_with_bosses_reach_g2_everywhere() {
 }
 
 #[test]
-fn pipe_tees_never_get_worse_and_name_a_kept_seam() {
+fn pipe_tees_reach_g2_everywhere_with_their_seams_closed() {
+    // the saddle fillet is two halves joined by seams, faired in the same wave: each half turns
+    // its boundaries' end tangents at the seams into its masters' planes, so both take the
+    // masters' normals there and the seams stay within the G1 tolerance (pipe_tee_b per role
+    // opened them to 0.0118° without it, and lost G2 when run again with them kept)
     for r in never_worse(&["pipe_tee_a", "pipe_tee_b"]) {
-        // the saddle fillet is two halves joined by seams: a half that misses its links was run
-        // again with a seam kept, and the report says which seam and by how much it had opened
-        for link in unmet(&r) {
-            let slave = link.split('.').next().unwrap();
-            let problems = r["problems"].as_array().unwrap();
+        assert!(unmet(&r).is_empty(), "unmet: {:?}", unmet(&r));
+        for e in r["shared_edges"].as_array().unwrap() {
+            let after = &e["after"];
             assert!(
-                problems.iter().any(|p| p["surface"] == slave
-                    && p["message"].as_str().unwrap().contains("its seam")),
-                "{link} unmet without its seam named: {problems:#?}"
+                after["g0"].as_f64().unwrap() <= G0 && after["g1_deg"].as_f64().unwrap() <= G1_DEG,
+                "seam {} open: {after}",
+                e["edge"]
             );
         }
     }

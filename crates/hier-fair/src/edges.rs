@@ -24,7 +24,11 @@
 //!   kept by the fairing stages but left free to the continuity steps (`is_seam`): each half
 //!   is set to the same masters the same way, so the two settings agree along the seam, and a
 //!   kept seam column would hold each half's cross-section at its input curvature where it meets
-//!   its masters. A seam the free steps open beyond its tolerance has its surfaces run again with
+//!   its masters. Each half's linked boundaries have their end tangents at the seam turned into
+//!   their masters' tangent planes after the C0 steps (g-continuity's
+//!   `SetParams::seam_end_tangents`): fitted by positions only, the two halves' boundaries tilt
+//!   their corner normals by their slope errors in opposite senses, and the seam opens by the
+//!   sum. A seam the free steps still open beyond its tolerance has its surfaces run again with
 //!   it kept (`opened_seams`).
 //!
 //! The fairing report measures every such edge before and after; the output model's links are

@@ -241,7 +241,57 @@ pub(super) fn step_all_with(
         let t = tangent_corners(slave, links, &sides.active, params);
         outcome.max_move = outcome.max_move.max(t);
     }
+    if step == Continuity::G0 && params.seam_end_tangents.contains(&true) {
+        let t = seam_end_tangents(slave, &sides.active, params);
+        outcome.max_move = outcome.max_move.max(t);
+    }
     Ok(outcome)
+}
+
+/// After the C0 rows: where a linked side's boundary row ends on a seam
+/// ([`SetParams::seam_end_tangents`]), the row's second point moves into the tangent plane of
+/// the side's own master at the corner. Fitted by positions only, the boundary's end tangent
+/// misses that plane by the fit's slope error (1.45e-4 rad on a kernel's saddle fillet, with a
+/// gap of 7e-9 at the corner and 8e-6 one sample in), which no G1 row can take back (they move
+/// the next row, not this one): the corner normal is then tilted by that angle about the cross
+/// direction. The two parts of a seam fit their boundaries separately and tilt in opposite
+/// senses, so the seam opens by the sum, up to twice a figure that the link alone still meets.
+/// Turned into the master's plane, both corner normals are the master's. No link lies across
+/// the seam, so the move (the slope error times the control-point spacing, far below the C0
+/// tolerance) changes no other link's curvature. Returns the largest move.
+fn seam_end_tangents(slave: &mut BSplineSurface, active: &[&SideLink], params: &SetParams) -> f64 {
+    let (nu, nv) = (slave.num_u(), slave.num_v());
+    let fixed = degenerate_corner_blocks(slave);
+    let mut largest: f64 = 0.0;
+    for l in active.iter().filter(|l| l.range.is_none()) {
+        let row = l.side.row(0, nu, nv);
+        let m = row.len();
+        if m < 3 {
+            continue;
+        }
+        let (start, end) = l.side.neighbours();
+        for (c, j, adj) in [(0, 1, start), (m - 1, m - 2, end)] {
+            let k = Side::ALL.iter().position(|&s| s == adj).unwrap_or(0);
+            let (corner, second) = (row[c], row[j]);
+            if !params.seam_end_tangents[k]
+                || is_collapsed(slave, adj)
+                || fixed.contains(&corner)
+                || fixed.contains(&second)
+            {
+                continue;
+            }
+            let p0 = slave.control_point(corner.0, corner.1);
+            let foot = nurbs_core::project_to_surface(l.master, &p0, &params.projection);
+            let Some(n) = l.master.derivatives(foot.u, foot.v).normal() else {
+                continue;
+            };
+            let idx = slave.index(second.0, second.1);
+            let d = n * n.dot(&(slave.control_points()[idx] - p0));
+            slave.control_points_mut()[idx] -= d;
+            largest = largest.max(d.norm());
+        }
+    }
+    largest
 }
 
 /// After the C0 rows: at a corner where the neighbouring side carries G1 or more, the second

@@ -220,13 +220,15 @@ impl Job<'_> {
             tolerances.g2_rel *= GROUP_CHAIN_SHARE;
         }
         // the sides it shares with a surface no link covers keep their frame in the set steps
-        // too ([`crate::edges`])
+        // too ([`crate::edges`]); a free seam instead has the linked boundaries that end on it
+        // turned into their masters' tangent planes there (`SetParams::seam_end_tangents`)
         let mut set = self.connect.set;
         for e in self.edges.iter().filter(|e| e.surface == self.surface) {
+            let k = Side::ALL.iter().position(|&s| s == e.side).unwrap_or(0);
             if self.free_seams && crate::edges::is_seam(self.model, e) {
+                set.seam_end_tangents[k] = true;
                 continue;
             }
-            let k = Side::ALL.iter().position(|&s| s == e.side).unwrap_or(0);
             set.kept_sides[k] = true;
         }
         let me = &self.model.surfaces[self.surface].surface;

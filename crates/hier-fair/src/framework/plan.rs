@@ -96,8 +96,9 @@ impl Plan<'_> {
     }
 
     /// The surfaces of one wave run against `out` (the earlier waves' results), in parallel
-    /// when asked. Seams are left to the continuity steps; a seam they opened beyond its
-    /// tolerance has its surfaces run again with the seam's frame kept
+    /// when asked. Seams are left to the continuity steps (with the linked boundaries' end
+    /// tangents turned into their masters' planes there, [`Job::set_params`]); a seam they
+    /// opened beyond its tolerance has its surfaces run again with the seam's frame kept
     /// ([`crate::edges::opened_seams`]).
     fn wave(&self, out: &Model, wave: &[usize]) -> Vec<(usize, Outcome)> {
         let job = |&k: &usize, free_seams: bool| -> (usize, Outcome) {
