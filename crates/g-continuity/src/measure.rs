@@ -28,7 +28,7 @@
 use nurbs_core::{BSplineSurface, Direction, ProjectionParams, Side, SurfaceDerivatives, Vector3};
 
 use crate::error::{Error, Result};
-use crate::sampling::{MasterTracker, uniform_part_params};
+use crate::sampling::uniform_part_params;
 
 /// A side whose control row spans less than this fraction of the slave size is a point (the
 /// kernel's value, one for the workspace).
@@ -245,14 +245,19 @@ fn measure_gaps(
     ts: &[f64],
     projection: ProjectionParams,
 ) -> Vec<(SurfaceDerivatives, SurfaceDerivatives)> {
-    let mut tracker = MasterTracker::new(master, projection);
     let mut slave_eval = slave.evaluator();
     let mut master_eval = master.evaluator();
+    let slave_points: Vec<SurfaceDerivatives> = ts
+        .iter()
+        .map(|&t| {
+            let (u, v) = m.side.params(slave, t);
+            slave_eval.derivatives(u, v)
+        })
+        .collect();
+    let points: Vec<nurbs_core::Point3> = slave_points.iter().map(|d| d.point).collect();
+    let feet = crate::memo::project_side(master, projection, &points);
     let mut pairs = Vec::with_capacity(ts.len());
-    for &t in ts {
-        let (u, v) = m.side.params(slave, t);
-        let ds = slave_eval.derivatives(u, v);
-        let proj = tracker.project(&ds.point);
+    for ((&t, ds), proj) in ts.iter().zip(slave_points).zip(feet) {
         let dm = master_eval.derivatives(proj.u, proj.v);
         if proj.distance > m.g0 {
             m.g0 = proj.distance;
