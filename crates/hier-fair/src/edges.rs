@@ -28,8 +28,9 @@
 //!   their masters' tangent planes after the C0 steps (g-continuity's
 //!   `SetParams::seam_end_tangents`): fitted by positions only, the two halves' boundaries tilt
 //!   their corner normals by their slope errors in opposite senses, and the seam opens by the
-//!   sum. A seam the free steps still open beyond its tolerance has its surfaces run again with
-//!   it kept (`opened_seams`).
+//!   sum. A seam the free steps still open beyond its tolerance has its surfaces run again one
+//!   after the other, each later one with its seams to the earlier ones linked G2
+//!   (`framework/seams.rs`), or, where that leaves a seam open too, with it kept (`opened_seams`).
 //!
 //! The fairing report measures every such edge before and after; the output model's links are
 //! the input's.

@@ -223,7 +223,17 @@ impl Job<'_> {
         // too ([`crate::edges`]); a free seam instead has the linked boundaries that end on it
         // turned into their masters' tangent planes there (`SetParams::seam_end_tangents`)
         let mut set = self.connect.set;
-        for e in self.edges.iter().filter(|e| e.surface == self.surface) {
+        let linked = |side: Side| {
+            self.model
+                .links
+                .iter()
+                .any(|l| l.slave == self.surface && l.side == side)
+        };
+        for e in self
+            .edges
+            .iter()
+            .filter(|e| e.surface == self.surface && !linked(e.side))
+        {
             let k = Side::ALL.iter().position(|&s| s == e.side).unwrap_or(0);
             if self.free_seams && crate::edges::is_seam(self.model, e) {
                 set.seam_end_tangents[k] = true;

@@ -65,6 +65,7 @@ mod job;
 mod masks;
 mod plan;
 mod report;
+mod seams;
 mod stages;
 mod vertex;
 
@@ -85,6 +86,7 @@ pub use report::{
     FairModelReport, LinkFair, Problem, ProblemKind, Progress, Stage, StageReport, SurfaceFair,
 };
 use report::{edge_reports, found_edge_reports, link_reports, unmet_problems, worse_edge_problems};
+pub use seams::LINKED_SEAM_FRACTION;
 
 /// The framework's [`g_continuity::SetParams::g2_move_factor`]: a lighter-weighted G2 solution
 /// (closer to the exact scalar condition) is taken only when no control point moves more than

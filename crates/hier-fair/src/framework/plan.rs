@@ -46,6 +46,13 @@ fn group_start(model: &Model, k: usize, wave_of: &[usize]) -> usize {
         .unwrap_or(0)
 }
 
+/// What the report says of a part of a ring run again with its seams linked
+/// ([`Plan::seams_linked`]).
+const SEAM_LINKED: &str = "run again after the part it meets there, with its seams to it linked G2";
+
+/// What the report says of a part of a ring run again with its seams kept.
+const SEAM_KEPT: &str = "run again with the seam kept as it came, so its links follow the input's cross-section at the seam's ends";
+
 impl Plan<'_> {
     /// Runs the waves one after another into `out`: each wave's corner groups first ([SV]
     /// §3.4), then its surfaces ([`Plan::wave`]), reporting each surface as it finishes.
@@ -90,7 +97,7 @@ impl Plan<'_> {
     }
 
     /// Surface `k`'s deviation tolerance ([`Model::deviation_of`]).
-    fn tolerance_of(&self, k: usize) -> f64 {
+    pub(super) fn tolerance_of(&self, k: usize) -> f64 {
         self.model
             .deviation_of(k, &self.params.role_tolerance, self.params.tolerance)
     }
@@ -98,8 +105,9 @@ impl Plan<'_> {
     /// The surfaces of one wave run against `out` (the earlier waves' results), in parallel
     /// when asked. Seams are left to the continuity steps (with the linked boundaries' end
     /// tangents turned into their masters' planes there, [`Job::set_params`]); a seam they
-    /// opened beyond its tolerance has its surfaces run again with the seam's frame kept
-    /// ([`crate::edges::opened_seams`]).
+    /// opened beyond its tolerance has its surfaces run again one after the other, each linked
+    /// G2 to the ones before along their seams ([`Plan::seams_linked`]), or, where that still
+    /// leaves a seam open, with the seam's frame kept ([`crate::edges::opened_seams`]).
     fn wave(&self, out: &Model, wave: &[usize]) -> Vec<(usize, Outcome)> {
         let job = |&k: &usize, free_seams: bool| -> (usize, Outcome) {
             let job = Job {
@@ -138,7 +146,19 @@ impl Plan<'_> {
         if again.is_empty() {
             return results;
         }
-        let why = self.opened_seam_notes(&now, &again);
+        if let Some(linked) = self.seams_linked(out, wave, &again, &results) {
+            let why = self.opened_seam_notes(&now, &again, SEAM_LINKED);
+            for (k, mut outcome) in linked {
+                outcome
+                    .problems
+                    .extend(why.iter().filter(|p| p.0 == k).map(|p| p.1.clone()));
+                if let Some(r) = results.iter_mut().find(|r| r.0 == k) {
+                    r.1 = outcome;
+                }
+            }
+            return results;
+        }
+        let why = self.opened_seam_notes(&now, &again, SEAM_KEPT);
         for (k, mut outcome) in run(&again, false) {
             outcome
                 .problems
@@ -158,6 +178,7 @@ impl Plan<'_> {
         &self,
         now: &dyn Fn(usize) -> &'a BSplineSurface,
         again: &[usize],
+        then: &str,
     ) -> Vec<(usize, Problem)> {
         let t = &self.model.tolerances;
         self.edges
@@ -173,7 +194,7 @@ impl Plan<'_> {
                         surface: self.model.surfaces[e.surface].name.clone(),
                         link: None,
                         message: format!(
-                            "its seam {} with {} was opened by the continuity steps to a gap of {:.3e} and an angle of {:.4}° (input {:.3e}, {:.4}°; tolerances {}, {}°): run again with the seam kept as it came, so its links follow the input's cross-section at the seam's ends",
+                            "its seam {} with {} was opened by the continuity steps to a gap of {:.3e} and an angle of {:.4}° (input {:.3e}, {:.4}°; tolerances {}, {}°): {then}",
                             e.side.name(),
                             self.model.surfaces[e.other].name,
                             m.gap,
