@@ -260,38 +260,10 @@ pub(super) fn step_all_with(
 /// the seam, so the move (the slope error times the control-point spacing, far below the C0
 /// tolerance) changes no other link's curvature. Returns the largest move.
 fn seam_end_tangents(slave: &mut BSplineSurface, active: &[&SideLink], params: &SetParams) -> f64 {
-    let (nu, nv) = (slave.num_u(), slave.num_v());
-    let fixed = degenerate_corner_blocks(slave);
-    let mut largest: f64 = 0.0;
-    for l in active.iter().filter(|l| l.range.is_none()) {
-        let row = l.side.row(0, nu, nv);
-        let m = row.len();
-        if m < 3 {
-            continue;
-        }
-        let (start, end) = l.side.neighbours();
-        for (c, j, adj) in [(0, 1, start), (m - 1, m - 2, end)] {
-            let k = Side::ALL.iter().position(|&s| s == adj).unwrap_or(0);
-            let (corner, second) = (row[c], row[j]);
-            if !params.seam_end_tangents[k]
-                || is_collapsed(slave, adj)
-                || fixed.contains(&corner)
-                || fixed.contains(&second)
-            {
-                continue;
-            }
-            let p0 = slave.control_point(corner.0, corner.1);
-            let foot = nurbs_core::project_to_surface(l.master, &p0, &params.projection);
-            let Some(n) = l.master.derivatives(foot.u, foot.v).normal() else {
-                continue;
-            };
-            let idx = slave.index(second.0, second.1);
-            let d = n * n.dot(&(slave.control_points()[idx] - p0));
-            slave.control_points_mut()[idx] -= d;
-            largest = largest.max(d.norm());
-        }
-    }
-    largest
+    turn_end_tangents(slave, active, params, |l, adj| {
+        let k = Side::ALL.iter().position(|&s| s == adj).unwrap_or(0);
+        (params.seam_end_tangents[k] && l.range.is_none()).then_some(l.master)
+    })
 }
 
 /// After the C0 rows: at a corner where the neighbouring side carries G1 or more, the second
@@ -310,6 +282,24 @@ fn tangent_corners(
     active: &[&SideLink],
     params: &SetParams,
 ) -> f64 {
+    turn_end_tangents(slave, active, params, |_, adj| {
+        links
+            .iter()
+            .find(|x| x.side == adj && x.target >= Continuity::G1 && x.range.is_none())
+            .map(|x| x.master)
+    })
+}
+
+/// Moves the second point of each boundary row of `active`, at each end, into the tangent
+/// plane at the corner of the master `plane` names for that row and the neighbouring side (no
+/// master: the end stays); ends on a collapsed side or in a degenerate corner's block stay too.
+/// Returns the largest move.
+fn turn_end_tangents<'m>(
+    slave: &mut BSplineSurface,
+    active: &[&SideLink<'m>],
+    params: &SetParams,
+    plane: impl Fn(&SideLink<'m>, Side) -> Option<&'m BSplineSurface>,
+) -> f64 {
     let (nu, nv) = (slave.num_u(), slave.num_v());
     let fixed = degenerate_corner_blocks(slave);
     let mut largest: f64 = 0.0;
@@ -321,10 +311,7 @@ fn tangent_corners(
         }
         let (start, end) = l.side.neighbours();
         for (c, j, adj) in [(0, 1, start), (m - 1, m - 2, end)] {
-            let Some(nb) = links
-                .iter()
-                .find(|x| x.side == adj && x.target >= Continuity::G1 && x.range.is_none())
-            else {
+            let Some(master) = plane(l, adj) else {
                 continue;
             };
             let (corner, second) = (row[c], row[j]);
@@ -332,8 +319,8 @@ fn tangent_corners(
                 continue;
             }
             let p0 = slave.control_point(corner.0, corner.1);
-            let foot = nurbs_core::project_to_surface(nb.master, &p0, &params.projection);
-            let Some(n) = nb.master.derivatives(foot.u, foot.v).normal() else {
+            let foot = nurbs_core::project_to_surface(master, &p0, &params.projection);
+            let Some(n) = master.derivatives(foot.u, foot.v).normal() else {
                 continue;
             };
             let idx = slave.index(second.0, second.1);

@@ -96,6 +96,32 @@ impl Plan<'_> {
         Ok(())
     }
 
+    /// The job of surface `k` of `model` (the plan's model, or one with more links), from its
+    /// surface in `current`, against the masters there.
+    pub(super) fn job<'a>(
+        &'a self,
+        model: &'a Model,
+        current: &'a Model,
+        k: usize,
+        free_seams: bool,
+    ) -> Job<'a> {
+        Job {
+            model,
+            current,
+            start: &current.surfaces[k].surface,
+            surface: k,
+            fairing: self.fairers.of(self.model.surfaces[k].role),
+            tolerance: self.tolerance_of(k),
+            connect: self.connect,
+            params: self.params,
+            cap: self.cap,
+            before: self.before,
+            edges: self.edges,
+            ranges: self.ranges,
+            free_seams,
+        }
+    }
+
     /// Surface `k`'s deviation tolerance ([`Model::deviation_of`]).
     pub(super) fn tolerance_of(&self, k: usize) -> f64 {
         self.model
@@ -110,22 +136,7 @@ impl Plan<'_> {
     /// leaves a seam open, with the seam's frame kept ([`crate::edges::opened_seams`]).
     fn wave(&self, out: &Model, wave: &[usize]) -> Vec<(usize, Outcome)> {
         let job = |&k: &usize, free_seams: bool| -> (usize, Outcome) {
-            let job = Job {
-                model: self.model,
-                current: out,
-                start: &out.surfaces[k].surface,
-                surface: k,
-                fairing: self.fairers.of(self.model.surfaces[k].role),
-                tolerance: self.tolerance_of(k),
-                connect: self.connect,
-                params: self.params,
-                cap: self.cap,
-                before: self.before,
-                edges: self.edges,
-                ranges: self.ranges,
-                free_seams,
-            };
-            (k, job.run())
+            (k, self.job(self.model, out, k, free_seams).run())
         };
         let run = |ks: &[usize], free_seams: bool| -> Vec<(usize, Outcome)> {
             if self.params.parallel {

@@ -55,21 +55,10 @@ impl Plan<'_> {
             if linked.links.len() == self.model.links.len() {
                 continue;
             }
-            let job = Job {
-                model: &linked,
-                current: &current,
-                start: &out.surfaces[k].surface,
-                surface: k,
-                fairing: self.fairers.of(self.model.surfaces[k].role),
-                tolerance: self.tolerance_of(k),
-                connect: self.connect,
-                params: self.params,
-                cap: self.cap,
-                before: self.before,
-                edges: self.edges,
-                ranges: self.ranges,
-                free_seams: true,
-            };
+            // from the input, against the earlier parts as they are now
+            let mut from = current.clone();
+            from.surfaces[k].surface = out.surfaces[k].surface.clone();
+            let job = self.job(&linked, &from, k, true);
             let outcome = job.run();
             current.surfaces[k].surface = outcome.surface.clone();
             rerun.push((k, outcome));
