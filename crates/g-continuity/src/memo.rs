@@ -13,8 +13,9 @@
 //! side runs on.
 //!
 //! # Bound
-//! At most [`MEMO_SIDES`] sides are kept (first in, first out), each as its sample points and
-//! foot points: a few hundred kB at the largest side counts.
+//! At most [`MEMO_SIDES`] sides are kept (first in, first out), each as its master's bits, its
+//! sample points and their foot points: about 100 kB for a master of 64 × 64 points (the
+//! framework's largest net), a few MB in all. The memo lives for the process.
 
 use std::collections::VecDeque;
 use std::sync::Mutex;
@@ -23,7 +24,9 @@ use nurbs_core::{BSplineSurface, Point3, ProjectionParams, SurfaceProjection};
 
 use crate::sampling::MasterTracker;
 
-/// Sides kept: two waves of eight surfaces with four sides each, solved in parallel.
+/// Sides kept. A surface's repeats come within its own run: its four sides, each with the row
+/// samples and the measures' samples, eight entries per surface being set; 64 serve eight
+/// surfaces at once (one per core on an eight-core machine).
 pub const MEMO_SIDES: usize = 64;
 
 /// One remembered side.
@@ -47,17 +50,26 @@ fn fnv(words: impl Iterator<Item = u64>) -> u64 {
 
 /// Every bit of `master` and the projection settings that a projection reads.
 fn master_key(master: &BSplineSurface, params: &ProjectionParams) -> Vec<u64> {
+    // every field, named: a new setting must be added here
+    let ProjectionParams {
+        point_tolerance,
+        cosine_tolerance,
+        max_iterations,
+        samples_per_span,
+        starts,
+        max_samples_per_direction,
+    } = *params;
     let words = [
         master.degree_u() as u64,
         master.degree_v() as u64,
         master.num_u() as u64,
         master.num_v() as u64,
-        params.point_tolerance.to_bits(),
-        params.cosine_tolerance.to_bits(),
-        params.max_iterations as u64,
-        params.samples_per_span as u64,
-        params.starts as u64,
-        params.max_samples_per_direction as u64,
+        point_tolerance.to_bits(),
+        cosine_tolerance.to_bits(),
+        max_iterations as u64,
+        samples_per_span as u64,
+        starts as u64,
+        max_samples_per_direction as u64,
     ];
     let knots = master
         .knots_u()

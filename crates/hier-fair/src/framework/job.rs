@@ -223,16 +223,17 @@ impl Job<'_> {
         // too ([`crate::edges`]); a free seam instead has the linked boundaries that end on it
         // turned into their masters' tangent planes there (`SetParams::seam_end_tangents`)
         let mut set = self.connect.set;
-        let linked = |side: Side| {
+        // (a seam linked for a rerun, [`super::seams`], is a link, not an edge)
+        let linked = |e: &crate::edges::SharedEdge| {
             self.model
                 .links
                 .iter()
-                .any(|l| l.slave == self.surface && l.side == side)
+                .any(|l| l.slave == self.surface && l.side == e.side && l.master == e.other)
         };
         for e in self
             .edges
             .iter()
-            .filter(|e| e.surface == self.surface && !linked(e.side))
+            .filter(|e| e.surface == self.surface && !linked(e))
         {
             let k = Side::ALL.iter().position(|&s| s == e.side).unwrap_or(0);
             if self.free_seams && crate::edges::is_seam(self.model, e) {

@@ -5,12 +5,12 @@
 //! them is left to the continuity steps ([`crate::edges::is_seam`]), which set both parts alike
 //! where their masters agree. Near a seam's ends both parts move the seam's columns to reach G2
 //! at their links, each by its own row solve, and the seam can open there (a pipe tee's saddle
-//! of r 3: 0.025–0.050° next to the ends with the fairing's limit set to 20,000 moves). Kept as it came, the
-//! seam holds the input's rolling-ball cross-section at the corners, which no G2 join to the
-//! masters can follow. Linked instead, the later part takes the earlier one as the master of its
-//! seam sides: at a seam's end the earlier part is G2 to the same masters, so the later part's
-//! corner asks for one curvature from both its masters ([SV] §3.2: the slave follows its master;
-//! its corner is the two-master corner of a vertex blend, [`super::vertex`]).
+//! of r 3: 0.025–0.050° next to the ends with the fairing's limit set to 20,000 moves). Kept as
+//! it came, the seam holds the input's rolling-ball cross-section at the corners, which no G2
+//! join to the masters can follow. Linked instead, the later part takes the earlier one as the
+//! master of its seam sides: at a seam's end the earlier part is G2 to the same masters, so the
+//! later part's corner asks for one curvature from both its masters ([SV] §3.2: the slave follows
+//! its master; its corner is the two-master corner of a vertex blend, [`super::vertex`]).
 
 use super::*;
 use crate::edges::{is_seam, opened_seams};
