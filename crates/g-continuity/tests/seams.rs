@@ -38,14 +38,15 @@ fn end_tangent_tilt(master: &BSplineSurface, slave: &BSplineSurface) -> f64 {
 /// master's eight: the wavy boundary is not in its spline space, so the C0 fit leaves a slope
 /// error at the ends.
 fn coarse_slave(master: &BSplineSurface) -> BSplineSurface {
-    let n = master.num_u();
     let fine = kinked_slave(master, 0.0, 0.0);
+    // the cross leg of the fine slave's column nearest below t (of its columns 0..=7)
+    let last = fine.num_v() - 1;
     bicubic(5, 5, |i, j| {
         let t = j as f64 / 4.0;
         let (u, v) = (master.domain_u().1, t * master.domain_v().1);
         let p = master.point(u, v);
-        let leg = fine.control_point(1, (t * (n as f64 + 0.5)) as usize)
-            - fine.control_point(0, (t * (n as f64 + 0.5)) as usize);
+        let column = (t * (last as f64 + 0.5)) as usize;
+        let leg = fine.control_point(1, column) - fine.control_point(0, column);
         Point3::from(p.coords + leg * i as f64)
     })
 }

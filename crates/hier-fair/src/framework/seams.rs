@@ -56,10 +56,8 @@ impl Plan<'_> {
                 continue;
             }
             // from the input, against the earlier parts as they are now
-            let mut from = current.clone();
-            from.surfaces[k].surface = out.surfaces[k].surface.clone();
-            let job = self.job(&linked, &from, k, true);
-            let outcome = job.run();
+            current.surfaces[k].surface = out.surfaces[k].surface.clone();
+            let outcome = self.job(&linked, &current, k, true).run();
             current.surfaces[k].surface = outcome.surface.clone();
             rerun.push((k, outcome));
         }
