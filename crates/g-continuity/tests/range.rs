@@ -81,3 +81,46 @@ fn a_range_outside_the_side_is_clipped_to_it() {
     assert!(m.g0 < 1e-12, "{m:?}");
     assert_eq!(m.detail[0].t, 0.0);
 }
+
+/// A part that stops just short of the side's end, inside one long polynomial span (a kernel's
+/// fillet of degree 11 whose side lies on its face up to the vertex blend): the row's end point
+/// lies beyond the part, but its basis function carries much of the span near the part's end.
+/// Held where it was, it kept the row at the cylinder's curvature there and the least-squares
+/// error spread along the whole part (relative curvature 1.0 everywhere, 1.5 on a kernel's
+/// fillet); moved with the rest of the row, G2 holds over the whole part.
+#[test]
+fn g2_over_a_part_short_of_the_end_of_one_long_span_holds_all_along_it() {
+    // one span of degree 9 along the side (u, along z), as a kernel's fillet has
+    let long = cylinder(R, H)
+        .unwrap()
+        .elevate_degree(Direction::U, 8)
+        .unwrap();
+    assert_eq!(long.knots_u().spans().count(), 1);
+    // the plane reaches past the whole side; the part stops 1 % short of its end
+    let plane_long = plane_patch(
+        Point3::new(R, 0.0, 0.0),
+        Vector3::new(0.0, 1.0, 0.0),
+        Vector3::new(0.0, 0.0, 1.0),
+        (-H, H),
+        (-0.2 * H, 1.2 * H),
+    )
+    .unwrap();
+    let link = SideLink {
+        side: Side::V0,
+        master: &plane_long,
+        target: Continuity::G2,
+        range: Some((0.0, 0.99)),
+    };
+    let m = MeasureParams::default();
+    let before = link.measure(&long, &m).unwrap();
+    assert!(before.g2_rel.unwrap() > 0.99, "{before:?}");
+    let (set, report) = connect_slave(&long, &[link], &ConnectParams::default()).unwrap();
+    let t = ConnectParams::default().tolerances;
+    let after = link.measure(&set, &m).unwrap();
+    assert!(report.sides[0].met, "{after:?}");
+    assert!(
+        after.g0 <= t.g0 && after.g1_deg.unwrap() <= t.g1_deg,
+        "{after:?}"
+    );
+    assert!(after.g2_rel.unwrap() <= t.g2_rel, "{after:?}");
+}

@@ -150,7 +150,10 @@ impl Job<'_> {
         (original.clone(), stages)
     }
 
-    /// The dry run's misses, reported for the links `surface` still misses.
+    /// The dry run's misses, reported for the links `surface` still misses; a missed G2 link
+    /// whose corner joins masters that disagree there is named with their difference at the
+    /// corner of `surface`, the result (the figure depends on the slave's cross direction at
+    /// the corner, which the stages after the dry run may turn a little).
     fn still_missed(
         &self,
         surface: &BSplineSurface,
@@ -158,21 +161,23 @@ impl Job<'_> {
         problems: &mut Vec<Problem>,
     ) {
         let t = &self.connect.tolerances;
-        for (k, p) in missed {
-            let l = &self.model.links[k];
-            let master = &self.current.surfaces[l.master].surface;
-            let range = self.ranges.get(k).copied().flatten();
-            let still = g_continuity::measure::measure_link_on(
-                master,
-                surface,
-                l.side,
-                range,
-                &self.connect.measure,
-            )
-            .is_ok_and(|m| !m.meets((self.cap)(l.continuity), t.g0, t.g1_deg, t.g2_rel));
-            if still {
-                problems.push(p);
+        let labelled = self.links();
+        for (k, mut p) in missed {
+            let Some((_, link)) = labelled.iter().find(|(j, _)| *j == k) else {
+                continue;
+            };
+            let Ok(m) = link.measure(surface, &self.connect.measure) else {
+                continue;
+            };
+            if m.meets(link.target, t.g0, t.g1_deg, t.g2_rel) {
+                continue;
             }
+            if link.target == Continuity::G2 {
+                p.message += &self
+                    .vertex_conflict(&labelled, *link, surface, &m)
+                    .unwrap_or_default();
+            }
+            problems.push(p);
         }
     }
 

@@ -202,19 +202,13 @@ impl Job<'_> {
             if m.meets(target, t.g0, t.g1_deg, t.g2_rel) {
                 continue;
             }
-            let vertex = if target == Continuity::G2 {
-                self.vertex_conflict(labelled, *l, last, &m)
-            } else {
-                None
-            };
             missed.push((*k, Problem {
                 kind: ProblemKind::Limited,
                 surface: self.model.surfaces[self.surface].name.clone(),
                 link: Some(self.model.link_label(*k)),
                 message: format!(
-                    "the continuity steps miss {target:?} here in every curvature lead-in tried, deviating {d:.4} (tolerance {:.4}): not a deviation conflict{}",
+                    "the continuity steps miss {target:?} here in every curvature lead-in tried, deviating {d:.4} (tolerance {:.4}): not a deviation conflict",
                     self.tolerance,
-                    vertex.unwrap_or_default()
                 ),
                 amount: Some(*d),
             }));
