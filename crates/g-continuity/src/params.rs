@@ -95,6 +95,13 @@ pub struct SetParams {
     /// into its own master's tangent plane there (see `slave::seam_end_tangents`), so that both
     /// parts of the seam take the master's normal at its end.
     pub seam_end_tangents: [bool; 4],
+    /// Per side (u0, u1, v0, v1) and end (start, end of the side's parameter): the direction
+    /// in which a contact line leaves that corner (default none) — where the neighbouring
+    /// side's master is itself linked to this side's master along a boundary through the
+    /// corner, the curve the two masters touch along. After each C0 step the side's boundary
+    /// row is turned there to leave the corner along it where the line continues the boundary
+    /// (within 45°; see `slave::contact_line_tangents`).
+    pub contact_lines: [[Option<[f64; 3]>; 2]; 4],
 }
 
 impl Default for SetParams {
@@ -113,6 +120,7 @@ impl Default for SetParams {
             tangent_corners: false,
             kept_sides: [false; 4],
             seam_end_tangents: [false; 4],
+            contact_lines: [[None; 2]; 4],
         }
     }
 }

@@ -240,6 +240,78 @@ fn the_lofted_blocks_lateral_fillets_reach_g2_on_their_faces() {
     }
 }
 
+/// The angles (degrees) at which the G2 sides of `m`'s surfaces leave the corners where the
+/// neighbouring side's master is linked to their own master: between the side's boundary
+/// tangent and that link's boundary (the contact line of the two masters) at the corner.
+fn contact_line_kinks(m: &Model) -> Vec<f64> {
+    let params = nurbs_core::ProjectionParams::default();
+    let mut out = Vec::new();
+    for a in m.links.iter().filter(|l| l.continuity == Continuity::G2) {
+        let s = &m.surfaces[a.slave].surface;
+        let (t0, t1) = a.side.along_domain(s);
+        let (start, end) = a.side.neighbours();
+        for (t, adj) in [(t0, start), (t1, end)] {
+            let Some(b) = m
+                .links
+                .iter()
+                .find(|l| l.slave == a.slave && l.side == adj && l.continuity == Continuity::G2)
+            else {
+                continue;
+            };
+            let Some(x) = m
+                .links
+                .iter()
+                .find(|l| l.slave == b.master && l.master == a.master)
+            else {
+                continue;
+            };
+            let (u, v) = a.side.params(s, t);
+            let d = s.derivatives(u, v);
+            let along = |d: &nurbs_core::SurfaceDerivatives, side: nurbs_core::Side| match side
+                .along_direction()
+            {
+                nurbs_core::Direction::U => d.du,
+                nurbs_core::Direction::V => d.dv,
+            };
+            let mb = &m.surfaces[b.master].surface;
+            let f = nurbs_core::project_to_surface(mb, &d.point, &params);
+            let at = match x.side.along_direction() {
+                nurbs_core::Direction::U => f.u,
+                nurbs_core::Direction::V => f.v,
+            };
+            let (bu, bv) = x.side.params(mb, at);
+            let db = mb.derivatives(bu, bv);
+            if (db.point - d.point).norm() > m.tolerances.g0 {
+                continue;
+            }
+            let (p, q) = (along(&d, a.side), along(&db, x.side));
+            let angle = p.angle(&q).to_degrees();
+            out.push(angle.min(180.0 - angle));
+        }
+    }
+    out
+}
+
+/// The lofted block's vertex blends touch the top plane along one side and the top fillets,
+/// which are G2 to that plane, along the sides next to it. At those corners the kernel's blend
+/// leaves the plane corner 0.4–3.6° off the fillet's contact line, and a G2 surface cannot then
+/// follow the fillet's curvature next to the corner (third order: the fillet's cross curvature
+/// along the blend's side starts with a slope the blend cannot have); the C0 rows now turn the
+/// blend's boundary onto the contact line (`SetParams::contact_lines`).
+#[test]
+fn vertex_blends_leave_their_plane_corners_along_the_fillets_contact_lines() {
+    let Some(m) = model("occt_loft_block") else {
+        return;
+    };
+    let before = contact_line_kinks(&m);
+    assert_eq!(before.len(), 8, "{before:?}");
+    assert!(before.iter().any(|&k| k > 1.0), "{before:?}");
+    let (out, _) = faired("occt_loft_block");
+    let after = contact_line_kinks(out);
+    assert_eq!(after.len(), 8, "{after:?}");
+    assert!(after.iter().all(|&k| k < 1e-6), "{after:?}");
+}
+
 /// A fillet trimmed by its vertex blend runs, as an untrimmed surface, past the plane it meets:
 /// its side lies on the plane only up to the trim, so the model has no link there. With the
 /// fillets' wide per-role budget the fairing used to move the row next to that side 0.26 mm off

@@ -245,7 +245,74 @@ pub(super) fn step_all_with(
         let t = seam_end_tangents(slave, &sides.active, params);
         outcome.max_move = outcome.max_move.max(t);
     }
+    if step == Continuity::G0 && params.contact_lines.iter().flatten().any(Option::is_some) {
+        let t = contact_line_tangents(slave, &sides.active, params);
+        outcome.max_move = outcome.max_move.max(t);
+    }
     Ok(outcome)
+}
+
+/// After the C0 rows: where a side's boundary ends at a corner that a contact line of its
+/// master leaves ([`SetParams::contact_lines`]: the neighbouring side's master B is linked to
+/// this side's master A along a boundary through the corner), the row's second point turns
+/// within A's tangent plane so that the boundary leaves the corner along that line, its
+/// distance from the corner kept. Third-order compatibility at a corner of two G2 sides: G2
+/// along this side sets the slave's mixed derivative n · S_uvv at the corner to A's, so along
+/// the other side the slave's cross curvature starts with the slope A prescribes; B is G2 to A
+/// along the contact line, so its curvature across the slave's other side starts with the same
+/// slope only in the line's direction (where A is flat both slopes are zero along the line, and
+/// a kink θ between the boundary and the line gives B a slope of about sin²θ times the rate at
+/// which B's cross curvature grows off the line: at 3.2° on a kernel's vertex blend, a relative
+/// curvature figure near 1 next to the corner on B's side). Only a line that continues the
+/// boundary (within 45°, nearer its direction than across it) is followed. Returns the largest
+/// move.
+fn contact_line_tangents(
+    slave: &mut BSplineSurface,
+    active: &[&SideLink],
+    params: &SetParams,
+) -> f64 {
+    let (nu, nv) = (slave.num_u(), slave.num_v());
+    let fixed = degenerate_corner_blocks(slave);
+    let mut largest = 0.0f64;
+    for l in active.iter().filter(|l| l.range.is_none()) {
+        let k = Side::ALL.iter().position(|&s| s == l.side).unwrap_or(0);
+        let row = l.side.row(0, nu, nv);
+        let m = row.len();
+        if m < 3 || is_collapsed(slave, l.side) {
+            continue;
+        }
+        for (e, (c, j)) in [(0, 1), (m - 1, m - 2)].into_iter().enumerate() {
+            let Some(line) = params.contact_lines[k][e] else {
+                continue;
+            };
+            let (corner, second) = (row[c], row[j]);
+            if fixed.contains(&corner) || fixed.contains(&second) {
+                continue;
+            }
+            let p0 = slave.control_point(corner.0, corner.1);
+            let foot = nurbs_core::project_to_surface(l.master, &p0, &params.projection);
+            let Some(n) = l.master.derivatives(foot.u, foot.v).normal() else {
+                continue;
+            };
+            let idx = slave.index(second.0, second.1);
+            let arm = slave.control_points()[idx] - p0;
+            let line = Vector3::new(line[0], line[1], line[2]);
+            let within = line - n * n.dot(&line);
+            let Some(dir) = within.try_normalize(f64::MIN_POSITIVE) else {
+                continue;
+            };
+            // a line that continues the boundary — nearer its direction than across it; one
+            // that crosses the corner is another join, which the boundary must not follow
+            if dir.dot(&arm).abs() < dir.cross(&arm).norm() {
+                continue;
+            }
+            let dir = if dir.dot(&arm) < 0.0 { -dir } else { dir };
+            let moved = p0 + dir * arm.norm();
+            largest = largest.max((moved - slave.control_points()[idx]).norm());
+            slave.control_points_mut()[idx] = moved;
+        }
+    }
+    largest
 }
 
 /// After the C0 rows: where a linked side's boundary row ends on a seam

@@ -247,6 +247,7 @@ impl Job<'_> {
             }
             set.kept_sides[k] = true;
         }
+        set.contact_lines = self.contact_lines();
         let me = &self.model.surfaces[self.surface].surface;
         ConnectParams {
             tolerances,

@@ -98,6 +98,68 @@ impl Job<'_> {
     }
 }
 
+impl Job<'_> {
+    /// The contact lines that leave this surface's G2 corners ([`SetParams::contact_lines`]):
+    /// at a corner of two G2 sides A and B whose B-master is linked G2 to the A-master
+    /// along a side of its own that passes through the corner — a fillet on the plane its
+    /// vertex blend also touches — the direction of that side's boundary curve there, the line
+    /// along which the two masters touch and agree in curvature (a G1 join of the two masters
+    /// leaves their curvatures apart along it, and then no slope of the slave's curvature
+    /// matches both: no line is given). The corner passes through it when it lies within the
+    /// G0 tolerance of that boundary (the gap at which a link counts as met).
+    ///
+    /// [`SetParams::contact_lines`]: g_continuity::SetParams::contact_lines
+    pub(super) fn contact_lines(&self) -> [[Option<[f64; 3]>; 2]; 4] {
+        let mut out = [[None; 2]; 4];
+        let me = self.start;
+        let links = self.links();
+        let g2 = |side: Side| {
+            links.iter().find(|(_, l)| {
+                l.side == side
+                    && l.target >= Continuity::G2
+                    && l.range.is_none()
+                    && !g_continuity::measure::is_collapsed(me, side)
+            })
+        };
+        let params = nurbs_core::ProjectionParams::default();
+        for (ka, a) in links.iter().filter_map(|(_, l)| g2(l.side)) {
+            let a_master = self.model.links[*ka].master;
+            let (t0, t1) = a.side.along_domain(me);
+            let (start, end) = a.side.neighbours();
+            for (e, (t, adj)) in [(t0, start), (t1, end)].into_iter().enumerate() {
+                let Some((kb, _)) = g2(adj) else {
+                    continue;
+                };
+                let b_master = self.model.links[*kb].master;
+                let mb = &self.current.surfaces[b_master].surface;
+                let (u, v) = a.side.params(me, t);
+                let corner = me.point(u, v);
+                let foot = nurbs_core::project_to_surface(mb, &corner, &params);
+                for contact in self.model.links.iter().filter(|x| {
+                    x.slave == b_master && x.master == a_master && x.continuity >= Continuity::G2
+                }) {
+                    let along = match contact.side.along_direction() {
+                        Direction::U => foot.u,
+                        Direction::V => foot.v,
+                    };
+                    let (bu, bv) = contact.side.params(mb, along);
+                    let d = mb.derivatives(bu, bv);
+                    if (d.point - corner).norm() > self.model.tolerances.g0 {
+                        continue;
+                    }
+                    let line = match contact.side.along_direction() {
+                        Direction::U => d.du,
+                        Direction::V => d.dv,
+                    };
+                    let k = Side::ALL.iter().position(|&s| s == a.side).unwrap_or(0);
+                    out[k][e] = Some([line.x, line.y, line.z]);
+                }
+            }
+        }
+        out
+    }
+}
+
 /// Whether some corner of `slave` joins two G2 links whose masters disagree beyond what the
 /// relative tolerance `rho` lets one surface meet at that point (module doc), in either side's
 /// cross direction. The slave can still meet both where the disagreement is small, by bending
