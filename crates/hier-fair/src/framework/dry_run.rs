@@ -126,7 +126,19 @@ impl Job<'_> {
         // the G2 slack of the runs with the step's move bound, per corner setting: a variant
         // that only raises the bound to below it would repeat that run bit for bit
         let mut slack = vec![(set.tangent_corners, report.g2_slack)];
+        // the turned corner tangents mend a corner normal the C0 fit left off by more than the
+        // G1 tolerance; at G2, where every link's normals already agree within it, they have
+        // nothing to mend and are not tried (on the lofted block's vertex blends, whose G2 step
+        // misses at their flat corners, they were two more refined G2 runs each)
+        let normals_met = step == Continuity::G2
+            && links
+                .iter()
+                .zip(&report.after)
+                .all(|(l, m)| m.meets(l.target.min(Continuity::G1), t.g0, t.g1_deg, t.g2_rel));
         for variant in step_variants(set, step) {
+            if normals_met && variant.tangent_corners && !set.tangent_corners {
+                continue;
+            }
             let same = slack
                 .iter()
                 .find(|(turned, _)| *turned == variant.tangent_corners)
@@ -268,7 +280,8 @@ impl Job<'_> {
 /// with the move bound of `connect`, which exact joins of constructed pairs need (a vertex
 /// blend between faired fillets); then the corners' end tangents turned into the neighbouring
 /// masters' tangent planes (a corner normal the C0 fit left off by more than the G1
-/// tolerance, `SetParams::tangent_corners`), with `connect`'s bound too at G2.
+/// tolerance, `SetParams::tangent_corners`), with `connect`'s bound too at G2 — at G2
+/// `dry_step` skips these where every link already meets G1.
 fn step_variants(set: g_continuity::SetParams, step: Continuity) -> Vec<g_continuity::SetParams> {
     let connect_bound = g_continuity::SetParams::default().g2_move_factor;
     let mut variants = Vec::new();
