@@ -161,9 +161,9 @@ fn fix_poles_and_blocks(
 }
 
 /// Decides the [`Status::End`] points of the row of link `l`: an end the link's part does not
-/// reach is free (decided by the part's samples), one whose corner sample alone asks for a move within
-/// [`END_CONTINUOUS`] of the slave size; the others are free. The corner solves' least G2 slack
-/// goes into `end_slack`.
+/// reach is free (decided by the part's samples); one whose corner sample alone asks for a move
+/// within [`END_CONTINUOUS`] of the slave size is fixed; the others are free. The corner solves'
+/// least G2 slack goes into `end_slack`.
 fn settle_ends(
     status: &mut [Status],
     l: &SideLink,
