@@ -124,6 +124,7 @@ impl Job<'_> {
         let params = nurbs_core::ProjectionParams::default();
         for (ka, a) in links.iter().filter_map(|(_, l)| g2(l.side)) {
             let a_master = self.model.links[*ka].master;
+            let k = Side::ALL.iter().position(|&s| s == a.side).unwrap_or(0);
             let (t0, t1) = a.side.along_domain(me);
             let (start, end) = a.side.neighbours();
             for (e, (t, adj)) in [(t0, start), (t1, end)].into_iter().enumerate() {
@@ -138,20 +139,14 @@ impl Job<'_> {
                 for contact in self.model.links.iter().filter(|x| {
                     x.slave == b_master && x.master == a_master && x.continuity >= Continuity::G2
                 }) {
-                    let along = match contact.side.along_direction() {
-                        Direction::U => foot.u,
-                        Direction::V => foot.v,
-                    };
-                    let (bu, bv) = contact.side.params(mb, along);
+                    // the boundary point of that side at the foot's along parameter
+                    let in_u = contact.side.along_direction() == Direction::U;
+                    let (bu, bv) = contact.side.params(mb, if in_u { foot.u } else { foot.v });
                     let d = mb.derivatives(bu, bv);
                     if (d.point - corner).norm() > self.model.tolerances.g0 {
                         continue;
                     }
-                    let line = match contact.side.along_direction() {
-                        Direction::U => d.du,
-                        Direction::V => d.dv,
-                    };
-                    let k = Side::ALL.iter().position(|&s| s == a.side).unwrap_or(0);
+                    let line = if in_u { d.du } else { d.dv };
                     out[k][e] = Some([line.x, line.y, line.z]);
                 }
             }
