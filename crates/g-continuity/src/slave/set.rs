@@ -8,7 +8,7 @@
 
 use nurbs_core::{BSplineSurface, Continuity, Side};
 
-use super::refine::{Refiner, insert_along, new_breakpoints, worst_excess};
+use super::refine::{Refiner, RoundRank, insert_along, new_breakpoints};
 use super::step::{step_all, step_all_with};
 use super::{C0_CONVERGED, SideLink, check_links, measure_links};
 use crate::error::Result;
@@ -135,7 +135,8 @@ pub struct StepReport {
 /// row `step` of those sides (rows of earlier steps stay bit-identical unless knots are inserted,
 /// which keeps their shape). Sides that miss the tolerances get their failing knot spans halved
 /// and the step is repeated — after the rows of the lower steps are solved again with the new
-/// knots — up to [`ConnectParams::max_refinements`] rounds; the best round is returned. The C0
+/// knots — up to [`ConnectParams::max_refinements`] rounds; the best round ([`RoundRank`]: the
+/// most links met, then the smallest worst excess up to where a row takes hold) is returned. The C0
 /// step of a slave with G1/G2 links aims at [`C0_FOR_G1_SHARE`] × the G0 tolerance (not below
 /// [`ConnectParams::c0_floor`]). The slave must be prepared ([`prepare_slave`]).
 ///
@@ -154,17 +155,17 @@ pub fn set_step(
     };
     let mut work = slave.clone();
     let mut refiner = Refiner::new(slave, links);
-    // the best round so far: (worst excess, surface, report)
-    let mut best: Option<(f64, BSplineSurface, StepReport)> = None;
+    // the best round so far: (its rank, surface, report)
+    let mut best: Option<(RoundRank, BSplineSurface, StepReport)> = None;
     let tolerances = step_tolerances(links, step, params);
     loop {
         let mut s = work.clone();
         report.max_move = solve_round(&mut s, links, step, &params.set, &mut report)?;
         let after = measure_links(links, &s, &params.measure)?;
-        let worst = worst_excess(links, &after, step, &tolerances);
+        let rank = RoundRank::new(links, &after, step, &tolerances);
         report.after = after;
-        if best.as_ref().is_none_or(|b| worst < b.0) {
-            best = Some((worst, s.clone(), report.clone()));
+        if best.as_ref().is_none_or(|b| rank.beats(&b.0)) {
+            best = Some((rank, s.clone(), report.clone()));
         }
         let mut inserted = false;
         if report.refinements < params.max_refinements {
@@ -176,7 +177,7 @@ pub fn set_step(
             inserted = !done.is_empty();
         }
         if !inserted {
-            let (_, s, report) = best.unwrap_or((0.0, s, report));
+            let (_, s, report) = best.unwrap_or((rank, s, report));
             return Ok((s, report));
         }
         report.refinements += 1;
