@@ -15,7 +15,8 @@
 //!
 //! # Tolerance
 //! [`WARM_START_JUMP`]: a warm-started foot point farther than this factor times the previous
-//! sample's distance (plus [`WARM_START_SLACK`] × master size) is re-done globally.
+//! sample's distance (plus [`WARM_START_SLACK`] × master size) is re-done globally;
+//! [`EXTRAPOLATION_RATIO`]: how far a warm start is extrapolated from the two feet before it.
 
 use nurbs_core::basis::basis_derivatives;
 use nurbs_core::{
@@ -28,6 +29,12 @@ use crate::error::{Error, Result};
 /// Factor by which a warm-started projection may exceed the previous distance before the
 /// projection is redone from global starts.
 pub const WARM_START_JUMP: f64 = 4.0;
+
+/// Largest ratio of sample spacings over which a warm start is extrapolated: a side's samples
+/// are uniform or follow its knot spans, whose lengths change gradually, so a sample more than
+/// twice as far on as the one before is a jump (to another part of the side) that the last
+/// step does not predict; it starts from the previous foot moved by twice that step.
+pub const EXTRAPOLATION_RATIO: f64 = 2.0;
 
 /// Absolute slack of the warm-start test, relative to the master size: distances of 1e-6 of the
 /// model size are "touching" anyway.
@@ -287,6 +294,11 @@ pub struct MasterTracker<'m> {
     /// global projections from a coarse start grid (built once)
     global: SurfaceProjector<'m>,
     last: Option<SurfaceProjection>,
+    /// the sample before `last` and its foot (the start of the next projection is
+    /// extrapolated from the two)
+    before: Option<(Point3, SurfaceProjection)>,
+    /// the sample of `last`
+    last_point: Option<Point3>,
     slack: f64,
 }
 
@@ -301,6 +313,8 @@ impl<'m> MasterTracker<'m> {
             warm: SurfaceProjector::new(master, params),
             global: SurfaceProjector::new(master, coarse),
             last: None,
+            before: None,
+            last_point: None,
             slack: WARM_START_SLACK * master.size(),
         }
     }
@@ -312,13 +326,35 @@ impl<'m> MasterTracker<'m> {
     /// Forgets the previous foot point (the next projection is global).
     pub fn reset(&mut self) {
         self.last = None;
+        self.before = None;
+        self.last_point = None;
+    }
+
+    /// Where the Newton iteration for `point` starts: the previous foot, moved on along the
+    /// step from the foot before it in proportion to how far the samples moved (a start off
+    /// by the square of the sample spacing instead of by the spacing: a Newton iteration
+    /// fewer to the cosine tolerance).
+    fn start(&self, point: &Point3, prev: &SurfaceProjection) -> (f64, f64) {
+        let (Some((p0, f0)), Some(p1)) = (&self.before, &self.last_point) else {
+            return (prev.u, prev.v);
+        };
+        let (step, next) = ((p1 - p0).norm(), (point - p1).norm());
+        if !(step > 0.0 && next.is_finite()) {
+            return (prev.u, prev.v);
+        }
+        let ratio = (next / step).min(EXTRAPOLATION_RATIO);
+        (
+            prev.u + ratio * (prev.u - f0.u),
+            prev.v + ratio * (prev.v - f0.v),
+        )
     }
 
     /// The master point of `point`.
     pub fn project(&mut self, point: &Point3) -> SurfaceProjection {
         let result = match self.last {
             Some(prev) => {
-                let warm = self.warm.project_from(point, (prev.u, prev.v));
+                let start = self.start(point, &prev);
+                let warm = self.warm.project_from(point, start);
                 if warm.converged && warm.distance <= WARM_START_JUMP * prev.distance + self.slack {
                     warm
                 } else {
@@ -332,7 +368,9 @@ impl<'m> MasterTracker<'m> {
             }
             None => self.global(point),
         };
+        self.before = self.last_point.zip(self.last);
         self.last = Some(result);
+        self.last_point = Some(*point);
         result
     }
 }

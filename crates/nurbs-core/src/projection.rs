@@ -6,7 +6,8 @@
 //! definite the Gauss–Newton matrix (H without the r terms) is used instead. Each step is clamped
 //! to the domain and halved until f decreases. Converged when the distance is below the point
 //! tolerance, when r is orthogonal to both tangents within the cosine tolerance (zero-cosine test
-//! of [NB] eq. 6.4), or when a clamped step no longer moves the point.
+//! of [NB] eq. 6.4), or when a clamped step no longer moves the point — predicted from the
+//! step's second-order Taylor terms before it is evaluated.
 //!
 //! # Tolerance
 //! [`ProjectionParams::point_tolerance`] is relative to the size (bounding-box diagonal) of the
@@ -195,7 +196,18 @@ impl<'a> SurfaceProjector<'a> {
                 converged = true;
                 break;
             }
-            let (du, dv) = newton_direction(&it, gu, gv);
+            let (du, dv, newton) = newton_direction(&it, gu, gv);
+            if newton && self.predicted_move(&it, du, dv) <= self.eps {
+                // at a minimum of the quadratic model, whose step would move the point by no
+                // more than the point tolerance: the test a taken step makes
+                // ([`SurfaceProjector::line_search`]), without the evaluation — and without the
+                // halvings that rounding of a distance that no longer changes would cost (on
+                // the lofted block 3.0 M evaluations → 1.5 M). Gauss–Newton and steepest
+                // descent steps still go through the line search, whose failure to decrease
+                // the distance says "not converged" (a start stuck by a pole)
+                converged = true;
+                break;
+            }
             let step = self.line_search(point, &mut it, du, dv);
             iterations += 1;
             match step {
@@ -234,6 +246,20 @@ impl<'a> SurfaceProjector<'a> {
         let free_u = !((u <= ua && gu > 0.0) || (u >= ub && gu < 0.0));
         let free_v = !((v <= va && gv > 0.0) || (v >= vb && gv < 0.0));
         (!free_u || cos_u <= tolerance) && (!free_v || cos_v <= tolerance)
+    }
+
+    /// How far the step (du, dv) from `it`, clamped to the domain, moves the point, by the
+    /// terms of its Taylor expansion up to second order: |S_u Δu + S_v Δv| + ½ |S_uu Δu² +
+    /// 2 S_uv Δu Δv + S_vv Δv²| (the second-order term carries the move where a tangent
+    /// vanishes, at a pole).
+    fn predicted_move(&self, it: &Iterate, du: f64, dv: f64) -> f64 {
+        let (ua, ub) = self.surface.domain_u();
+        let (va, vb) = self.surface.domain_v();
+        let du = (it.u + du).clamp(ua, ub) - it.u;
+        let dv = (it.v + dv).clamp(va, vb) - it.v;
+        let d = &it.d;
+        let second = d.duu * (du * du) + d.duv * (2.0 * du * dv) + d.dvv * (dv * dv);
+        (d.du * du + d.dv * dv).norm() + 0.5 * second.norm()
     }
 
     /// Steps from `it` along (du, dv), clamped to the domain and halved until the distance to
@@ -282,8 +308,9 @@ struct Iterate {
 }
 
 /// The Newton step −H⁻¹ ∇f at `it` (∇f = (`gu`, `gv`)), with the Gauss–Newton matrix where H is
-/// not positive definite and steepest descent where the metric is singular too.
-fn newton_direction(it: &Iterate, gu: f64, gv: f64) -> (f64, f64) {
+/// not positive definite and steepest descent where the metric is singular too; and whether it
+/// is the Newton step of a positive definite H (a local minimum of the quadratic model).
+fn newton_direction(it: &Iterate, gu: f64, gv: f64) -> (f64, f64, bool) {
     let (d, r) = (&it.d, &it.r);
     let (su, sv) = (d.du, d.dv);
     let (mut a, mut b, mut c) = (
@@ -291,16 +318,17 @@ fn newton_direction(it: &Iterate, gu: f64, gv: f64) -> (f64, f64) {
         su.dot(&sv) + r.dot(&d.duv),
         sv.dot(&sv) + r.dot(&d.dvv),
     );
-    if !(a > 0.0 && a * c - b * b > 0.0) {
+    let newton = a > 0.0 && a * c - b * b > 0.0;
+    if !newton {
         (a, b, c) = (su.dot(&su), su.dot(&sv), sv.dot(&sv));
     }
     let det = a * c - b * b;
     if det > 0.0 {
-        (-(c * gu - b * gv) / det, -(a * gv - b * gu) / det)
+        (-(c * gu - b * gv) / det, -(a * gv - b * gu) / det, newton)
     } else {
         // singular metric (e.g. at a pole): steepest descent scaled by the larger tangent
         let s = (su.norm_squared() + sv.norm_squared()).max(f64::MIN_POSITIVE);
-        (-gu / s, -gv / s)
+        (-gu / s, -gv / s, false)
     }
 }
 

@@ -242,3 +242,36 @@ fn projection_survives_far_and_outside_points() {
         brute
     );
 }
+
+#[test]
+fn warm_projection_onto_an_exact_sphere_ends_at_the_radial_foot() {
+    // the foot of a point off an exact (rational) sphere is its radial projection; from a start
+    // near it Newton ends at the minimum of its quadratic model once the next step would move
+    // the point by less than the point tolerance, and that point is the foot within it
+    let r = 2.0;
+    let s = nurbs_core::shapes::sphere_octant(r).unwrap();
+    let params = ProjectionParams::default();
+    let eps = params.point_tolerance * s.size();
+    let mut projector = nurbs_core::SurfaceProjector::new(&s, params);
+    for (k, (u, v)) in [(0.3, 0.4), (0.5, 0.5), (0.7, 0.2)].into_iter().enumerate() {
+        let (u, v) = (
+            s.domain_u().0 + u * (s.domain_u().1 - s.domain_u().0),
+            s.domain_v().0 + v * (s.domain_v().1 - s.domain_v().0),
+        );
+        let on = s.point(u, v);
+        for off in [0.0, 0.3, -0.5] {
+            let p = Point3::from(on.coords * ((r + off) / r));
+            let start = (u + 1e-3 * (k as f64 + 1.0), v - 1e-3);
+            let f = projector.project_from(&p, start);
+            assert!(f.converged, "{f:?}");
+            let radial = Point3::from(p.coords * (r / p.coords.norm()));
+            assert!(
+                (f.point - radial).norm() <= 10.0 * eps,
+                "foot {:?} vs radial {radial:?}: {:.3e} apart (eps {eps:.1e})",
+                f.point,
+                (f.point - radial).norm()
+            );
+            assert_close(f.distance, off.abs(), 10.0 * eps, "distance");
+        }
+    }
+}
