@@ -200,11 +200,11 @@ impl<'a> SurfaceProjector<'a> {
             if newton && self.predicted_move(&it, du, dv) <= self.eps {
                 // at a minimum of the quadratic model, whose step would move the point by no
                 // more than the point tolerance: the test a taken step makes
-                // ([`SurfaceProjector::line_search`]), without the evaluation — and without the
-                // halvings that rounding of a distance that no longer changes would cost (on
-                // the lofted block 3.0 M evaluations → 1.5 M). Gauss–Newton and steepest
-                // descent steps still go through the line search, whose failure to decrease
-                // the distance says "not converged" (a start stuck by a pole)
+                // ([`SurfaceProjector::line_search`]), without the evaluation — and without
+                // the halvings that rounding of a distance that no longer changes would cost
+                // (on the lofted block 3.0 M line-search evaluations → 1.5 M). Gauss–Newton
+                // and steepest descent steps still go through the line search, whose failure
+                // to decrease the distance says "not converged" (a start stuck by a pole)
                 converged = true;
                 break;
             }
