@@ -8,7 +8,7 @@
 //! The memo is exact: an entry is used only when the master (its degrees, knots, weights and
 //! control points, bit for bit), the projection settings and every sample point are the same as
 //! when it was made. A side's projections are a function of exactly these (the tracker starts
-//! afresh per side and warm-starts each sample from the one before), so a hit returns what the
+//! afresh per side and warm-starts each sample from the feet before it), so a hit returns what the
 //! projections would have returned, and results do not depend on the memo or on the thread a
 //! side runs on.
 //!

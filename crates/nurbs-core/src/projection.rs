@@ -6,8 +6,9 @@
 //! definite the Gauss–Newton matrix (H without the r terms) is used instead. Each step is clamped
 //! to the domain and halved until f decreases. Converged when the distance is below the point
 //! tolerance, when r is orthogonal to both tangents within the cosine tolerance (zero-cosine test
-//! of [NB] eq. 6.4), or when a clamped step no longer moves the point — predicted from the
-//! step's second-order Taylor terms before it is evaluated.
+//! of [NB] eq. 6.4), or when a clamped step no longer moves the point (for a Newton step at a
+//! minimum of its quadratic model, judged from the step's second-order Taylor terms before it is
+//! evaluated).
 //!
 //! # Tolerance
 //! [`ProjectionParams::point_tolerance`] is relative to the size (bounding-box diagonal) of the

@@ -135,7 +135,7 @@ pub struct StepReport {
 /// row `step` of those sides (rows of earlier steps stay bit-identical unless knots are inserted,
 /// which keeps their shape). Sides that miss the tolerances get their failing knot spans halved
 /// and the step is repeated — after the rows of the lower steps are solved again with the new
-/// knots — up to [`ConnectParams::max_refinements`] rounds; the best round ([`RoundRank`]: the
+/// knots — up to [`ConnectParams::max_refinements`] rounds; the best round (`RoundRank`: the
 /// most links met, then the smallest worst excess up to where a row takes hold) is returned. The C0
 /// step of a slave with G1/G2 links aims at [`C0_FOR_G1_SHARE`] × the G0 tolerance (not below
 /// [`ConnectParams::c0_floor`]). The slave must be prepared ([`prepare_slave`]).
