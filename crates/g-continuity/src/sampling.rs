@@ -293,12 +293,11 @@ pub struct MasterTracker<'m> {
     warm: SurfaceProjector<'m>,
     /// global projections from a coarse start grid (built once)
     global: SurfaceProjector<'m>,
-    last: Option<SurfaceProjection>,
-    /// the sample before `last` and its foot (the start of the next projection is
-    /// extrapolated from the two)
+    /// the last sample and its foot
+    last: Option<(Point3, SurfaceProjection)>,
+    /// the sample and foot before `last` (the start of the next projection is extrapolated
+    /// from the two)
     before: Option<(Point3, SurfaceProjection)>,
-    /// the sample of `last`
-    last_point: Option<Point3>,
     slack: f64,
 }
 
@@ -314,7 +313,6 @@ impl<'m> MasterTracker<'m> {
             global: SurfaceProjector::new(master, coarse),
             last: None,
             before: None,
-            last_point: None,
             slack: WARM_START_SLACK * master.size(),
         }
     }
@@ -327,15 +325,14 @@ impl<'m> MasterTracker<'m> {
     pub fn reset(&mut self) {
         self.last = None;
         self.before = None;
-        self.last_point = None;
     }
 
     /// Where the Newton iteration for `point` starts: the previous foot, moved on along the
     /// step from the foot before it in proportion to how far the samples moved (a start off
     /// by the square of the sample spacing instead of by the spacing: a Newton iteration
     /// fewer to the cosine tolerance).
-    fn start(&self, point: &Point3, prev: &SurfaceProjection) -> (f64, f64) {
-        let (Some((p0, f0)), Some(p1)) = (&self.before, &self.last_point) else {
+    fn start(&self, point: &Point3, p1: &Point3, prev: &SurfaceProjection) -> (f64, f64) {
+        let Some((p0, f0)) = &self.before else {
             return (prev.u, prev.v);
         };
         let (step, next) = ((p1 - p0).norm(), (point - p1).norm());
@@ -352,8 +349,8 @@ impl<'m> MasterTracker<'m> {
     /// The master point of `point`.
     pub fn project(&mut self, point: &Point3) -> SurfaceProjection {
         let result = match self.last {
-            Some(prev) => {
-                let start = self.start(point, &prev);
+            Some((p1, prev)) => {
+                let start = self.start(point, &p1, &prev);
                 let warm = self.warm.project_from(point, start);
                 if warm.converged && warm.distance <= WARM_START_JUMP * prev.distance + self.slack {
                     warm
@@ -368,9 +365,7 @@ impl<'m> MasterTracker<'m> {
             }
             None => self.global(point),
         };
-        self.before = self.last_point.zip(self.last);
-        self.last = Some(result);
-        self.last_point = Some(*point);
+        self.before = self.last.replace((*point, result));
         result
     }
 }

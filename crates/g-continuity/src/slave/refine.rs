@@ -201,20 +201,16 @@ impl RoundRank {
         step: Continuity,
         tol: &Tolerances,
     ) -> Self {
-        let met = links
+        let excesses = links
             .iter()
             .zip(after)
-            .filter(|(l, m)| excess(m, l.target.min(step), tol) <= 1.0)
-            .count();
-        let held = 1.0 / tol.g2_rel;
-        let worst = worst_excess(links, after, step, tol);
+            .map(|(l, m)| excess(m, l.target.min(step), tol));
+        let (met, worst) = excesses.fold((0, 0.0f64), |(met, worst), e| {
+            (met + usize::from(e <= 1.0), worst.max(e))
+        });
         Self {
             met,
-            worst: if held.is_finite() {
-                worst.min(held)
-            } else {
-                worst
-            },
+            worst: worst.min(1.0 / tol.g2_rel),
         }
     }
 
