@@ -9,7 +9,8 @@ use std::hint::black_box;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use fair_energy::{
-    EnergyParams, GlobalParams, RationalStiffness, SparseSolver, fair_surface, fair_surface_global,
+    EnergyParams, GlobalParams, LocalStart, RationalStiffness, SparseSolver, fair_surface,
+    fair_surface_global,
 };
 use nurbs_core::{BSplineSurface, ControlMask, Frame, KnotVector, Point3};
 
@@ -55,7 +56,10 @@ fn grid_surface(n: usize, p: usize) -> BSplineSurface {
 fn local(c: &mut Criterion) {
     let s = seed_surface();
     let mask = ControlMask::with_boundary_frame(&s, Frame::Positional);
-    let params = EnergyParams::default();
+    let params = EnergyParams {
+        start: LocalStart::Original,
+        ..EnergyParams::default()
+    };
     let (_, r) = fair_surface(&s, &mask, SEED_TOLERANCE, &params).expect("fairs");
     eprintln!("local 52x52: {r:?}");
     let mut g = c.benchmark_group("energy_local_52x52");
@@ -84,7 +88,10 @@ fn with_weights(s: &BSplineSurface) -> BSplineSurface {
 fn local_rational(c: &mut Criterion) {
     let s = with_weights(&seed_surface());
     let mask = ControlMask::with_boundary_frame(&s, Frame::Positional);
-    let params = EnergyParams::default();
+    let params = EnergyParams {
+        start: LocalStart::Original,
+        ..EnergyParams::default()
+    };
     let (_, r) = fair_surface(&s, &mask, SEED_TOLERANCE, &params).expect("fairs");
     eprintln!("local rational 52x52: {r:?}");
     let mut g = c.benchmark_group("energy_local_rational_52x52");
@@ -95,6 +102,30 @@ fn local_rational(c: &mut Criterion) {
     g.bench_function("10000_iterations", |b| {
         b.iter(|| fair_surface(black_box(&s), &mask, SEED_TOLERANCE, &params).expect("fairs"))
     });
+    g.finish();
+}
+
+/// The two starts of the local scheme on the rational 52 × 52 net with a tolerance that holds
+/// no point back (ε = 1, fifty times the example's 0.02) and the framework's limit of 100
+/// moves per free point: from the original net the scheme runs to its limit, from the solved
+/// start it has nothing left to do (`crate::start` in fair-energy).
+fn local_start(c: &mut Criterion) {
+    let s = with_weights(&seed_surface());
+    let mask = ControlMask::with_boundary_frame(&s, Frame::Positional);
+    let mut g = c.benchmark_group("energy_local_start_rational_52x52");
+    g.sample_size(10);
+    for start in [LocalStart::Original, LocalStart::Solved] {
+        let params = EnergyParams {
+            start,
+            min_iterations_per_free_point: 100,
+            ..EnergyParams::default()
+        };
+        let (_, r) = fair_surface(&s, &mask, 1.0, &params).expect("fairs");
+        eprintln!("local start {start:?}: {r:?}");
+        g.bench_function(format!("{start:?}"), |b| {
+            b.iter(|| fair_surface(black_box(&s), &mask, 1.0, &params).expect("fairs"))
+        });
+    }
     g.finish();
 }
 
@@ -134,5 +165,5 @@ fn global(c: &mut Criterion) {
     }
 }
 
-criterion_group!(benches, local, local_rational, global);
+criterion_group!(benches, local, local_rational, local_start, global);
 criterion_main!(benches);

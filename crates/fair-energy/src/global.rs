@@ -119,16 +119,16 @@ pub struct GlobalReport {
 }
 
 /// A symmetric matrix in compressed sparse columns (both triangles, rows sorted per column).
-struct Csc {
-    n: usize,
-    col_ptr: Vec<usize>,
-    row_idx: Vec<usize>,
-    values: Vec<f64>,
+pub(crate) struct Csc {
+    pub(crate) n: usize,
+    pub(crate) col_ptr: Vec<usize>,
+    pub(crate) row_idx: Vec<usize>,
+    pub(crate) values: Vec<f64>,
 }
 
 /// Solves A x = b (A symmetric positive definite, unknowns already in elimination order) with
 /// the shared sparse Cholesky of nurbs-core.
-fn solve(solver: SparseSolver, a: Csc, rhs: DMatrix<f64>) -> Result<DMatrix<f64>> {
+pub(crate) fn solve(solver: SparseSolver, a: Csc, rhs: DMatrix<f64>) -> Result<DMatrix<f64>> {
     use nurbs_core::sparse::{SparseSpd, SpdSolver};
     let failed = |e: nurbs_core::Error| EnergyError::SolveFailed {
         solver: solver.name(),

@@ -60,13 +60,16 @@ pub use error::{EnergyError, Result};
 pub use local::{LocalOutcome, StopReason};
 pub use rational::RationalStiffness;
 pub use stiffness::SeparableStiffness;
-pub use surface::{EnergyParams, EnergyReport, LOCAL_METHOD, LocalEnergyFairing, fair_surface};
+pub use surface::{
+    EnergyParams, EnergyReport, LOCAL_METHOD, LocalEnergyFairing, LocalStart, fair_surface,
+};
 pub mod bezier;
 pub mod c1_finish;
 pub mod curve;
 pub mod global;
 pub mod joints;
 mod ordering;
+pub mod start;
 
 pub use bezier::{
     BEZIER_METHOD, BezierSplineFairing, BezierSplineParams, BezierSplineReport, JointGap,

@@ -37,6 +37,8 @@ pub(crate) trait LocalStiffness {
     fn half_widths(&self) -> (usize, usize);
     /// K_rr.
     fn diagonal(&self, r: usize) -> f64;
+    /// K_{(i,j),(k,l)} (zero outside the stencil).
+    fn entry(&self, r: (usize, usize), s: (usize, usize)) -> f64;
     /// g = K d.
     fn multiply(&self, d: &[Point3], g: &mut [Vector3]);
     /// Scratch for [`LocalStiffness::load`].
@@ -149,6 +151,13 @@ fn candidate(d: &Point3, g: &Vector3, kr: f64, inv_kr: f64, o: &Point3, eps: f64
     };
     let delta = new - d;
     (new, -(2.0 * delta.dot(g) + kr * delta.norm_squared()))
+}
+
+/// E(d) = Σ_c d_cᵀ (K d)_c.
+pub(crate) fn energy_of<K: LocalStiffness>(k: &K, d: &[Point3]) -> f64 {
+    let mut g = vec![Vector3::zeros(); d.len()];
+    k.multiply(d, &mut g);
+    d.iter().zip(&g).map(|(p, v)| p.coords.dot(v)).sum()
 }
 
 /// Runs the local scheme on `current` (inside the ε-balls around `origin`), moving only points

@@ -301,6 +301,9 @@ impl LocalStiffness for RationalStiffness {
     fn multiply(&self, d: &[Point3], g: &mut [Vector3]) {
         RationalStiffness::multiply(self, d, g);
     }
+    fn entry(&self, r: (usize, usize), s: (usize, usize)) -> f64 {
+        RationalStiffness::entry(self, r, s)
+    }
     fn new_stencil(&self) -> StencilAt {
         StencilAt { row0: 0, col0: 0 }
     }

@@ -337,6 +337,9 @@ impl LocalStiffness for SeparableStiffness {
     fn multiply(&self, d: &[Point3], g: &mut [Vector3]) {
         SeparableStiffness::multiply(self, d, g);
     }
+    fn entry(&self, r: (usize, usize), s: (usize, usize)) -> f64 {
+        SeparableStiffness::entry(self, r, s)
+    }
     fn new_stencil(&self) -> Factors {
         Factors {
             fa: vec![[0.0; MAX_TERMS]; 2 * self.wu + 1],

@@ -17,6 +17,7 @@ use nurbs_core::{BSplineSurface, ControlMask, Faired, FairingProblem, SurfaceFai
 use crate::error::{EnergyError, Result, check_tolerance};
 use crate::local::{LocalOutcome, LocalSettings, run_local};
 use crate::rational::RationalStiffness;
+use crate::start::solved_start;
 use crate::stiffness::SeparableStiffness;
 
 /// Settings of the local surface scheme.
@@ -37,6 +38,20 @@ pub struct EnergyParams {
     /// interior knots of full multiplicity, 0 ≤ λ < 1. Default 0 (plain thin plate); [H]'s
     /// examples use 0.85–0.95.
     pub joint_weight: f64,
+    /// Where the moves start. Default [`LocalStart::Solved`]: the same minimizer, reached in
+    /// a fraction of the moves ([`crate::start`]).
+    pub start: LocalStart,
+}
+
+/// Where the local scheme starts ([`EnergyParams::start`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum LocalStart {
+    /// at the original net, as [H] has it
+    Original,
+    /// at the free points' unconstrained thin-plate optimum of one sparse solve, clamped into
+    /// the ε-balls and line-searched ([`crate::start`])
+    #[default]
+    Solved,
 }
 
 impl Default for EnergyParams {
@@ -46,6 +61,7 @@ impl Default for EnergyParams {
             min_iterations_per_free_point: 0,
             min_relative_decrease: 1e-12,
             joint_weight: 0.0,
+            start: LocalStart::default(),
         }
     }
 }
@@ -105,16 +121,51 @@ pub fn fair_surface(
             });
         }
         let k = RationalStiffness::thin_plate_shared(surface);
-        run_local(&*k, origin, out.control_points_mut(), free, settings)
+        start_and_run(
+            &*k,
+            origin,
+            out.control_points_mut(),
+            free,
+            settings,
+            params.start,
+        )
     } else {
         let k = SeparableStiffness::with_joints(
             surface.knots_u(),
             surface.knots_v(),
             params.joint_weight,
         )?;
-        run_local(&k, origin, out.control_points_mut(), free, settings)
+        start_and_run(
+            &k,
+            origin,
+            out.control_points_mut(),
+            free,
+            settings,
+            params.start,
+        )
     };
     Ok((out, outcome))
+}
+
+/// The local run from the start `start` asks for; the outcome's energy before is the
+/// original net's, its moves those of the local scheme (the solve is none).
+fn start_and_run<K: crate::local::LocalStiffness>(
+    k: &K,
+    origin: &[nurbs_core::Point3],
+    current: &mut [nurbs_core::Point3],
+    free: &[bool],
+    settings: LocalSettings,
+    start: LocalStart,
+) -> EnergyReport {
+    if start == LocalStart::Original
+        || solved_start(k, origin, current, free, settings.tolerance).is_none()
+    {
+        return run_local(k, origin, current, free, settings);
+    }
+    let before = crate::local::energy_of(k, origin);
+    let mut outcome = run_local(k, origin, current, free, settings);
+    outcome.energy_before = before;
+    outcome
 }
 
 /// The local energy fairing method (`energy`) for the framework.

@@ -6,7 +6,8 @@ mod common;
 
 use common::assert_contract;
 use fair_energy::{
-    EnergyParams, LocalEnergyFairing, RationalStiffness, SeparableStiffness, fair_surface,
+    EnergyParams, LocalEnergyFairing, LocalStart, RationalStiffness, SeparableStiffness,
+    fair_surface,
 };
 use nurbs_core::energy::{max_deviation, thin_plate_energy};
 use nurbs_core::shapes::{cylinder, sphere_patch, torus};
@@ -21,9 +22,12 @@ const SAME_RULE_REL: f64 = 1e-9;
 /// Samples per direction for the sampled deviation.
 const DEVIATION_SAMPLES: usize = nurbs_core::fairing::REPORT_DEVIATION_SAMPLES;
 
+/// [H]'s scheme from the original net (the solved start has its own tests in
+/// `tests/start.rs`).
 fn params(iterations: usize) -> EnergyParams {
     EnergyParams {
         max_iterations: iterations,
+        start: LocalStart::Original,
         ..EnergyParams::default()
     }
 }
