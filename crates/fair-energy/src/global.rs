@@ -238,12 +238,38 @@ fn normal_equations(
     g: &[Vector3],
     nv: usize,
 ) -> (Csc, DMatrix<f64>) {
+    let (wu, wv) = k.stencil();
+    let mut fa = vec![[0.0; MAX_TERMS]; 2 * wu + 1];
+    let mut fb = vec![[0.0; MAX_TERMS]; 2 * wv + 1];
+    assemble(order, movable, g, (wu, wv), |r, emit| {
+        let (i, j) = (r / nv, r % nv);
+        k.factors_u(i, &mut fa);
+        k.factors_v(j, &mut fb);
+        let ((i0, i1), (j0, j1)) = (k.range_u(i), k.range_v(j));
+        for (a_, fi) in (i0..=i1).zip(&fa) {
+            for (b_, fj) in (j0..=j1).zip(&fb) {
+                let s_ = a_ * nv + b_;
+                emit(s_, kron(fi, fj) + if s_ == r { w } else { 0.0 });
+            }
+        }
+    })
+}
+
+/// The sparse system over the movable points, unknowns in `order`: `column(r, emit)` emits the
+/// entries (s, K_rs) of point r's column (any order; entries of fixed points and zeros are
+/// dropped here), the right-hand side is −g_f. `half_widths` bounds a column's length.
+pub(crate) fn assemble(
+    order: &[usize],
+    movable: &[bool],
+    g: &[Vector3],
+    (wu, wv): (usize, usize),
+    mut column_of: impl FnMut(usize, &mut dyn FnMut(usize, f64)),
+) -> (Csc, DMatrix<f64>) {
     let nf = order.len();
     let mut col = vec![usize::MAX; movable.len()];
     for (c, &r) in order.iter().enumerate() {
         col[r] = c;
     }
-    let (wu, wv) = k.stencil();
     let stencil = (2 * wu + 1) * (2 * wv + 1);
     let mut a = Csc {
         n: nf,
@@ -252,27 +278,15 @@ fn normal_equations(
         values: Vec::with_capacity(nf * stencil),
     };
     a.col_ptr.push(0);
-    let mut fa = vec![[0.0; MAX_TERMS]; 2 * wu + 1];
-    let mut fb = vec![[0.0; MAX_TERMS]; 2 * wv + 1];
     let mut column: Vec<(usize, f64)> = Vec::with_capacity(stencil);
     let mut rhs = DMatrix::zeros(nf, 3);
     for (c, &r) in order.iter().enumerate() {
-        let (i, j) = (r / nv, r % nv);
-        k.factors_u(i, &mut fa);
-        k.factors_v(j, &mut fb);
-        let ((i0, i1), (j0, j1)) = (k.range_u(i), k.range_v(j));
         column.clear();
-        for (a_, fi) in (i0..=i1).zip(&fa) {
-            for (b_, fj) in (j0..=j1).zip(&fb) {
-                let s_ = a_ * nv + b_;
-                if movable[s_] {
-                    let value = kron(fi, fj) + if s_ == r { w } else { 0.0 };
-                    if value != 0.0 {
-                        column.push((col[s_], value));
-                    }
-                }
+        column_of(r, &mut |s_, value| {
+            if movable[s_] && value != 0.0 {
+                column.push((col[s_], value));
             }
-        }
+        });
         column.sort_unstable_by_key(|e| e.0);
         for &(row, value) in &column {
             a.row_idx.push(row);

@@ -23,7 +23,7 @@
 use nalgebra::DMatrix;
 use nurbs_core::{Point3, Vector3};
 
-use crate::global::{Csc, SparseSolver, solve};
+use crate::global::{Csc, SparseSolver, assemble, solve};
 use crate::local::{BALL_SHRINK, LocalStiffness, NULL_DIAGONAL_REL};
 use crate::ordering::nested_dissection;
 
@@ -81,8 +81,7 @@ pub(crate) fn solved_start<K: LocalStiffness>(
     Some(t)
 }
 
-/// K_ff δ_f = −g_f over the movable points, unknowns in `order`: the matrix in
-/// compressed columns (both triangles) and one right-hand side per coordinate.
+/// K_ff δ_f = −g_f over the movable points, unknowns in `order`.
 fn normal_equations<K: LocalStiffness>(
     k: &K,
     order: &[usize],
@@ -91,45 +90,12 @@ fn normal_equations<K: LocalStiffness>(
 ) -> (Csc, DMatrix<f64>) {
     let (nu, nv) = k.shape();
     let (wu, wv) = k.half_widths();
-    let nf = order.len();
-    let mut col = vec![usize::MAX; movable.len()];
-    for (c, &r) in order.iter().enumerate() {
-        col[r] = c;
-    }
-    let width = (2 * wu + 1) * (2 * wv + 1);
-    let mut a = Csc {
-        n: nf,
-        col_ptr: Vec::with_capacity(nf + 1),
-        row_idx: Vec::with_capacity(nf * width),
-        values: Vec::with_capacity(nf * width),
-    };
-    a.col_ptr.push(0);
-    let mut column: Vec<(usize, f64)> = Vec::with_capacity(width);
-    let mut rhs = DMatrix::zeros(nf, 3);
-    for (c, &r) in order.iter().enumerate() {
+    assemble(order, movable, g, (wu, wv), |r, emit| {
         let (i, j) = (r / nv, r % nv);
-        column.clear();
         for si in i.saturating_sub(wu)..=(i + wu).min(nu - 1) {
             for sj in j.saturating_sub(wv)..=(j + wv).min(nv - 1) {
-                let s = si * nv + sj;
-                if !movable[s] {
-                    continue;
-                }
-                let value = k.entry((i, j), (si, sj));
-                if value != 0.0 {
-                    column.push((col[s], value));
-                }
+                emit(si * nv + sj, k.entry((i, j), (si, sj)));
             }
         }
-        column.sort_unstable_by_key(|e| e.0);
-        for &(row, value) in &column {
-            a.row_idx.push(row);
-            a.values.push(value);
-        }
-        a.col_ptr.push(a.row_idx.len());
-        for d in 0..3 {
-            rhs[(c, d)] = -g[r][d];
-        }
-    }
-    (a, rhs)
+    })
 }
