@@ -48,8 +48,9 @@ pub struct EnergyParams {
 pub enum LocalStart {
     /// at the original net, as [H] has it
     Original,
-    /// at the free points' unconstrained thin-plate optimum of one sparse solve, clamped into
-    /// the ε-balls and line-searched ([`crate::start`])
+    /// at the free points' unconstrained thin-plate optimum of one sparse solve where that lies
+    /// inside every ε-ball (it is then the constrained minimizer), else at the original net
+    /// ([`crate::start`])
     #[default]
     Solved,
 }
@@ -162,7 +163,19 @@ fn start_and_run<K: crate::local::LocalStiffness>(
     {
         return run_local(k, origin, current, free, settings);
     }
+    // the scheme stops at a decrease below `min_relative_decrease` of the original net's
+    // energy, as from the original net (relative to the start's, far lower energy, it would
+    // chase rounding)
     let before = crate::local::energy_of(k, origin);
+    let at_start = crate::local::energy_of(k, current);
+    let settings = LocalSettings {
+        min_relative_decrease: if at_start > 0.0 {
+            settings.min_relative_decrease * (before / at_start)
+        } else {
+            settings.min_relative_decrease
+        },
+        ..settings
+    };
     let mut outcome = run_local(k, origin, current, free, settings);
     outcome.energy_before = before;
     outcome
