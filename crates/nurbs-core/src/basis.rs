@@ -317,6 +317,44 @@ pub fn basis_function_derivative(knots: &KnotVector, i: usize, t: f64, order: us
     }
 }
 
+/// The integral of basis function `i` over [a, b] (zero outside its support [t_i, t_{i+p+1})):
+/// Gauss–Legendre with ⌈(p + 1)/2⌉ nodes on each knot span of the support within [a, b], exact
+/// for the span's polynomial of degree p ([AS] 25.4.29). Over the whole support the integral is
+/// (t_{i+p+1} − t_i)/(p + 1), [`basis_function_mass`].
+pub fn basis_function_integral(knots: &KnotVector, i: usize, a: f64, b: f64) -> f64 {
+    let p = knots.degree();
+    let t = knots.knots();
+    if i + p + 1 >= t.len() || !(b > a) {
+        return 0.0;
+    }
+    let rule = crate::quadrature::GaussLegendre::new((p + 2) / 2);
+    let mut eval = BasisEvaluator::new(p);
+    let mut vals = vec![0.0; p + 1];
+    let mut sum = 0.0;
+    for k in i..=i + p {
+        let (x0, x1) = (t[k].max(a), t[k + 1].min(b));
+        if !(x1 > x0) {
+            continue;
+        }
+        for (x, w) in rule.on(x0, x1) {
+            eval.values(t, k, x, &mut vals);
+            sum += w * vals[i + p - k];
+        }
+    }
+    sum
+}
+
+/// The integral of basis function `i` over its whole support, (t_{i+p+1} − t_i)/(p + 1) (the
+/// identity behind the normalized B-splines' partition of unity, [NB] §2.2).
+pub fn basis_function_mass(knots: &KnotVector, i: usize) -> f64 {
+    let p = knots.degree();
+    let t = knots.knots();
+    if i + p + 1 >= t.len() {
+        return 0.0;
+    }
+    (t[i + p + 1] - t[i]) / (p + 1) as f64
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -426,5 +464,32 @@ mod tests {
         let kv = KnotVector::clamped_uniform(2, 5).unwrap();
         let (_, d) = basis_derivatives(&kv, 0.4, 4);
         assert!(d[3 * 3..].iter().all(|&x| x == 0.0));
+    }
+
+    #[test]
+    fn basis_integrals_match_closed_forms() {
+        // Bernstein B_0 of degree 13 on [0, 1]: (1 − x)^13, whose integral over [0, x] is
+        // (1 − (1 − x)^14)/14
+        let bez = KnotVector::bezier(13).unwrap();
+        for x in [0.01f64, 0.3, 0.397, 0.8, 1.0] {
+            let want = (1.0 - (1.0 - x).powi(14)) / 14.0;
+            let got = basis_function_integral(&bez, 0, 0.0, x);
+            assert!((got - want).abs() < 1e-14, "x {x}: {got} vs {want}");
+        }
+        // a nonuniform cubic knot vector with a double knot: each function's whole integral is
+        // (t_{i+p+1} − t_i)/(p + 1), and the functions sum to 1 over any interval
+        let kv =
+            KnotVector::new(3, vec![0., 0., 0., 0., 0.2, 0.5, 0.5, 0.9, 1., 1., 1., 1.]).unwrap();
+        let mut sum = 0.0;
+        for i in 0..kv.num_basis() {
+            let whole = basis_function_integral(&kv, i, -1.0, 2.0);
+            assert!(
+                (whole - basis_function_mass(&kv, i)).abs() < 1e-15,
+                "function {i}"
+            );
+            sum += basis_function_integral(&kv, i, 0.13, 0.71);
+        }
+        assert!((sum - 0.58).abs() < 1e-14, "partition of unity: {sum}");
+        assert_eq!(basis_function_integral(&kv, 0, 0.5, 0.4), 0.0);
     }
 }

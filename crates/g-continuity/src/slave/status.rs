@@ -183,8 +183,9 @@ fn settle_ends(
             continue;
         }
         // an end the link's part does not reach is no corner of this join, but its basis
-        // function reaches into the part (`within_part` frees only such points): the part's
-        // samples decide it with the rest of the row. Kept where it was, it holds the row at
+        // function reaches into the part (`within_part` frees only points whose function the
+        // part holds at least `PART_SHARE` of): the part's samples decide it with the rest of
+        // the row. Kept where it was, it holds the row at
         // its old curvature near the part's end, and a polynomial span cannot follow the master
         // up to that end and keep it: the least-squares error spreads along the whole row (a
         // fillet's side on its face short of its end by 1 % missed G2 by a relative 1.5 along

@@ -8,8 +8,8 @@ use std::collections::BTreeMap;
 use nurbs_core::{BSplineSurface, Continuity, Side, Vector3};
 use rayon::prelude::*;
 
-use super::SideLink;
 use super::status::{Status, degenerate_corner_blocks, row_statuses};
+use super::{PART_SHARE, SideLink};
 use crate::error::Result;
 use crate::measure::is_collapsed;
 use crate::params::SetParams;
@@ -174,14 +174,16 @@ fn corner_curvatures<'a>(
         .collect()
 }
 
-/// Clears the points of `free` whose along-side support misses the part of the side link `l`
-/// holds on: they have no equation.
+/// Clears the points of `free` that do not belong to the part of the side link `l` holds on:
+/// those whose along-side basis function holds less than [`PART_SHARE`] of its integral inside
+/// it (none at all: no equation; a tail: equations of the tail's height).
 fn within_part(free: &mut [bool], l: &SideLink, surface: &BSplineSurface) {
     let (a, b) = l.domain(surface);
     let kv = crate::sampling::along_knots(surface, l.side);
-    let (q, t) = (kv.degree(), kv.knots());
     for (j, f) in free.iter_mut().enumerate() {
-        *f &= t[j] < b && t[j + q + 1] > a;
+        let inside = nurbs_core::basis::basis_function_integral(kv, j, a, b);
+        let mass = nurbs_core::basis::basis_function_mass(kv, j);
+        *f &= inside > 0.0 && inside >= PART_SHARE * mass;
     }
 }
 
