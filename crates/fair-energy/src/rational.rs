@@ -156,6 +156,22 @@ impl RationalStiffness {
         let rule_v = GaussLegendre::new(q + 1 + extra);
         let (ku, kv) = (surface.knots_u().knots(), surface.knots_v().knots());
         let spans_v: Vec<usize> = surface.knots_v().spans().collect();
+        // the univariate derivatives (orders 0..=2) at the Gauss nodes: each depends on one
+        // coordinate, so they are computed once per node (the v ones once for all rows of
+        // spans) and the points combine them ([`SurfaceBasisEvaluator::eval_from`], the same
+        // values as evaluating each point)
+        let ders = |kv: &[f64], span: usize, degree: usize, rule: &GaussLegendre| {
+            let mut e = nurbs_core::BasisEvaluator::new(degree);
+            rule.on(kv[span], kv[span + 1])
+                .map(|(t, w)| {
+                    let mut d = vec![0.0; 3 * (degree + 1)];
+                    e.derivatives(kv, span, t, 2, &mut d);
+                    (d, w)
+                })
+                .collect::<Vec<_>>()
+        };
+        let nodes_v: Vec<Vec<(Vec<f64>, f64)>> =
+            spans_v.iter().map(|&sv| ders(kv, sv, q, &rule_v)).collect();
         // the spans' blocks are independent: one row of spans (fixed u-span) per task, each
         // with its own evaluator; they are added into K below in the sequential order, so the
         // sums are the same whatever the number of threads
@@ -167,18 +183,21 @@ impl RationalStiffness {
             .into_par_iter()
             .map(|su| {
                 let mut basis = SurfaceBasis::new(surface);
-                let mut eval = SurfaceBasisEvaluator::new(surface);
+                let eval = SurfaceBasisEvaluator::new(surface);
+                let nodes_u = ders(ku, su, p, &rule_u);
                 // per span D (m × 3 n_g, column-major): the columns √w R_uu, √(2w) R_uv,
                 // √w R_vv of each Gauss point, so that the span's block of K is D Dᵀ (one
                 // matrix product)
                 let mut d = DMatrix::<f64>::zeros(m, 3 * points);
                 spans_v
                     .iter()
-                    .map(|&sv| {
+                    .zip(&nodes_v)
+                    .map(|(&sv, nodes_v)| {
                         let mut columns = d.as_mut_slice().chunks_exact_mut(3 * m);
-                        for (u, wu) in rule_u.on(ku[su], ku[su + 1]) {
-                            for (v, wv) in rule_v.on(kv[sv], kv[sv + 1]) {
-                                eval.eval(u, v, &mut basis);
+                        for (du, wu) in &nodes_u {
+                            for (dv, wv) in nodes_v {
+                                let (wu, wv) = (*wu, *wv);
+                                eval.eval_from((su, sv), du, dv, &mut basis);
                                 let (s1, s2) = ((wu * wv).sqrt(), (2.0 * wu * wv).sqrt());
                                 let c = columns.next().expect("one column triple per Gauss point");
                                 let (cuu, rest) = c.split_at_mut(m);

@@ -105,19 +105,35 @@ impl<'a> SurfaceBasisEvaluator<'a> {
     pub fn eval(&mut self, u: f64, v: f64, out: &mut SurfaceBasis) {
         let s = self.surface;
         let (ku, kv) = (s.knots_u(), s.knots_v());
-        let (p, q) = (s.degree_u(), s.degree_v());
         let (u, v) = (ku.clamp_param(u), kv.clamp_param(v));
         let (su, sv) = (ku.span(u), kv.span(v));
         self.basis_u
             .derivatives(ku.knots(), su, u, 2, &mut self.ders_u);
         self.basis_v
             .derivatives(kv.knots(), sv, v, 2, &mut self.ders_v);
+        self.eval_from((su, sv), &self.ders_u, &self.ders_v, out);
+    }
+
+    /// [`Self::eval`] at a point of spans (`su`, `sv`) from the derivatives of orders 0..=2 of
+    /// the p + 1 (q + 1) univariate functions there, laid out as [`BasisEvaluator::derivatives`]
+    /// writes them: for tensor grids of points (quadrature), whose univariate derivatives depend
+    /// on one coordinate each and are computed once per node instead of once per point. The
+    /// same values as [`Self::eval`] at that point, bit for bit.
+    pub fn eval_from(
+        &self,
+        (su, sv): (usize, usize),
+        ders_u: &[f64],
+        ders_v: &[f64],
+        out: &mut SurfaceBasis,
+    ) {
+        let s = self.surface;
+        let (p, q) = (s.degree_u(), s.degree_v());
         let (cu, cv) = (p + 1, q + 1);
         out.first_u = su - p;
         out.first_v = sv - q;
         out.count_u = cu;
         out.count_v = cv;
-        let (nu, nv) = (&self.ders_u, &self.ders_v);
+        let (nu, nv) = (ders_u, ders_v);
         for a in 0..cu {
             for b in 0..cv {
                 let k = a * cv + b;
@@ -223,5 +239,28 @@ mod tests {
         assert_eq!(p, (basis.first_u, basis.first_v));
         let last = basis.control_index(basis.len() - 1);
         assert_eq!(last, (basis.first_u + 3, basis.first_v + 3));
+    }
+
+    #[test]
+    fn eval_from_precomputed_derivatives_is_eval_bit_for_bit() {
+        for seed in 0..8 {
+            let s = random_surface(seed, 1..=5, 9, seed % 2 == 0);
+            let (ku, kv) = (s.knots_u(), s.knots_v());
+            let (p, q) = (s.degree_u(), s.degree_v());
+            let mut be = SurfaceBasisEvaluator::new(&s);
+            let (mut a, mut b) = (SurfaceBasis::new(&s), SurfaceBasis::new(&s));
+            let (mut eu, mut ev) = (BasisEvaluator::new(p), BasisEvaluator::new(q));
+            let (mut du, mut dv) = (vec![0.0; 3 * (p + 1)], vec![0.0; 3 * (q + 1)]);
+            for x in [0.05, 0.31, 0.62, 0.97] {
+                for y in [0.11, 0.5, 0.83] {
+                    let (su, sv) = (ku.span(x), kv.span(y));
+                    eu.derivatives(ku.knots(), su, x, 2, &mut du);
+                    ev.derivatives(kv.knots(), sv, y, 2, &mut dv);
+                    be.eval(x, y, &mut a);
+                    be.eval_from((su, sv), &du, &dv, &mut b);
+                    assert_eq!(a, b, "seed {seed} at ({x}, {y})");
+                }
+            }
+        }
     }
 }
