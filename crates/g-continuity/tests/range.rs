@@ -29,6 +29,16 @@ fn pair() -> (nurbs_core::BSplineSurface, nurbs_core::BSplineSurface) {
     (cyl, plane)
 }
 
+/// The exact cylinder with its axial direction (u, along z) one polynomial span of `degree`.
+fn one_span_cylinder(degree: usize) -> nurbs_core::BSplineSurface {
+    let c = cylinder(R, H).unwrap();
+    let long = c
+        .elevate_degree(Direction::U, degree - c.degree_u())
+        .unwrap();
+    assert_eq!(long.knots_u().spans().count(), 1);
+    long
+}
+
 #[test]
 fn g2_over_part_of_a_side_holds_there_and_leaves_the_rest() {
     let (cyl, plane) = pair();
@@ -91,11 +101,7 @@ fn a_range_outside_the_side_is_clipped_to_it() {
 #[test]
 fn g2_over_a_part_short_of_the_end_of_one_long_span_holds_all_along_it() {
     // one span of degree 9 along the side (u, along z), as a kernel's fillet has
-    let long = cylinder(R, H)
-        .unwrap()
-        .elevate_degree(Direction::U, 8)
-        .unwrap();
-    assert_eq!(long.knots_u().spans().count(), 1);
+    let long = one_span_cylinder(9);
     // the plane reaches past the whole side; the part stops 1 % short of its end
     let plane_long = plane_patch(
         Point3::new(R, 0.0, 0.0),
@@ -134,11 +140,7 @@ fn g2_over_a_part_short_of_the_end_of_one_long_span_holds_all_along_it() {
 /// past the trim, stays as it was (moved with the tails free: 0.85 here).
 #[test]
 fn g2_over_a_part_that_ends_inside_one_long_span_leaves_the_far_end() {
-    let long = cylinder(R, H)
-        .unwrap()
-        .elevate_degree(Direction::U, 12)
-        .unwrap();
-    assert_eq!(long.knots_u().spans().count(), 1);
+    let long = one_span_cylinder(13);
     let (_, plane) = pair();
     let link = SideLink {
         side: Side::V0,
