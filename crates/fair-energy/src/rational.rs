@@ -160,12 +160,12 @@ impl RationalStiffness {
         // coordinate, so they are computed once per node (the v ones once for all rows of
         // spans) and the points combine them ([`SurfaceBasisEvaluator::eval_from`], the same
         // values as evaluating each point)
-        let ders = |kv: &[f64], span: usize, degree: usize, rule: &GaussLegendre| {
+        let ders = |knots: &[f64], span: usize, degree: usize, rule: &GaussLegendre| {
             let mut e = nurbs_core::BasisEvaluator::new(degree);
-            rule.on(kv[span], kv[span + 1])
+            rule.on(knots[span], knots[span + 1])
                 .map(|(t, w)| {
                     let mut d = vec![0.0; 3 * (degree + 1)];
-                    e.derivatives(kv, span, t, 2, &mut d);
+                    e.derivatives(knots, span, t, 2, &mut d);
                     (d, w)
                 })
                 .collect::<Vec<_>>()
