@@ -150,7 +150,6 @@ impl RationalStiffness {
     pub fn thin_plate_with_extra_points(surface: &BSplineSurface, extra: usize) -> Self {
         let (nu, nv) = (surface.num_u(), surface.num_v());
         let (p, q) = (surface.degree_u(), surface.degree_v());
-        let (cols, width) = (2 * q + 1, (2 * p + 1) * (2 * q + 1));
         let m = (p + 1) * (q + 1);
         let rule_u = GaussLegendre::new(p + 1 + extra);
         let rule_v = GaussLegendre::new(q + 1 + extra);
@@ -160,18 +159,10 @@ impl RationalStiffness {
         // coordinate, so they are computed once per node (the v ones once for all rows of
         // spans) and the points combine them ([`SurfaceBasisEvaluator::eval_from`], the same
         // values as evaluating each point)
-        let ders = |knots: &[f64], span: usize, degree: usize, rule: &GaussLegendre| {
-            let mut e = nurbs_core::BasisEvaluator::new(degree);
-            rule.on(knots[span], knots[span + 1])
-                .map(|(t, w)| {
-                    let mut d = vec![0.0; 3 * (degree + 1)];
-                    e.derivatives(knots, span, t, 2, &mut d);
-                    (d, w)
-                })
-                .collect::<Vec<_>>()
-        };
-        let nodes_v: Vec<Vec<(Vec<f64>, f64)>> =
-            spans_v.iter().map(|&sv| ders(kv, sv, q, &rule_v)).collect();
+        let nodes_v: Vec<Vec<(Vec<f64>, f64)>> = spans_v
+            .iter()
+            .map(|&sv| node_derivatives(kv, sv, q, &rule_v))
+            .collect();
         // the spans' blocks are independent: one row of spans (fixed u-span) per task, each
         // with its own evaluator; they are added into K below in the sequential order, so the
         // sums are the same whatever the number of threads
@@ -184,7 +175,7 @@ impl RationalStiffness {
             .map(|su| {
                 let mut basis = SurfaceBasis::new(surface);
                 let eval = SurfaceBasisEvaluator::new(surface);
-                let nodes_u = ders(ku, su, p, &rule_u);
+                let nodes_u = node_derivatives(ku, su, p, &rule_u);
                 // per span D (m × 3 n_g, column-major): the columns √w R_uu, √(2w) R_uv,
                 // √w R_vv of each Gauss point, so that the span's block of K is D Dᵀ (one
                 // matrix product)
@@ -222,23 +213,7 @@ impl RationalStiffness {
                     .collect()
             })
             .collect();
-        let mut data = vec![0.0; nu * nv * width];
-        for SpanBlock {
-            first: (fu, fv),
-            block,
-        } in rows.iter().flatten()
-        {
-            for a in 0..m {
-                let (i, j) = (fu + a / (q + 1), fv + a % (q + 1));
-                let point = &mut data[(i * nv + j) * width..(i * nv + j + 1) * width];
-                for b in 0..m {
-                    let (k, l) = (fu + b / (q + 1), fv + b % (q + 1));
-                    // one triangle for both halves: K stays exactly symmetric
-                    let kab = block[(a.min(b), a.max(b))];
-                    point[(p + k - i) * cols + q + l - j] += kab;
-                }
-            }
-        }
+        let data = add_blocks(rows.iter().flatten(), (nu, nv), (p, q));
         Self { nu, nv, p, q, data }
     }
 
@@ -293,6 +268,54 @@ impl RationalStiffness {
         self.multiply(d, &mut g);
         d.iter().zip(&g).map(|(p, v)| p.coords.dot(v)).sum()
     }
+}
+
+/// The derivatives of orders 0..=2 of the `degree` + 1 functions of span `span` at each node of
+/// `rule` on that span (laid out as [`nurbs_core::BasisEvaluator::derivatives`] writes them),
+/// with the node's weight.
+fn node_derivatives(
+    knots: &[f64],
+    span: usize,
+    degree: usize,
+    rule: &GaussLegendre,
+) -> Vec<(Vec<f64>, f64)> {
+    let mut e = nurbs_core::BasisEvaluator::new(degree);
+    rule.on(knots[span], knots[span + 1])
+        .map(|(t, w)| {
+            let mut d = vec![0.0; 3 * (degree + 1)];
+            e.derivatives(knots, span, t, 2, &mut d);
+            (d, w)
+        })
+        .collect()
+}
+
+/// K's stencil storage (per control point (2p + 1)(2q + 1) couplings) of an `nu` × `nv` net
+/// from the spans' blocks, added in the order given.
+fn add_blocks<'a>(
+    blocks: impl Iterator<Item = &'a SpanBlock>,
+    (nu, nv): (usize, usize),
+    (p, q): (usize, usize),
+) -> Vec<f64> {
+    let (cols, width) = (2 * q + 1, (2 * p + 1) * (2 * q + 1));
+    let m = (p + 1) * (q + 1);
+    let mut data = vec![0.0; nu * nv * width];
+    for SpanBlock {
+        first: (fu, fv),
+        block,
+    } in blocks
+    {
+        for a in 0..m {
+            let (i, j) = (fu + a / (q + 1), fv + a % (q + 1));
+            let point = &mut data[(i * nv + j) * width..(i * nv + j + 1) * width];
+            for b in 0..m {
+                let (k, l) = (fu + b / (q + 1), fv + b % (q + 1));
+                // one triangle for both halves: K stays exactly symmetric
+                let kab = block[(a.min(b), a.max(b))];
+                point[(p + k - i) * cols + q + l - j] += kab;
+            }
+        }
+    }
+    data
 }
 
 /// The loaded stencil of one point (k, l): where its row i0 starts in `data`, and the column of
