@@ -76,11 +76,12 @@ pub const END_CONTINUOUS: f64 = 1e-9;
 /// (`SideLink::range`) must hold for a point of the link's row to be decided by the part's
 /// samples. Below it the function reaches the part only with the tail of an end span (cut at a
 /// fraction x of a span, a degree-q tail holds of the order of x^(q+1) of the function), and the
-/// least-squares solve moves the point by the residual over the tail's height. On the kernel
-/// models every tail holds at most 1.5e-3 of its function (the lofted block's trimmed fillet:
-/// 8.5e-4 of a degree-13 function, which moved 1.1e5 mm) and every function that reaches a part
-/// with a span at least 3e-2; 1 % lies in that gap (6.7 times the largest tail, a third of the
-/// smallest span), chosen from the gap, not fitted to a result.
+/// least-squares solve moves the point by the residual over the tail's height. Listed on the
+/// kernel models with partial links (the lofted block, a three-radii corner), every tail held at
+/// most 1.5e-3 of its function (the lofted block's trimmed fillet: 8.5e-4 of a degree-13
+/// function, which moved 1.1e5 mm) and every function that reaches a part with a span at least
+/// 3e-2; 1 % lies in that gap (6.7 times the largest tail, a third of the smallest span),
+/// chosen from the gap, not fitted to a result.
 pub const PART_SHARE: f64 = 1e-2;
 
 /// One linked side of a slave: which side, onto which master, with what target.

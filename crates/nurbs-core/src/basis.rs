@@ -344,8 +344,9 @@ pub fn basis_function_integral(knots: &KnotVector, i: usize, a: f64, b: f64) -> 
     sum
 }
 
-/// The integral of basis function `i` over its whole support, (t_{i+p+1} − t_i)/(p + 1) (the
-/// identity behind the normalized B-splines' partition of unity, [NB] §2.2).
+/// The integral of basis function `i` over its whole support, (t_{i+p+1} − t_i)/(p + 1) (a
+/// standard identity of normalized B-splines, checked against [`basis_function_integral`] in
+/// the tests).
 pub fn basis_function_mass(knots: &KnotVector, i: usize) -> f64 {
     let p = knots.degree();
     let t = knots.knots();

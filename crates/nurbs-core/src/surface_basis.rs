@@ -240,27 +240,4 @@ mod tests {
         let last = basis.control_index(basis.len() - 1);
         assert_eq!(last, (basis.first_u + 3, basis.first_v + 3));
     }
-
-    #[test]
-    fn eval_from_precomputed_derivatives_is_eval_bit_for_bit() {
-        for seed in 0..8 {
-            let s = random_surface(seed, 1..=5, 9, seed % 2 == 0);
-            let (ku, kv) = (s.knots_u(), s.knots_v());
-            let (p, q) = (s.degree_u(), s.degree_v());
-            let mut be = SurfaceBasisEvaluator::new(&s);
-            let (mut a, mut b) = (SurfaceBasis::new(&s), SurfaceBasis::new(&s));
-            let (mut eu, mut ev) = (BasisEvaluator::new(p), BasisEvaluator::new(q));
-            let (mut du, mut dv) = (vec![0.0; 3 * (p + 1)], vec![0.0; 3 * (q + 1)]);
-            for x in [0.05, 0.31, 0.62, 0.97] {
-                for y in [0.11, 0.5, 0.83] {
-                    let (su, sv) = (ku.span(x), kv.span(y));
-                    eu.derivatives(ku.knots(), su, x, 2, &mut du);
-                    ev.derivatives(kv.knots(), sv, y, 2, &mut dv);
-                    be.eval(x, y, &mut a);
-                    be.eval_from((su, sv), &du, &dv, &mut b);
-                    assert_eq!(a, b, "seed {seed} at ({x}, {y})");
-                }
-            }
-        }
-    }
 }
