@@ -30,6 +30,7 @@
 //! hier-fair's job). References (keys in brackets) are listed in `docs/references.md`.
 
 pub mod error;
+pub mod joint;
 mod ladder;
 pub mod lead_in;
 pub mod lsq;
@@ -43,6 +44,7 @@ mod system;
 pub mod transfer;
 
 pub use error::{Error, Result};
+pub use joint::{JointReport, polish_joint};
 pub use lead_in::{LEAD_IN_DEGREE, LeadInReport, MAX_LEAD_IN, with_lead_in};
 pub use measure::{LinkMeasure, MeasureParams, SampleMeasure, measure_link};
 pub use params::{ConnectParams, G2Method, SetParams, Tolerances};

@@ -149,7 +149,7 @@ pub struct ConnectReport {
 }
 
 /// An error when two links name the same side.
-fn check_links(links: &[SideLink]) -> Result<()> {
+pub(crate) fn check_links(links: &[SideLink]) -> Result<()> {
     for (a, la) in links.iter().enumerate() {
         if links[..a].iter().any(|lb| lb.side == la.side) {
             return Err(Error::DuplicateSide { side: la.side });

@@ -64,6 +64,7 @@ mod growth;
 mod job;
 mod masks;
 mod plan;
+mod polish;
 mod report;
 mod seams;
 mod stages;

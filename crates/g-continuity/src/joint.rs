@@ -1,0 +1,606 @@
+//! The joint polish of a slave's frames: every condition of every linked side ([SV] §4: the gap,
+//! the normal and the normal curvature across each side) solved at once over rows 0..=r of all
+//! the sides, by damped Gauss–Newton (Levenberg–Marquardt, [NW] §10.3).
+//!
+//! The staged steps decide a side's rows level by level and side by side: at a corner of two
+//! sides the first three points of one side's row 2 are rows 0 and 1 of the other side, fixed
+//! by its C0 and G1 steps before any G2 row is solved, and the shared twist is the mean of two
+//! candidates. Where the two masters' curvatures change quickly near the corner, what the C0 and
+//! G1 steps left there is not what the other side's G2 condition needs, and the G2 rows ring
+//! along both sides (on a kernel's vertex blend between a plane and three fillets the relative
+//! curvature figure stayed near 1.8 however fine the knots). Solved together, the corner block
+//! takes the positions that satisfy both sides' conditions at once; away from the corners the
+//! solution is the staged one (one side's rows alone were exact there).
+//!
+//! Each residual is a condition divided by its tolerance — the gap by the G0 tolerance, the
+//! normal's tilt along and across the side by the G1 angle, the curvature difference by the G2
+//! relative tolerance times the master's curvature (not below the measure's flatness cut-off)
+//! — so that one unit is one tolerance whatever the condition. The masters' feet are found once
+//! (the moves are a fraction of the tolerances, far below the masters' curvature radii).
+//! With the weights fixed the slave's derivatives are linear in its control points
+//! ([`nurbs_core::surface_basis`], exact); the residuals' derivatives with respect to those
+//! derivative vectors are central differences. The normal equations are sparse (a point reaches
+//! the samples of its basis function's support only) and solved by sparse Cholesky.
+//!
+//! # Tolerance
+//! [`JOINT_ITERATIONS`], [`JOINT_SPAN_SAMPLES`], [`JOINT_GOAL`]: see each.
+
+use std::collections::BTreeMap;
+
+use nalgebra::DMatrix;
+use nurbs_core::sparse::{FillOrdering, SparseSpd, SpdSolver};
+use nurbs_core::surface_basis::{SurfaceBasis, SurfaceBasisEvaluator};
+use nurbs_core::{
+    BSplineSurface, Continuity, Direction, Point3, Side, SurfaceDerivatives, Vector3,
+};
+
+use crate::error::Result;
+use crate::measure::{DEFAULT_SAMPLES, FLAT_RADIUS_FACTOR, is_collapsed};
+use crate::params::ConnectParams;
+use crate::rows::row_of;
+use crate::slave::{SideLink, degenerate_corner_blocks};
+
+/// Most Gauss–Newton iterations of one polish: a bound of work. On kernel vertex blends (four
+/// G2 sides, nets up to 37 × 59) the worst residual fell by about a factor of ten every four
+/// iterations at first and by a few per cent an iteration after twenty; forty leaves room for
+/// that tail at a cost of about one staged G2 round per ten iterations.
+pub const JOINT_ITERATIONS: usize = 40;
+
+/// Samples inside each knot span along a side, besides the measure's uniform samples
+/// ([`DEFAULT_SAMPLES`]): near a corner the knots may lie a hundredth of a percent of the side
+/// apart, where uniform samples see nothing, and a span's basis functions must be pinned by
+/// samples inside it. Four per span over-determine each span's (q + 1) points' three rows.
+pub const JOINT_SPAN_SAMPLES: usize = 4;
+
+/// The polish stops once every residual is within this share of its tolerance: the feet are
+/// found once and the samples are not every point of the side, so a result just inside the
+/// tolerances at the samples could measure just outside them; half leaves room for both.
+pub const JOINT_GOAL: f64 = 0.5;
+
+/// The Levenberg–Marquardt damping the first iteration starts from, relative to the diagonal of
+/// the normal equations ([NW] §10.3: a step between Gauss–Newton and a short gradient step);
+/// divided by [`DAMPING_DOWN`] after an accepted step, multiplied by [`DAMPING_UP`] after a
+/// rejected one, and the polish ends when it passes [`DAMPING_MAX`] (no step lowers the cost).
+const DAMPING_START: f64 = 1e-3;
+/// See [`DAMPING_START`].
+const DAMPING_DOWN: f64 = 3.0;
+/// See [`DAMPING_START`].
+const DAMPING_UP: f64 = 4.0;
+/// See [`DAMPING_START`].
+const DAMPING_MAX: f64 = 1e8;
+
+/// Relative step of the central differences of a residual with respect to the slave's
+/// derivative vectors: the residuals are smooth (rational in those vectors), so the error is
+/// of order h² ≈ 1e-12 against rounding of order 1e-16/h ≈ 1e-10 — both far below the
+/// tolerance units the residuals are measured in.
+const DIFF_STEP: f64 = 1e-6;
+
+/// Residuals per sample: the gap (three), the normal's tilt across and along the side, the
+/// normal-curvature difference across it.
+const RES: usize = 6;
+
+/// What [`polish_joint`] did.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct JointReport {
+    /// Gauss–Newton iterations accepted
+    pub iterations: usize,
+    /// the largest residual before (in tolerance units, at the polish's samples)
+    pub worst_before: f64,
+    /// the largest residual after
+    pub worst_after: f64,
+    /// largest control-point move (model units)
+    pub max_move: f64,
+}
+
+/// One sample of a side with its master's foot, found once.
+struct Sample {
+    link: usize,
+    u: f64,
+    v: f64,
+    foot: Point3,
+    dm: SurfaceDerivatives,
+    nm: Vector3,
+}
+
+/// The tolerance units of the residuals.
+#[derive(Clone, Copy)]
+struct Units {
+    g0: f64,
+    g1: f64,
+    g2: f64,
+    flat: f64,
+}
+
+/// The slave derivative vectors a residual depends on, in the order of [`SurfaceBasis`]'s
+/// fields.
+const FIELDS: usize = 6;
+
+fn field(d: &mut SurfaceDerivatives, f: usize) -> &mut Vector3 {
+    match f {
+        0 => &mut d.point.coords,
+        1 => &mut d.du,
+        2 => &mut d.dv,
+        3 => &mut d.duu,
+        4 => &mut d.duv,
+        _ => &mut d.dvv,
+    }
+}
+
+/// The residuals of sample `sm` of a side `side` with target `target` at the slave derivatives
+/// `ds`, in tolerance units.
+fn residuals(
+    ds: &SurfaceDerivatives,
+    sm: &Sample,
+    side: Side,
+    target: Continuity,
+    units: Units,
+) -> [f64; RES] {
+    let mut out = [0.0; RES];
+    let gap = ds.point - sm.foot;
+    for k in 0..3 {
+        out[k] = gap[k] / units.g0;
+    }
+    if target < Continuity::G1 {
+        return out;
+    }
+    let (e, along, second) = match side.cross_direction() {
+        Direction::U => (ds.du, ds.dv, ds.duu),
+        Direction::V => (ds.dv, ds.du, ds.dvv),
+    };
+    let (le, la) = (e.norm(), along.norm());
+    if le > 0.0 {
+        out[3] = sm.nm.dot(&e) / le / units.g1;
+    }
+    if la > 0.0 {
+        out[4] = sm.nm.dot(&along) / la / units.g1;
+    }
+    if target < Continuity::G2 {
+        return out;
+    }
+    if let (Some(ns), Some(km)) = (ds.normal(), sm.dm.normal_curvature(&e)) {
+        let km = if sm.nm.dot(&ns) < 0.0 { -km } else { km };
+        let ks = second.dot(&ns) / (le * le);
+        out[5] = (ks - km) / (units.g2 * km.abs().max(units.flat));
+    }
+    out
+}
+
+/// The points that move: rows 0..=r of every whole linked side (r the row of its target), less
+/// the points on the boundary of a side no whole link covers (an unlinked, partially linked or
+/// collapsed side keeps its boundary) and the blocks of degenerate corners. Returns the column
+/// block of each control index.
+fn unknowns(slave: &BSplineSurface, links: &[SideLink]) -> BTreeMap<(usize, usize), usize> {
+    let (nu, nv) = (slave.num_u(), slave.num_v());
+    let whole = |s: Side| {
+        links
+            .iter()
+            .any(|l| l.side == s && l.range.is_none() && !is_collapsed(slave, s))
+    };
+    let mut kept: Vec<(usize, usize)> = degenerate_corner_blocks(slave);
+    for s in Side::ALL.into_iter().filter(|&s| !whole(s)) {
+        kept.extend(s.row(0, nu, nv));
+    }
+    let mut columns = BTreeMap::new();
+    for l in links.iter().filter(|l| whole(l.side)) {
+        for k in 0..=row_of(l.target) {
+            for ij in l.side.row(k, nu, nv) {
+                if !kept.contains(&ij) && !columns.contains_key(&ij) {
+                    let c = columns.len();
+                    columns.insert(ij, c);
+                }
+            }
+        }
+    }
+    columns
+}
+
+/// The samples of every link: the measure's uniform ones over its part and
+/// [`JOINT_SPAN_SAMPLES`] inside every knot span along it, with the master's foot.
+fn samples(slave: &BSplineSurface, links: &[SideLink], params: &ConnectParams) -> Vec<Sample> {
+    let mut out = Vec::new();
+    for (li, l) in links.iter().enumerate() {
+        if is_collapsed(slave, l.side) {
+            continue;
+        }
+        let (a, b) = l.domain(slave);
+        let mut ts: Vec<f64> = (0..DEFAULT_SAMPLES)
+            .map(|q| a + (b - a) * q as f64 / (DEFAULT_SAMPLES - 1) as f64)
+            .collect();
+        let kv = crate::sampling::along_knots(slave, l.side);
+        let mut breaks: Vec<f64> = kv.knots().to_vec();
+        breaks.dedup();
+        for w in breaks.windows(2) {
+            for q in 0..JOINT_SPAN_SAMPLES {
+                let t = w[0] + (w[1] - w[0]) * (q as f64 + 0.5) / JOINT_SPAN_SAMPLES as f64;
+                if t > a && t < b {
+                    ts.push(t);
+                }
+            }
+        }
+        let points: Vec<Point3> = ts
+            .iter()
+            .map(|&t| {
+                let (u, v) = l.side.params(slave, t);
+                slave.point(u, v)
+            })
+            .collect();
+        let feet = crate::memo::project_side(l.master, params.measure.projection, &points);
+        for (&t, foot) in ts.iter().zip(feet) {
+            let dm = l.master.derivatives(foot.u, foot.v);
+            let Some(nm) = dm.normal() else { continue };
+            let (u, v) = l.side.params(slave, t);
+            out.push(Sample {
+                link: li,
+                u,
+                v,
+                foot: dm.point,
+                dm,
+                nm,
+            });
+        }
+    }
+    out
+}
+
+/// Least damping: below it the damped diagonal differs from the undamped by rounding only.
+const DAMPING_MIN: f64 = 1e-12;
+
+/// Added to every diagonal entry of the normal equations, relative to the largest: keeps the
+/// factorization positive definite where a direction of a point reaches no residual (rounding
+/// against the largest entry, no pull on the solution).
+const NUGGET: f64 = 1e-14;
+
+/// The polish's least-squares problem: the samples, the moving points and the units.
+struct Problem<'a> {
+    links: &'a [SideLink<'a>],
+    samples: Vec<Sample>,
+    /// per control index (`slave.index`), its column block
+    column: Vec<Option<usize>>,
+    /// the moving points in column order
+    points: Vec<(usize, usize)>,
+    units: Units,
+}
+
+/// The block pattern of JᵀJ ([`Problem::pattern`]).
+struct Pattern {
+    /// the point pairs (a ≥ b), sorted
+    keys: Vec<(usize, usize)>,
+    /// per sample, the slot in `keys` of each pair it couples, in visiting order
+    slots: Vec<Vec<usize>>,
+}
+
+fn dot(a: &[f64; RES], b: &[f64]) -> f64 {
+    a.iter().zip(b).map(|(x, y)| x * y).sum()
+}
+
+/// Whether basis function `q` of `sb` reaches the residuals at its parameter: some value or
+/// derivative of it is not zero (at a clamped boundary the functions of rows beyond 2 and all
+/// their derivatives up to order 2 vanish exactly).
+fn reaches(sb: &SurfaceBasis, q: usize) -> bool {
+    [
+        sb.value[q],
+        sb.du[q],
+        sb.dv[q],
+        sb.duu[q],
+        sb.duv[q],
+        sb.dvv[q],
+    ]
+    .iter()
+    .any(|&x| x != 0.0)
+}
+
+fn cost(r: &[f64]) -> f64 {
+    r.iter().map(|x| x * x).sum()
+}
+
+fn worst(r: &[f64]) -> f64 {
+    r.iter().fold(0.0f64, |m, x| m.max(x.abs()))
+}
+
+impl Problem<'_> {
+    /// Every sample's residuals on `s`, in sample order.
+    fn residual(&self, s: &BSplineSurface) -> Vec<f64> {
+        let mut eval = s.evaluator();
+        let mut r = Vec::with_capacity(self.samples.len() * RES);
+        for sm in &self.samples {
+            let l = &self.links[sm.link];
+            let ds = eval.derivatives(sm.u, sm.v);
+            r.extend(residuals(&ds, sm, l.side, l.target, self.units));
+        }
+        r
+    }
+
+    /// The derivatives of one sample's residuals with respect to each coordinate of each slave
+    /// derivative vector ([`FIELDS`]), by central differences ([`DIFF_STEP`]); S_uv enters no
+    /// residual and is skipped.
+    fn gradient(&self, ds: &SurfaceDerivatives, sm: &Sample) -> [[[f64; RES]; 3]; FIELDS] {
+        let l = &self.links[sm.link];
+        let mut g = [[[0.0; RES]; 3]; FIELDS];
+        let scale = ds.du.norm().max(ds.dv.norm());
+        let fields = if l.target < Continuity::G1 { 1 } else { FIELDS };
+        for (f, gf) in g.iter_mut().enumerate().take(fields) {
+            if f == 4 {
+                continue;
+            }
+            let mut base = *ds;
+            let h = DIFF_STEP * field(&mut base, f).norm().max(scale).max(f64::MIN_POSITIVE);
+            for (d, gd) in gf.iter_mut().enumerate() {
+                let (mut plus, mut minus) = (*ds, *ds);
+                field(&mut plus, f)[d] += h;
+                field(&mut minus, f)[d] -= h;
+                let rp = residuals(&plus, sm, l.side, l.target, self.units);
+                let rm = residuals(&minus, sm, l.side, l.target, self.units);
+                for q in 0..RES {
+                    gd[q] = (rp[q] - rm[q]) / (2.0 * h);
+                }
+            }
+        }
+        g
+    }
+
+    /// One sample's Jacobian on `s`: per moving point its basis reaches (coefficients not all
+    /// zero), its column block and the rows of its three coordinates — the chain of
+    /// [`Self::gradient`] and the basis functions' derivatives (a point moved by δ moves S_kl
+    /// by R_ij,kl δ).
+    fn jacobian(
+        &self,
+        s: &BSplineSurface,
+        sm: &Sample,
+        ds: &SurfaceDerivatives,
+        sb: &SurfaceBasis,
+        out: &mut Vec<(usize, [[f64; RES]; 3])>,
+    ) {
+        let g = self.gradient(ds, sm);
+        out.clear();
+        // (the points listed here must be those of [`Self::sample_points`], in the same order)
+        for q in 0..sb.len() {
+            let (i, j) = sb.control_index(q);
+            let Some(c) = self.column[s.index(i, j)] else {
+                continue;
+            };
+            if !reaches(sb, q) {
+                continue;
+            }
+            let coef = [
+                sb.value[q],
+                sb.du[q],
+                sb.dv[q],
+                sb.duu[q],
+                sb.duv[q],
+                sb.dvv[q],
+            ];
+            let mut rows = [[0.0; RES]; 3];
+            for (d, row) in rows.iter_mut().enumerate() {
+                for (f, &cf) in coef.iter().enumerate() {
+                    for (x, gq) in row.iter_mut().zip(g[f][d]) {
+                        *x += cf * gq;
+                    }
+                }
+            }
+            out.push((c, rows));
+        }
+    }
+
+    /// Every sample's moving points as [`Self::jacobian`] lists them, evaluated on `s`.
+    fn sample_points(&self, s: &BSplineSurface) -> Vec<Vec<usize>> {
+        let mut basis_eval = SurfaceBasisEvaluator::new(s);
+        let mut sb = SurfaceBasis::new(s);
+        self.samples
+            .iter()
+            .map(|sm| {
+                basis_eval.eval(sm.u, sm.v, &mut sb);
+                (0..sb.len())
+                    .filter_map(|q| {
+                        let (i, j) = sb.control_index(q);
+                        let c = self.column[s.index(i, j)]?;
+                        reaches(&sb, q).then_some(c)
+                    })
+                    .collect()
+            })
+            .collect()
+    }
+
+    /// The block pattern of JᵀJ: the point pairs (a ≥ b) some sample couples, sorted, and per
+    /// sample the slot of each of its pairs in the order [`Self::normal_equations`] visits them.
+    /// The pattern depends on the knots only, so it is found once.
+    fn pattern(&self, s: &BSplineSurface) -> Pattern {
+        let points = self.sample_points(s);
+        let mut keys: Vec<(usize, usize)> = points
+            .iter()
+            .flat_map(|p| {
+                p.iter().enumerate().flat_map(move |(a, &ca)| {
+                    p[..=a].iter().map(move |&cb| (ca.max(cb), ca.min(cb)))
+                })
+            })
+            .collect();
+        keys.sort_unstable();
+        keys.dedup();
+        let slots = points
+            .iter()
+            .map(|p| {
+                p.iter()
+                    .enumerate()
+                    .flat_map(|(a, &ca)| {
+                        let keys = &keys;
+                        p[..=a].iter().map(move |&cb| {
+                            keys.binary_search(&(ca.max(cb), ca.min(cb))).unwrap_or(0)
+                        })
+                    })
+                    .collect()
+            })
+            .collect();
+        Pattern { keys, slots }
+    }
+
+    /// The normal equations on `s` with residuals `r`: JᵀJ in the 3 × 3 blocks of `pattern`
+    /// (entry [d][e] couples coordinate d of the pair's first point with coordinate e of its
+    /// second), and Jᵀr.
+    fn normal_equations(
+        &self,
+        s: &BSplineSurface,
+        r: &[f64],
+        pattern: &Pattern,
+    ) -> (Vec<[[f64; 3]; 3]>, Vec<f64>) {
+        let mut eval = s.evaluator();
+        let mut basis_eval = SurfaceBasisEvaluator::new(s);
+        let mut sb = SurfaceBasis::new(s);
+        let mut jac = Vec::new();
+        let mut blocks = vec![[[0.0; 3]; 3]; pattern.keys.len()];
+        let mut jtr = vec![0.0; 3 * self.points.len()];
+        for (k, (sm, slots)) in self.samples.iter().zip(&pattern.slots).enumerate() {
+            let ds = eval.derivatives(sm.u, sm.v);
+            basis_eval.eval(sm.u, sm.v, &mut sb);
+            self.jacobian(s, sm, &ds, &sb, &mut jac);
+            let rk = &r[RES * k..RES * (k + 1)];
+            let mut slot = slots.iter();
+            for (a, (ca, ja)) in jac.iter().enumerate() {
+                for d in 0..3 {
+                    jtr[3 * ca + d] += dot(&ja[d], rk);
+                }
+                for (cb, jb) in &jac[..=a] {
+                    let (first, second) = if ca >= cb { (ja, jb) } else { (jb, ja) };
+                    let block = &mut blocks[*slot.next().unwrap_or(&0)];
+                    for (x, row) in block.iter_mut().zip(first) {
+                        for (y, col) in x.iter_mut().zip(second) {
+                            *y += dot(row, col);
+                        }
+                    }
+                }
+            }
+        }
+        (blocks, jtr)
+    }
+
+    /// The damped Gauss–Newton step: (JᵀJ + λ diag(JᵀJ)) δ = −Jᵀr, by sparse Cholesky.
+    fn step(
+        &self,
+        pattern: &Pattern,
+        blocks: &[[[f64; 3]; 3]],
+        jtr: &[f64],
+        lambda: f64,
+    ) -> Result<Vec<f64>> {
+        let n = jtr.len();
+        let big = pattern
+            .keys
+            .iter()
+            .zip(blocks)
+            .filter(|((a, b), _)| a == b)
+            .flat_map(|(_, m)| (0..3).map(move |d| m[d][d]))
+            .fold(0.0f64, f64::max);
+        let mut triplets = Vec::with_capacity(18 * blocks.len());
+        for (&(a, b), m) in pattern.keys.iter().zip(blocks) {
+            for (da, row) in m.iter().enumerate() {
+                for (db, &v) in row.iter().enumerate() {
+                    let (i, j) = (3 * a + da, 3 * b + db);
+                    if i == j {
+                        triplets.push((i, j, v * (1.0 + lambda) + NUGGET * big));
+                    } else if a == b {
+                        // a diagonal block holds both triangles already
+                        triplets.push((i, j, v));
+                    } else {
+                        triplets.push((i, j, v));
+                        triplets.push((j, i, v));
+                    }
+                }
+            }
+        }
+        let spd = SparseSpd::from_triplets(n, &triplets)?;
+        let rhs = DMatrix::from_iterator(n, 1, jtr.iter().map(|x| -x));
+        let x = spd.solve(&rhs, SpdSolver::Faer(FillOrdering::Amd))?;
+        Ok(x.column(0).iter().copied().collect())
+    }
+
+    /// `s` with every moving point displaced by its block of `dx`.
+    fn apply(&self, s: &BSplineSurface, dx: &[f64]) -> BSplineSurface {
+        let mut out = s.clone();
+        for (c, &(i, j)) in self.points.iter().enumerate() {
+            let idx = out.index(i, j);
+            out.control_points_mut()[idx] += Vector3::new(dx[3 * c], dx[3 * c + 1], dx[3 * c + 2]);
+        }
+        out
+    }
+}
+
+/// Polishes the frames of `slave` (prepared, its staged continuity set) towards every link's
+/// target at once: damped Gauss–Newton over rows 0..=r of every whole linked side (module
+/// docs), until every residual is within [`JOINT_GOAL`] of its tolerance, no step lowers the
+/// cost, or [`JOINT_ITERATIONS`]. The result lowers the sum of squared residuals (in tolerance
+/// units) at the polish's samples; whether it meets more links is the caller's to measure.
+pub fn polish_joint(
+    slave: &BSplineSurface,
+    links: &[SideLink],
+    params: &ConnectParams,
+) -> Result<(BSplineSurface, JointReport)> {
+    crate::slave::check_links(links)?;
+    let t = params.tolerances;
+    let flat = params
+        .measure
+        .flat_curvature
+        .unwrap_or(1.0 / (FLAT_RADIUS_FACTOR * slave.size().max(f64::MIN_POSITIVE)));
+    for (name, value) in [("g0", t.g0), ("g1_deg", t.g1_deg), ("g2_rel", t.g2_rel)] {
+        if !(value > 0.0 && value.is_finite()) {
+            return Err(crate::Error::InvalidParameter {
+                name,
+                value,
+                reason: "a tolerance of the joint polish must be positive and finite",
+            });
+        }
+    }
+    let columns = unknowns(slave, links);
+    let mut column = vec![None; slave.control_points().len()];
+    let mut points = vec![(0, 0); columns.len()];
+    for (&(i, j), &c) in &columns {
+        column[slave.index(i, j)] = Some(c);
+        points[c] = (i, j);
+    }
+    let problem = Problem {
+        links,
+        samples: samples(slave, links, params),
+        column,
+        points,
+        units: Units {
+            g0: t.g0,
+            g1: t.g1_deg.to_radians(),
+            g2: t.g2_rel,
+            flat: flat.max(f64::MIN_POSITIVE),
+        },
+    };
+    let mut s = slave.clone();
+    let mut r = problem.residual(&s);
+    let mut report = JointReport {
+        worst_before: worst(&r),
+        ..JointReport::default()
+    };
+    let pattern = problem.pattern(&s);
+    let mut lambda = DAMPING_START;
+    while !problem.points.is_empty()
+        && report.iterations < JOINT_ITERATIONS
+        && worst(&r) > JOINT_GOAL
+    {
+        let (blocks, jtr) = problem.normal_equations(&s, &r, &pattern);
+        let mut accepted = false;
+        while lambda <= DAMPING_MAX {
+            let trial = problem.apply(&s, &problem.step(&pattern, &blocks, &jtr, lambda)?);
+            let rt = problem.residual(&trial);
+            if cost(&rt) < cost(&r) {
+                (s, r) = (trial, rt);
+                lambda = (lambda / DAMPING_DOWN).max(DAMPING_MIN);
+                accepted = true;
+                break;
+            }
+            lambda *= DAMPING_UP;
+        }
+        if !accepted {
+            break;
+        }
+        report.iterations += 1;
+    }
+    report.worst_after = worst(&r);
+    report.max_move = s
+        .control_points()
+        .iter()
+        .zip(slave.control_points())
+        .map(|(a, b)| (a - b).norm())
+        .fold(0.0, f64::max);
+    Ok((s, report))
+}
