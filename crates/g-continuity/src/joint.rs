@@ -167,9 +167,19 @@ fn residuals(
 
 /// The points that move: rows 0..=r of every whole linked side (r the row of its target), less
 /// the points on the boundary of a side no whole link covers (an unlinked, partially linked or
-/// collapsed side keeps its boundary) and the blocks of degenerate corners. Returns the column
-/// block of each control index.
-fn unknowns(slave: &BSplineSurface, links: &[SideLink]) -> BTreeMap<(usize, usize), usize> {
+/// collapsed side keeps its boundary), the blocks of degenerate corners, and at a corner the C0
+/// rows turned onto a contact line ([`SetParams::contact_lines`]) the corner and the row's
+/// second point: the direction the boundary leaves the corner in is a condition of third order
+/// that no residual here carries, and next to a corner the knots may be hundredths of a
+/// millimetre apart, so that a move far inside the G0 tolerance would turn it by degrees.
+/// Returns the column block of each control index.
+///
+/// [`SetParams::contact_lines`]: crate::SetParams::contact_lines
+fn unknowns(
+    slave: &BSplineSurface,
+    links: &[SideLink],
+    params: &ConnectParams,
+) -> BTreeMap<(usize, usize), usize> {
     let (nu, nv) = (slave.num_u(), slave.num_v());
     let whole = |s: Side| {
         links
@@ -179,6 +189,18 @@ fn unknowns(slave: &BSplineSurface, links: &[SideLink]) -> BTreeMap<(usize, usiz
     let mut kept: Vec<(usize, usize)> = degenerate_corner_blocks(slave);
     for s in Side::ALL.into_iter().filter(|&s| !whole(s)) {
         kept.extend(s.row(0, nu, nv));
+    }
+    for (k, s) in Side::ALL.into_iter().enumerate().filter(|&(_, s)| whole(s)) {
+        let row = s.row(0, nu, nv);
+        let m = row.len();
+        for (e, ends) in [[0, 1], [m - 1, m.saturating_sub(2)]]
+            .into_iter()
+            .enumerate()
+        {
+            if params.set.contact_lines[k][e].is_some() {
+                kept.extend(ends.map(|c| row[c]));
+            }
+        }
     }
     let mut columns = BTreeMap::new();
     for l in links.iter().filter(|l| whole(l.side)) {
@@ -521,50 +543,73 @@ impl Problem<'_> {
     }
 }
 
+impl<'a> Problem<'a> {
+    /// The problem of `slave` and `links`: the moving points ([`unknowns`]), the samples
+    /// ([`samples`]) and the tolerance units of `params`; an error for a tolerance that is not
+    /// positive and finite.
+    fn new(
+        slave: &BSplineSurface,
+        links: &'a [SideLink<'a>],
+        params: &ConnectParams,
+    ) -> Result<Self> {
+        let t = params.tolerances;
+        let flat = params
+            .measure
+            .flat_curvature
+            .unwrap_or(1.0 / (FLAT_RADIUS_FACTOR * slave.size().max(f64::MIN_POSITIVE)));
+        for (name, value) in [("g0", t.g0), ("g1_deg", t.g1_deg), ("g2_rel", t.g2_rel)] {
+            if !(value > 0.0 && value.is_finite()) {
+                return Err(crate::Error::InvalidParameter {
+                    name,
+                    value,
+                    reason: "a tolerance of the joint polish must be positive and finite",
+                });
+            }
+        }
+        let columns = unknowns(slave, links, params);
+        let mut column = vec![None; slave.control_points().len()];
+        let mut points = vec![(0, 0); columns.len()];
+        for (&(i, j), &c) in &columns {
+            column[slave.index(i, j)] = Some(c);
+            points[c] = (i, j);
+        }
+        Ok(Problem {
+            links,
+            samples: samples(slave, links, params),
+            column,
+            points,
+            units: Units {
+                g0: t.g0,
+                g1: t.g1_deg.to_radians(),
+                g2: t.g2_rel,
+                flat: flat.max(f64::MIN_POSITIVE),
+            },
+        })
+    }
+
+    /// Whether every link of `s` meets its target by the measure of `params`.
+    fn all_met(&self, s: &BSplineSurface, params: &ConnectParams) -> bool {
+        let t = params.tolerances;
+        self.links.iter().all(|l| {
+            l.measure(s, &params.measure)
+                .is_ok_and(|m| m.meets(l.target, t.g0, t.g1_deg, t.g2_rel))
+        })
+    }
+}
+
 /// Polishes the frames of `slave` (prepared, its staged continuity set) towards every link's
 /// target at once: damped Gauss–Newton over rows 0..=r of every whole linked side (module
-/// docs), until every residual is within [`JOINT_GOAL`] of its tolerance, no step lowers the
-/// cost, or [`JOINT_ITERATIONS`]. The result lowers the sum of squared residuals (in tolerance
-/// units) at the polish's samples; whether it meets more links is the caller's to measure.
+/// docs), until every residual is within [`JOINT_GOAL`] of its tolerance or every link meets
+/// its target by the measure of `params`, no step lowers the cost, or [`JOINT_ITERATIONS`].
+/// Each accepted step lowers the sum of squared residuals (in tolerance units) at the polish's
+/// samples; whether the result is better for the model is the caller's to judge.
 pub fn polish_joint(
     slave: &BSplineSurface,
     links: &[SideLink],
     params: &ConnectParams,
 ) -> Result<(BSplineSurface, JointReport)> {
     crate::slave::check_links(links)?;
-    let t = params.tolerances;
-    let flat = params
-        .measure
-        .flat_curvature
-        .unwrap_or(1.0 / (FLAT_RADIUS_FACTOR * slave.size().max(f64::MIN_POSITIVE)));
-    for (name, value) in [("g0", t.g0), ("g1_deg", t.g1_deg), ("g2_rel", t.g2_rel)] {
-        if !(value > 0.0 && value.is_finite()) {
-            return Err(crate::Error::InvalidParameter {
-                name,
-                value,
-                reason: "a tolerance of the joint polish must be positive and finite",
-            });
-        }
-    }
-    let columns = unknowns(slave, links);
-    let mut column = vec![None; slave.control_points().len()];
-    let mut points = vec![(0, 0); columns.len()];
-    for (&(i, j), &c) in &columns {
-        column[slave.index(i, j)] = Some(c);
-        points[c] = (i, j);
-    }
-    let problem = Problem {
-        links,
-        samples: samples(slave, links, params),
-        column,
-        points,
-        units: Units {
-            g0: t.g0,
-            g1: t.g1_deg.to_radians(),
-            g2: t.g2_rel,
-            flat: flat.max(f64::MIN_POSITIVE),
-        },
-    };
+    let problem = Problem::new(slave, links, params)?;
     let mut s = slave.clone();
     let mut r = problem.residual(&s);
     let mut report = JointReport {
@@ -573,27 +618,22 @@ pub fn polish_joint(
     };
     let pattern = problem.pattern(&s);
     let mut lambda = DAMPING_START;
-    while !problem.points.is_empty()
-        && report.iterations < JOINT_ITERATIONS
-        && worst(&r) > JOINT_GOAL
-    {
+    let mut done = problem.points.is_empty() || worst(&r) <= JOINT_GOAL;
+    while !done && report.iterations < JOINT_ITERATIONS {
         let (blocks, jtr) = problem.normal_equations(&s, &r, &pattern);
-        let mut accepted = false;
+        done = true;
         while lambda <= DAMPING_MAX {
             let trial = problem.apply(&s, &problem.step(&pattern, &blocks, &jtr, lambda)?);
             let rt = problem.residual(&trial);
             if cost(&rt) < cost(&r) {
                 (s, r) = (trial, rt);
                 lambda = (lambda / DAMPING_DOWN).max(DAMPING_MIN);
-                accepted = true;
+                report.iterations += 1;
+                done = worst(&r) <= JOINT_GOAL || problem.all_met(&s, params);
                 break;
             }
             lambda *= DAMPING_UP;
         }
-        if !accepted {
-            break;
-        }
-        report.iterations += 1;
     }
     report.worst_after = worst(&r);
     report.max_move = s
