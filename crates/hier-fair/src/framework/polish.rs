@@ -1,46 +1,41 @@
-//! The joint polish of a surface's frames after its stages ([`g_continuity::joint`]): where
-//! the staged steps leave a G2 link missed, every link's conditions are solved at once over
-//! the rows the links own, and the result is kept only where it is better.
+//! The joint polish of a surface's frames ([`g_continuity::joint`]): where the stages' result
+//! misses a G2 link, every link's conditions are solved at once over the rows the links own,
+//! and the result is kept only where it is better. (Polishing the dry run's G2 step and the
+//! stages' G2 set step as well met one more link of the six kernel models, at 2–4 s more on
+//! the lofted block and the variable-radius box: docs/benchmarks.md.)
 
 use super::*;
 
 impl Job<'_> {
-    /// `surface` (the stages' result) polished by [`g_continuity::polish_joint`] where it
-    /// misses a G2 link. Kept only when it meets more links, every link it met stays met, no
-    /// link's gap or angle grows beyond its tolerance, and it stays within the deviation the
-    /// fairing stages plan with ([`DeviationBudget::fairing`]: a master's half, so its slaves
-    /// keep theirs); otherwise `surface` unchanged.
-    pub(super) fn joint_polish(
+    /// `surface` polished by [`g_continuity::polish_joint`] with the settings `params`, where it
+    /// misses a G2 link of `links`: `Some` only when the polish meets more links (by the
+    /// tolerances of `params`), every link met before stays met, no link's gap or angle grows
+    /// beyond its tolerance, and the result deviates from the input at most `budget`.
+    pub(super) fn polished(
         &self,
-        original: &BSplineSurface,
-        surface: BSplineSurface,
-    ) -> BSplineSurface {
-        let links: Vec<SideLink> = self.links().into_iter().map(|(_, l)| l).collect();
+        surface: &BSplineSurface,
+        links: &[SideLink<'_>],
+        params: &ConnectParams,
+        budget: f64,
+    ) -> Option<BSplineSurface> {
         if !links.iter().any(|l| l.target >= Continuity::G2) {
-            return surface;
+            return None;
         }
-        let t = self.connect.tolerances;
+        let t = params.tolerances;
         let measure = |s: &BSplineSurface| -> Option<Vec<LinkMeasure>> {
             links
                 .iter()
-                .map(|l| l.measure(s, &self.connect.measure).ok())
+                .map(|l| l.measure(s, &params.measure).ok())
                 .collect()
         };
         let meets = |l: &SideLink, m: &LinkMeasure| m.meets(l.target, t.g0, t.g1_deg, t.g2_rel);
         let met = |ms: &[LinkMeasure]| links.iter().zip(ms).filter(|(l, m)| meets(l, m)).count();
-        let Some(before) = measure(&surface) else {
-            return surface;
-        };
+        let before = measure(surface)?;
         if met(&before) == links.len() {
-            return surface;
+            return None;
         }
-        let Ok((polished, _)) = g_continuity::polish_joint(&surface, &links, &self.set_params())
-        else {
-            return surface;
-        };
-        let Some(after) = measure(&polished) else {
-            return surface;
-        };
+        let (polished, _) = g_continuity::polish_joint(surface, links, params).ok()?;
+        let after = measure(&polished)?;
         let kept = links
             .iter()
             .zip(before.iter().zip(&after))
@@ -50,14 +45,24 @@ impl Job<'_> {
                     && a.g0 <= b.g0.max(t.g0)
                     && angle(a) <= angle(b).max(t.g1_deg)
             });
-        let budget = self.params.budget.fairing(self.tolerance, self.is_master());
-        if met(&after) > met(&before)
+        let original = &self.model.surfaces[self.surface].surface;
+        (met(&after) > met(&before)
             && kept
-            && max_deviation(original, &polished, self.params.deviation_grid) <= budget
-        {
-            polished
-        } else {
-            surface
-        }
+            && max_deviation(original, &polished, self.params.deviation_grid) <= budget)
+            .then_some(polished)
+    }
+
+    /// The stages' result `surface`, polished where [`Self::polished`] keeps it (the links
+    /// judged by the model's tolerances, the deviation within what the fairing stages plan
+    /// with, [`DeviationBudget::fairing`]: a master's half, so its slaves keep theirs).
+    pub(super) fn joint_polish(&self, surface: BSplineSurface) -> BSplineSurface {
+        let links: Vec<SideLink> = self.links().into_iter().map(|(_, l)| l).collect();
+        let params = ConnectParams {
+            tolerances: self.connect.tolerances,
+            ..self.set_params()
+        };
+        let budget = self.params.budget.fairing(self.tolerance, self.is_master());
+        self.polished(&surface, &links, &params, budget)
+            .unwrap_or(surface)
     }
 }
