@@ -73,7 +73,7 @@ fn benches(c: &mut Criterion) {
     }];
     let connect = ConnectParams::default();
     c.bench_function("joint_polish_one_side_30x30", |b| {
-        b.iter(|| black_box(polish_joint(&slave, &link, &connect).unwrap()))
+        b.iter(|| black_box(polish_joint(&slave, &link, &connect, f64::INFINITY).unwrap()))
     });
 }
 

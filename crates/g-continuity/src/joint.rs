@@ -603,16 +603,28 @@ impl<'a> Problem<'a> {
 
 /// Polishes the frames of `slave` (prepared, its staged continuity set) towards every link's
 /// target at once: damped Gauss–Newton over rows 0..=r of every whole linked side (module
-/// docs), until every residual is within [`JOINT_GOAL`] of its tolerance or every link meets
-/// its target by the measure of `params`, no step lowers the cost, or [`JOINT_ITERATIONS`].
-/// Each accepted step lowers the sum of squared residuals (in tolerance units) at the polish's
-/// samples; whether the result is better for the model is the caller's to judge.
+/// docs), no control point moving more than `max_move` from where it is in `slave` (a step
+/// that would is rejected like one that raises the cost: the damping grows and the step
+/// shrinks — a trust region on the moves; with R_ij ≥ 0 and Σ R_ij = 1 the surface then moves
+/// at most `max_move` too), until every residual is within [`JOINT_GOAL`] of its tolerance or
+/// every link meets its target by the measure of `params`, no step is accepted, or
+/// [`JOINT_ITERATIONS`]. Each accepted step lowers the sum of squared residuals (in tolerance
+/// units) at the polish's samples; whether the result is better for the model is the caller's
+/// to judge. A `max_move` that is not positive is an error.
 pub fn polish_joint(
     slave: &BSplineSurface,
     links: &[SideLink],
     params: &ConnectParams,
+    max_move: f64,
 ) -> Result<(BSplineSurface, JointReport)> {
     crate::slave::check_links(links)?;
+    if !(max_move > 0.0) {
+        return Err(crate::Error::InvalidParameter {
+            name: "max_move",
+            value: max_move,
+            reason: "the joint polish's move bound must be positive",
+        });
+    }
     let problem = Problem::new(slave, links, params)?;
     let mut s = slave.clone();
     let mut r = problem.residual(&s);
@@ -621,20 +633,29 @@ pub fn polish_joint(
         ..JointReport::default()
     };
     let pattern = problem.pattern(&s);
+    // each moving point's displacement from `slave`
+    let mut offset = vec![0.0; 3 * problem.points.len()];
     let mut lambda = DAMPING_START;
     let mut done = problem.points.is_empty() || worst(&r) <= JOINT_GOAL;
     while !done && report.iterations < JOINT_ITERATIONS {
         let (blocks, jtr) = problem.normal_equations(&s, &r, &pattern);
         done = true;
         while lambda <= DAMPING_MAX {
-            let trial = problem.apply(&s, &problem.step(&pattern, &blocks, &jtr, lambda)?);
-            let rt = problem.residual(&trial);
-            if cost(&rt) < cost(&r) {
-                (s, r) = (trial, rt);
-                lambda = (lambda / DAMPING_DOWN).max(DAMPING_MIN);
-                report.iterations += 1;
-                done = worst(&r) <= JOINT_GOAL || problem.all_met(&s, params);
-                break;
+            let dx = problem.step(&pattern, &blocks, &jtr, lambda)?;
+            let moved: Vec<f64> = offset.iter().zip(&dx).map(|(o, d)| o + d).collect();
+            let within = moved
+                .chunks(3)
+                .all(|m| Vector3::new(m[0], m[1], m[2]).norm() <= max_move);
+            if within {
+                let trial = problem.apply(&s, &dx);
+                let rt = problem.residual(&trial);
+                if cost(&rt) < cost(&r) {
+                    (s, r, offset) = (trial, rt, moved);
+                    lambda = (lambda / DAMPING_DOWN).max(DAMPING_MIN);
+                    report.iterations += 1;
+                    done = worst(&r) <= JOINT_GOAL || problem.all_met(&s, params);
+                    break;
+                }
             }
             lambda *= DAMPING_UP;
         }

@@ -92,7 +92,7 @@ fn an_exact_slave_is_left_bit_identical() {
     let links = links(&masters);
     let p = ConnectParams::default();
     assert!(all_met(&centre, &links, &p));
-    let (out, report) = polish_joint(&centre, &links, &p).unwrap();
+    let (out, report) = polish_joint(&centre, &links, &p, 1.0).unwrap();
     assert_eq!(report.iterations, 0);
     assert_eq!(out.control_points(), centre.control_points());
 }
@@ -111,7 +111,7 @@ fn disturbed_frames_of_four_sides_are_set_g2_at_once() {
             !all_met(&disturbed, &links, &p),
             "seed {seed}: nothing to do"
         );
-        let (out, report) = polish_joint(&disturbed, &links, &p).unwrap();
+        let (out, report) = polish_joint(&disturbed, &links, &p, 1.0).unwrap();
         assert!(all_met(&out, &links, &p), "seed {seed}: {report:?}");
         assert!(report.worst_after < report.worst_before, "{report:?}");
         assert!(report.max_move < 2e-3, "seed {seed}: {report:?}");
@@ -135,12 +135,31 @@ fn a_g1_side_keeps_its_row_two() {
     links[0].target = Continuity::G1;
     let p = ConnectParams::default();
     let disturbed = perturb_frames(&centre, 7, 2e-4);
-    let (out, _) = polish_joint(&disturbed, &links, &p).unwrap();
+    let (out, _) = polish_joint(&disturbed, &links, &p, 1.0).unwrap();
     assert!(all_met(&out, &links, &p));
     let nv = out.num_v();
     for j in 3..nv - 3 {
         assert_eq!(out.control_point(2, j), disturbed.control_point(2, j));
     }
+}
+
+/// The move bound is a trust region: with a bound below what the disturbance needs no point
+/// moves more than it (and the surface, R_ij ≥ 0 with Σ R_ij = 1, no more either), and the
+/// residuals still fall.
+#[test]
+fn no_point_moves_beyond_the_bound() {
+    let (centre, masters) = torus_pieces();
+    let links = links(&masters);
+    let p = ConnectParams::default();
+    let disturbed = perturb_frames(&centre, 3, 2e-4);
+    let bound = 2e-5;
+    let (out, report) = polish_joint(&disturbed, &links, &p, bound).unwrap();
+    assert!(report.iterations > 0, "{report:?}");
+    assert!(report.worst_after < report.worst_before, "{report:?}");
+    for (a, b) in out.control_points().iter().zip(disturbed.control_points()) {
+        assert!((a - b).norm() <= bound, "{}", (a - b).norm());
+    }
+    assert!(nurbs_core::energy::max_deviation(&disturbed, &out, 21) <= bound);
 }
 
 #[test]
@@ -150,12 +169,19 @@ fn bad_settings_are_errors() {
     let mut p = ConnectParams::default();
     p.tolerances.g2_rel = 0.0;
     assert!(matches!(
-        polish_joint(&centre, &links, &p),
+        polish_joint(&centre, &links, &p, 1.0),
         Err(Error::InvalidParameter { name: "g2_rel", .. })
+    ));
+    assert!(matches!(
+        polish_joint(&centre, &links, &ConnectParams::default(), 0.0),
+        Err(Error::InvalidParameter {
+            name: "max_move",
+            ..
+        })
     ));
     let twice = [links[0], links[0]];
     assert!(matches!(
-        polish_joint(&centre, &twice, &ConnectParams::default()),
+        polish_joint(&centre, &twice, &ConnectParams::default(), 1.0),
         Err(Error::DuplicateSide { side: Side::U0 })
     ));
 }

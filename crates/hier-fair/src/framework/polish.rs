@@ -34,7 +34,14 @@ impl Job<'_> {
         if met(&before) == links.len() {
             return None;
         }
-        let (polished, _) = g_continuity::polish_joint(surface, links, params).ok()?;
+        // the moves stay within what the budget leaves after the surface's deviation so far
+        let original = &self.model.surfaces[self.surface].surface;
+        let grid = self.params.deviation_grid;
+        let room = budget - max_deviation(original, surface, grid);
+        if !(room > 0.0) {
+            return None;
+        }
+        let (polished, _) = g_continuity::polish_joint(surface, links, params, room).ok()?;
         let after = measure(&polished)?;
         let kept = links
             .iter()
@@ -45,10 +52,7 @@ impl Job<'_> {
                     && a.g0 <= b.g0.max(t.g0)
                     && angle(a) <= angle(b).max(t.g1_deg)
             });
-        let original = &self.model.surfaces[self.surface].surface;
-        (met(&after) > met(&before)
-            && kept
-            && max_deviation(original, &polished, self.params.deviation_grid) <= budget)
+        (met(&after) > met(&before) && kept && max_deviation(original, &polished, grid) <= budget)
             .then_some(polished)
     }
 
