@@ -13,7 +13,8 @@
 //! solution is the staged one (one side's rows alone were exact there).
 //!
 //! Each residual is a condition divided by its tolerance — the gap by the G0 tolerance, the
-//! normal's tilt along and across the side by the G1 angle, the curvature difference by the G2
+//! normals' difference n_s × n_m (the sine of the angle the measure reports; at a point without
+//! a normal, the tilts of the derivatives there) by the G1 angle, the curvature difference by the G2
 //! relative tolerance times the master's curvature (not below the measure's flatness cut-off)
 //! — so that one unit is one tolerance whatever the condition. The masters' feet are found once
 //! (the moves are a fraction of the tolerances, far below the masters' curvature radii).
@@ -79,8 +80,8 @@ const DAMPING_MAX: f64 = 1e8;
 /// tolerance units the residuals are measured in.
 const DIFF_STEP: f64 = 1e-6;
 
-/// Residuals per sample: the gap (three), the normal's tilt across and along the side, the
-/// normal-curvature difference across it.
+/// Residuals per sample: the gap (three), the normals' difference (two), the normal-curvature
+/// difference across the side.
 const RES: usize = 6;
 
 /// What [`polish_joint`] did.
@@ -104,6 +105,9 @@ struct Sample {
     foot: Point3,
     dm: SurfaceDerivatives,
     nm: Vector3,
+    /// an orthonormal pair spanning the master's tangent plane at the foot
+    t1: Vector3,
+    t2: Vector3,
 }
 
 /// The tolerance units of the residuals.
@@ -151,12 +155,26 @@ fn residuals(
         Direction::U => (ds.du, ds.dv, ds.duu),
         Direction::V => (ds.dv, ds.du, ds.dvv),
     };
-    let (le, la) = (e.norm(), along.norm());
-    if le > 0.0 {
-        out[3] = sm.nm.dot(&e) / le / units.g1;
-    }
-    if la > 0.0 {
-        out[4] = sm.nm.dot(&along) / la / units.g1;
+    let le = e.norm();
+    match ds.normal() {
+        // the normals' difference, n_s × n_m (in the master's tangent plane, of length sin θ,
+        // θ the angle the measure reports), in the plane's two directions
+        Some(ns) => {
+            let ns = if sm.nm.dot(&ns) < 0.0 { -ns } else { ns };
+            let c = ns.cross(&sm.nm);
+            out[3] = c.dot(&sm.t1) / units.g1;
+            out[4] = c.dot(&sm.t2) / units.g1;
+        }
+        // no normal (a degenerate point): the tilts of the derivatives that exist
+        None => {
+            let la = along.norm();
+            if le > 0.0 {
+                out[3] = sm.nm.dot(&e) / le / units.g1;
+            }
+            if la > 0.0 {
+                out[4] = sm.nm.dot(&along) / la / units.g1;
+            }
+        }
     }
     if target < Continuity::G2 {
         return out;
@@ -254,6 +272,10 @@ fn samples(slave: &BSplineSurface, links: &[SideLink], params: &ConnectParams) -
         for (&t, foot) in ts.iter().zip(feet) {
             let dm = l.master.derivatives(foot.u, foot.v);
             let Some(nm) = dm.normal() else { continue };
+            let Some(t1) = (dm.du - nm * nm.dot(&dm.du)).try_normalize(f64::MIN_POSITIVE) else {
+                continue;
+            };
+            let t2 = nm.cross(&t1);
             let (u, v) = l.side.params(slave, t);
             out.push(Sample {
                 link: li,
@@ -262,6 +284,8 @@ fn samples(slave: &BSplineSurface, links: &[SideLink], params: &ConnectParams) -
                 foot: dm.point,
                 dm,
                 nm,
+                t1,
+                t2,
             });
         }
     }
