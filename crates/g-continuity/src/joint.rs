@@ -327,6 +327,11 @@ fn dot(a: &[f64; RES], b: &[f64]) -> f64 {
 /// derivative of it is not zero (at a clamped boundary the functions of rows beyond 2 and all
 /// their derivatives up to order 2 vanish exactly).
 fn reaches(sb: &SurfaceBasis, q: usize) -> bool {
+    coefficients(sb, q).iter().any(|&x| x != 0.0)
+}
+
+/// The value and derivatives of basis function `q` of `sb`, in the order of [`field`].
+fn coefficients(sb: &SurfaceBasis, q: usize) -> [f64; FIELDS] {
     [
         sb.value[q],
         sb.du[q],
@@ -335,8 +340,6 @@ fn reaches(sb: &SurfaceBasis, q: usize) -> bool {
         sb.duv[q],
         sb.dvv[q],
     ]
-    .iter()
-    .any(|&x| x != 0.0)
 }
 
 fn cost(r: &[f64]) -> f64 {
@@ -411,14 +414,7 @@ impl Problem<'_> {
             if !reaches(sb, q) {
                 continue;
             }
-            let coef = [
-                sb.value[q],
-                sb.du[q],
-                sb.dv[q],
-                sb.duu[q],
-                sb.duv[q],
-                sb.dvv[q],
-            ];
+            let coef = coefficients(sb, q);
             let mut rows = [[0.0; RES]; 3];
             for (d, row) in rows.iter_mut().enumerate() {
                 for (f, &cf) in coef.iter().enumerate() {
