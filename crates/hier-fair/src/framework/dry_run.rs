@@ -4,11 +4,6 @@
 
 use super::*;
 
-/// Relative margin of the dry run's slack test: a variant's larger G2 move bound is skipped
-/// only when every weight the previous run rejected moved more than the bound by more than
-/// this (a few roundings of the move quotient, so the skip stays exact).
-pub const SLACK_ROUNDING: f64 = 1e-12;
-
 /// One continuity step of the dry run ([`Job::dry_step`]): the result, whether it met every
 /// link up to its step, the settings that gave it, and the links' measures on it.
 type StepResult = (
@@ -123,37 +118,8 @@ impl Job<'_> {
         if meets(&report.after) {
             return Ok((next, true, set, report.after));
         }
-        // the G2 slack of the runs with the step's move bound, per corner setting: a variant
-        // that only raises the bound to below it would repeat that run bit for bit
-        let mut slack = vec![(set.tangent_corners, report.g2_slack)];
-        // the turned corner tangents mend a corner normal the C0 fit left off by more than the
-        // G1 tolerance; at G2, where every link's normals already agree within it, they have
-        // nothing to mend and are not tried (on the lofted block's vertex blends, whose G2 step
-        // misses at their flat corners, they were two more refined G2 runs each)
-        let normals_met = step == Continuity::G2
-            && links
-                .iter()
-                .zip(&report.after)
-                .all(|(l, m)| m.meets(l.target.min(Continuity::G1), t.g0, t.g1_deg, t.g2_rel));
         for variant in step_variants(set, step) {
-            if normals_met && variant.tangent_corners && !set.tangent_corners {
-                continue;
-            }
-            let same = slack
-                .iter()
-                .find(|(turned, _)| *turned == variant.tangent_corners)
-                .map(|&(_, sl)| sl);
-            // (the slack is a quotient of moves, the search compares a product: the margin
-            // keeps a ratio one rounding above the bound from counting as beyond it)
-            if variant.g2_move_factor > set.g2_move_factor
-                && same.is_some_and(|sl| sl > variant.g2_move_factor * (1.0 + SLACK_ROUNDING))
-            {
-                continue;
-            }
             let (other, again) = run(variant)?;
-            if variant.g2_move_factor == set.g2_move_factor {
-                slack.push((variant.tangent_corners, again.g2_slack));
-            }
             if meets(&again.after) {
                 return Ok((other, true, variant, again.after));
             }
@@ -276,33 +242,22 @@ impl Job<'_> {
     }
 }
 
-/// The variants of a continuity step that missed with `set`, in the order they are tried: G2
-/// with the move bound of `connect`, which exact joins of constructed pairs need (a vertex
-/// blend between faired fillets); then the corners' end tangents turned into the neighbouring
-/// masters' tangent planes (a corner normal the C0 fit left off by more than the G1
-/// tolerance, `SetParams::tangent_corners`), with `connect`'s bound too at G2 — at G2
-/// `dry_step` skips these where every link already meets G1.
+/// The variants of a continuity step that missed with `set`, in the order they are tried: at
+/// G1 the corners' end tangents turned into the neighbouring masters' tangent planes (a corner
+/// normal the C0 fit left off by more than the G1 tolerance, `SetParams::tangent_corners`). At
+/// G2 none: the G2 move bound of `connect` (with and without turned tangents) was two to four
+/// more refined G2 runs per lead-in trial, tried where the staged rows rang at a corner; since
+/// the stages' result is polished jointly there ([`Job::joint_polish`]) they met no link more on
+/// the 25 kernel models measured (the six, twelve variants, seven more of the same kinds, per
+/// role and by default) and cost 13 % of the lofted block's time and 15–30 % of the
+/// variable-radius box's (docs/benchmarks.md).
 fn step_variants(set: g_continuity::SetParams, step: Continuity) -> Vec<g_continuity::SetParams> {
-    let connect_bound = g_continuity::SetParams::default().g2_move_factor;
-    let mut variants = Vec::new();
-    if step == Continuity::G2 && set.g2_move_factor < connect_bound {
-        variants.push(g_continuity::SetParams {
-            g2_move_factor: connect_bound,
-            ..set
-        });
-    }
-    if step >= Continuity::G1 && !set.tangent_corners {
-        let turned = g_continuity::SetParams {
+    if step == Continuity::G1 && !set.tangent_corners {
+        vec![g_continuity::SetParams {
             tangent_corners: true,
             ..set
-        };
-        variants.push(turned);
-        if step == Continuity::G2 && set.g2_move_factor < connect_bound {
-            variants.push(g_continuity::SetParams {
-                g2_move_factor: connect_bound,
-                ..turned
-            });
-        }
+        }]
+    } else {
+        Vec::new()
     }
-    variants
 }
