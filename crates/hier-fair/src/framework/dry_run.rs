@@ -4,6 +4,11 @@
 
 use super::*;
 
+/// Relative margin of the dry run's slack test: a variant's larger G2 move bound is skipped
+/// only when every weight the previous run rejected moved more than the bound by more than
+/// this (a few roundings of the move quotient, so the skip stays exact).
+pub const SLACK_ROUNDING: f64 = 1e-12;
+
 /// One continuity step of the dry run ([`Job::dry_step`]): the result, whether it met every
 /// link up to its step, the settings that gave it, and the links' measures on it.
 type StepResult = (
@@ -119,6 +124,15 @@ impl Job<'_> {
             return Ok((next, true, set, report.after));
         }
         for variant in step_variants(set, step) {
+            // a variant that only raises the G2 move bound to below the slack of the run with
+            // the step's own bound would repeat that run bit for bit (the slack is a quotient
+            // of moves, the test a product: the margin keeps a ratio one rounding above the
+            // bound from counting as beyond it)
+            if variant.g2_move_factor > set.g2_move_factor
+                && report.g2_slack > variant.g2_move_factor * (1.0 + SLACK_ROUNDING)
+            {
+                continue;
+            }
             let (other, again) = run(variant)?;
             if meets(&again.after) {
                 return Ok((other, true, variant, again.after));
@@ -243,21 +257,26 @@ impl Job<'_> {
 }
 
 /// The variants of a continuity step that missed with `set`, in the order they are tried: at
-/// G1 the corners' end tangents turned into the neighbouring masters' tangent planes (a corner
-/// normal the C0 fit left off by more than the G1 tolerance, `SetParams::tangent_corners`). At
-/// G2 none: the G2 move bound of `connect` (with and without turned tangents) was two to four
-/// more refined G2 runs per lead-in trial, tried where the staged rows rang at a corner; since
-/// the stages' result is polished jointly there ([`Job::joint_polish`]) they met no link more on
-/// the 25 kernel models measured (the six, twelve variants, seven more of the same kinds, per
-/// role and by default) and cost 13 % of the lofted block's time and 15–30 % of the
-/// variable-radius box's (docs/benchmarks.md).
+/// G2 the move bound of `connect`, which exact joins of constructed pairs need (a vertex blend
+/// between faired fillets); at G1 the corners' end tangents turned into the neighbouring
+/// masters' tangent planes (a corner normal the C0 fit left off by more than the G1 tolerance,
+/// `SetParams::tangent_corners`). The turned tangents are not tried at G2 (with and without
+/// `connect`'s bound they were two more refined G2 runs per lead-in trial where a link missed
+/// G1 in the G2 step): since the stages' result is polished jointly where a G2 link is missed
+/// ([`Job::joint_polish`]) they met no link more on the 25 kernel models measured (the six,
+/// twelve variants, seven more of the same kinds, per role and by default), at 5–10 % of the
+/// lofted block's time (docs/benchmarks.md).
 fn step_variants(set: g_continuity::SetParams, step: Continuity) -> Vec<g_continuity::SetParams> {
-    if step == Continuity::G1 && !set.tangent_corners {
-        vec![g_continuity::SetParams {
+    let connect_bound = g_continuity::SetParams::default().g2_move_factor;
+    match step {
+        Continuity::G2 if set.g2_move_factor < connect_bound => vec![g_continuity::SetParams {
+            g2_move_factor: connect_bound,
+            ..set
+        }],
+        Continuity::G1 if !set.tangent_corners => vec![g_continuity::SetParams {
             tangent_corners: true,
             ..set
-        }]
-    } else {
-        Vec::new()
+        }],
+        _ => Vec::new(),
     }
 }

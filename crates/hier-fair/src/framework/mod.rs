@@ -71,7 +71,9 @@ mod stages;
 mod vertex;
 
 pub use budget::{DEVIATION_SAFETY, DeviationBudget, GROUP_SHARE, LEAD_IN_SHARE, MASTER_SHARE};
-pub use dry_run::{LEAD_IN_MARGIN, LEAD_IN_MAX_NARROWING, LEAD_IN_TRIALS, MIN_LEAD_IN};
+pub use dry_run::{
+    LEAD_IN_MARGIN, LEAD_IN_MAX_NARROWING, LEAD_IN_TRIALS, MIN_LEAD_IN, SLACK_ROUNDING,
+};
 pub use group::GroupFair;
 use group::group_stage;
 pub use growth::worse_than;
@@ -93,11 +95,11 @@ pub use seams::LINKED_SEAM_FRACTION;
 /// framework a fairing stage follows every continuity step within a shrinking deviation budget,
 /// and a move the paper's system did not need is deviation that stage no longer has — so the
 /// framework takes nothing beyond the paper's own solution's largest move. `connect`, which no
-/// fairing follows, allows 2×. Measured: on the fixtures 1× met as many links as 2× with every
-/// slave's energy below its start (X-node fillet_s 18.31 → 17.74 instead of → 18.52). A vertex
-/// blend between three faired fillets missed next to its pole at 1× (box12_r5: curvature 2e-4
-/// off, 2e-5 at 2×), for which the dry run used to retry with 2×; the joint polish of the
-/// stages' result (`polish.rs`) now sets such corners, and the retry met no link more.
+/// fairing follows, allows 2×. Where G2 is missed with this bound, the dry run tries
+/// `connect`'s before calling the link a conflict. Measured: on the fixtures 1× met as many
+/// links as 2× with every slave's energy below its start (X-node fillet_s 18.31 → 17.74 instead
+/// of → 18.52); a vertex blend between three faired fillets needs 2× next to its pole
+/// (box12_r5: curvature 2e-4 off at 1×, 2e-5 at 2×), which the dry run's retry gives it.
 pub const FRAMEWORK_G2_MOVE_FACTOR: f64 = 1.0;
 
 /// Share of the G1/G2 tolerances the patches of an n-sided corner group aim at when their
