@@ -189,7 +189,9 @@ fn residuals(
 
 /// The points that move: rows 0..=r of every whole linked side (r the row of its target), less
 /// the points on the boundary of a side no whole link covers (an unlinked, partially linked or
-/// collapsed side keeps its boundary), the blocks of degenerate corners, and at a corner the C0
+/// collapsed side keeps its boundary), rows 0 and 1 of a side the settings keep
+/// ([`SetParams::kept_sides`]: shared with a surface no link covers), the blocks of degenerate
+/// corners, and at a corner the C0
 /// rows turned onto a contact line ([`SetParams::contact_lines`]) the corner and the row's
 /// second point: the direction the boundary leaves the corner in is a condition of third order
 /// that no residual here carries, and next to a corner the knots may be hundredths of a
@@ -197,6 +199,7 @@ fn residuals(
 /// Returns the column block of each control index.
 ///
 /// [`SetParams::contact_lines`]: crate::SetParams::contact_lines
+/// [`SetParams::kept_sides`]: crate::SetParams::kept_sides
 fn unknowns(
     slave: &BSplineSurface,
     links: &[SideLink],
@@ -209,8 +212,15 @@ fn unknowns(
             .any(|l| l.side == s && l.range.is_none() && !is_collapsed(slave, s))
     };
     let mut kept: Vec<(usize, usize)> = degenerate_corner_blocks(slave);
-    for s in Side::ALL.into_iter().filter(|&s| !whole(s)) {
-        kept.extend(s.row(0, nu, nv));
+    for (k, s) in Side::ALL.into_iter().enumerate() {
+        if !whole(s) {
+            kept.extend(s.row(0, nu, nv));
+        }
+        // a side shared with a surface no link covers keeps its tangential frame
+        if params.set.kept_sides[k] {
+            kept.extend(s.row(0, nu, nv));
+            kept.extend(s.row(1, nu, nv));
+        }
     }
     for (k, s) in Side::ALL.into_iter().enumerate().filter(|&(_, s)| whole(s)) {
         let row = s.row(0, nu, nv);

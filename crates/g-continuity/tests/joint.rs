@@ -162,6 +162,36 @@ fn no_point_moves_beyond_the_bound() {
     assert!(nurbs_core::energy::max_deviation(&disturbed, &out, 21) <= bound);
 }
 
+/// A side shared with a surface no link covers (`SetParams::kept_sides`) keeps its tangential
+/// frame: with U0 unlinked and kept, its rows 0 and 1 stay bit-identical, corners included,
+/// while the three linked sides are set.
+#[test]
+fn a_kept_side_keeps_its_frame() {
+    let (centre, masters) = torus_pieces();
+    let links: Vec<SideLink> = links(&masters).into_iter().skip(1).collect();
+    let mut p = ConnectParams::default();
+    p.set.kept_sides[0] = true;
+    // the linked sides' frames disturbed, the kept side's exact (it is the other surface's
+    // join, which no step here may change)
+    let mut disturbed = perturb_frames(&centre, 11, 2e-4);
+    let (nu, nv) = (centre.num_u(), centre.num_v());
+    let frame: Vec<(usize, usize)> = Side::U0
+        .row(0, nu, nv)
+        .into_iter()
+        .chain(Side::U0.row(1, nu, nv))
+        .collect();
+    for &(i, j) in &frame {
+        let idx = disturbed.index(i, j);
+        disturbed.control_points_mut()[idx] = centre.control_point(i, j);
+    }
+    let (out, report) = polish_joint(&disturbed, &links, &p, 1.0).unwrap();
+    assert!(report.iterations > 0, "{report:?}");
+    assert!(all_met(&out, &links, &p), "{report:?}");
+    for &(i, j) in &frame {
+        assert_eq!(out.control_point(i, j), centre.control_point(i, j));
+    }
+}
+
 #[test]
 fn bad_settings_are_errors() {
     let (centre, masters) = torus_pieces();

@@ -60,14 +60,19 @@ impl Job<'_> {
     /// The stages' result `surface`, polished where [`Self::polished`] keeps it (the links
     /// judged by the model's tolerances, the deviation within what the fairing stages plan
     /// with, [`DeviationBudget::fairing`]: a master's half, so its slaves keep theirs).
+    /// Never worse than the input either ([`Job::worse_link`], which judges every figure of
+    /// each link against the input's, not only against the stages' result).
     pub(super) fn joint_polish(&self, surface: BSplineSurface) -> BSplineSurface {
-        let links: Vec<SideLink> = self.links().into_iter().map(|(_, l)| l).collect();
+        let labelled = self.links();
+        let links: Vec<SideLink> = labelled.iter().map(|(_, l)| *l).collect();
         let params = ConnectParams {
             tolerances: self.connect.tolerances,
             ..self.set_params()
         };
         let budget = self.params.budget.fairing(self.tolerance, self.is_master());
-        self.polished(&surface, &links, &params, budget)
-            .unwrap_or(surface)
+        match self.polished(&surface, &links, &params, budget) {
+            Some(p) if self.worse_link(&labelled, &p).is_none() => p,
+            _ => surface,
+        }
     }
 }
