@@ -191,12 +191,11 @@ fn residuals(
 /// the points on the boundary of a side no whole link covers (an unlinked, partially linked or
 /// collapsed side keeps its boundary), rows 0 and 1 of a side the settings keep
 /// ([`SetParams::kept_sides`]: shared with a surface no link covers), the blocks of degenerate
-/// corners, and at a corner the C0
-/// rows turned onto a contact line ([`SetParams::contact_lines`]) the corner and the row's
-/// second point: the direction the boundary leaves the corner in is a condition of third order
-/// that no residual here carries, and next to a corner the knots may be hundredths of a
-/// millimetre apart, so that a move far inside the G0 tolerance would turn it by degrees.
-/// Returns the column block of each control index.
+/// corners, and at a corner the C0 rows turned onto a contact line
+/// ([`SetParams::contact_lines`]) the corner and the row's second point: the direction the
+/// boundary leaves the corner in is a condition of third order that no residual here carries,
+/// and next to a corner the knots may be hundredths of a millimetre apart, so that a move far
+/// inside the G0 tolerance would turn it by degrees. Returns each control index's column block.
 ///
 /// [`SetParams::contact_lines`]: crate::SetParams::contact_lines
 /// [`SetParams::kept_sides`]: crate::SetParams::kept_sides
