@@ -313,10 +313,11 @@ const NUGGET: f64 = 1e-14;
 struct Problem<'a> {
     links: &'a [SideLink<'a>],
     samples: Vec<Sample>,
-    /// per control index (`slave.index`), its column block
-    column: Vec<Option<usize>>,
     /// the moving points in column order
     points: Vec<(usize, usize)>,
+    /// per sample, the moving points its basis reaches with their values and derivatives
+    /// ([`sample_basis`]: they depend on the knots and weights only, so they are found once)
+    basis: Vec<Vec<(usize, [f64; FIELDS])>>,
     units: Units,
 }
 
@@ -330,13 +331,6 @@ struct Pattern {
 
 fn dot(a: &[f64; RES], b: &[f64]) -> f64 {
     a.iter().zip(b).map(|(x, y)| x * y).sum()
-}
-
-/// Whether basis function `q` of `sb` reaches the residuals at its parameter: some value or
-/// derivative of it is not zero (at a clamped boundary the functions of rows beyond 2 and all
-/// their derivatives up to order 2 vanish exactly).
-fn reaches(sb: &SurfaceBasis, q: usize) -> bool {
-    coefficients(sb, q).iter().any(|&x| x != 0.0)
 }
 
 /// The value and derivatives of basis function `q` of `sb`, in the order of [`field`].
@@ -400,30 +394,14 @@ impl Problem<'_> {
         g
     }
 
-    /// One sample's Jacobian on `s`: per moving point its basis reaches (coefficients not all
-    /// zero), its column block and the rows of its three coordinates — the chain of
+    /// One sample's Jacobian (sample `k`, slave derivatives `ds`): per moving point its basis
+    /// reaches, its column block and the rows of its three coordinates — the chain of
     /// [`Self::gradient`] and the basis functions' derivatives (a point moved by δ moves S_kl
     /// by R_ij,kl δ).
-    fn jacobian(
-        &self,
-        s: &BSplineSurface,
-        sm: &Sample,
-        ds: &SurfaceDerivatives,
-        sb: &SurfaceBasis,
-        out: &mut Vec<(usize, [[f64; RES]; 3])>,
-    ) {
-        let g = self.gradient(ds, sm);
+    fn jacobian(&self, k: usize, ds: &SurfaceDerivatives, out: &mut Vec<(usize, [[f64; RES]; 3])>) {
+        let g = self.gradient(ds, &self.samples[k]);
         out.clear();
-        // (the points listed here must be those of [`Self::sample_points`], in the same order)
-        for q in 0..sb.len() {
-            let (i, j) = sb.control_index(q);
-            let Some(c) = self.column[s.index(i, j)] else {
-                continue;
-            };
-            if !reaches(sb, q) {
-                continue;
-            }
-            let coef = coefficients(sb, q);
+        for &(c, coef) in &self.basis[k] {
             let mut rows = [[0.0; RES]; 3];
             for (d, row) in rows.iter_mut().enumerate() {
                 for (f, &cf) in coef.iter().enumerate() {
@@ -436,30 +414,15 @@ impl Problem<'_> {
         }
     }
 
-    /// Every sample's moving points as [`Self::jacobian`] lists them, evaluated on `s`.
-    fn sample_points(&self, s: &BSplineSurface) -> Vec<Vec<usize>> {
-        let mut basis_eval = SurfaceBasisEvaluator::new(s);
-        let mut sb = SurfaceBasis::new(s);
-        self.samples
-            .iter()
-            .map(|sm| {
-                basis_eval.eval(sm.u, sm.v, &mut sb);
-                (0..sb.len())
-                    .filter_map(|q| {
-                        let (i, j) = sb.control_index(q);
-                        let c = self.column[s.index(i, j)]?;
-                        reaches(&sb, q).then_some(c)
-                    })
-                    .collect()
-            })
-            .collect()
-    }
-
     /// The block pattern of JᵀJ: the point pairs (a ≥ b) some sample couples, sorted, and per
     /// sample the slot of each of its pairs in the order [`Self::normal_equations`] visits them.
     /// The pattern depends on the knots only, so it is found once.
-    fn pattern(&self, s: &BSplineSurface) -> Pattern {
-        let points = self.sample_points(s);
+    fn pattern(&self) -> Pattern {
+        let points: Vec<Vec<usize>> = self
+            .basis
+            .iter()
+            .map(|b| b.iter().map(|&(c, _)| c).collect())
+            .collect();
         let mut keys: Vec<(usize, usize)> = points
             .iter()
             .flat_map(|p| {
@@ -497,15 +460,12 @@ impl Problem<'_> {
         pattern: &Pattern,
     ) -> (Vec<[[f64; 3]; 3]>, Vec<f64>) {
         let mut eval = s.evaluator();
-        let mut basis_eval = SurfaceBasisEvaluator::new(s);
-        let mut sb = SurfaceBasis::new(s);
         let mut jac = Vec::new();
         let mut blocks = vec![[[0.0; 3]; 3]; pattern.keys.len()];
         let mut jtr = vec![0.0; 3 * self.points.len()];
         for (k, (sm, slots)) in self.samples.iter().zip(&pattern.slots).enumerate() {
             let ds = eval.derivatives(sm.u, sm.v);
-            basis_eval.eval(sm.u, sm.v, &mut sb);
-            self.jacobian(s, sm, &ds, &sb, &mut jac);
+            self.jacobian(k, &ds, &mut jac);
             let rk = &r[RES * k..RES * (k + 1)];
             let mut slot = slots.iter();
             for (a, (ca, ja)) in jac.iter().enumerate() {
@@ -576,6 +536,33 @@ impl Problem<'_> {
     }
 }
 
+/// Per sample, the moving points (`column`: per control index its column block) whose basis
+/// function reaches it — some value or derivative up to order 2 not zero (at a clamped
+/// boundary the functions of rows beyond 2 vanish exactly with their derivatives) — with those
+/// values and derivatives ([`coefficients`]).
+fn sample_basis(
+    slave: &BSplineSurface,
+    samples: &[Sample],
+    column: &[Option<usize>],
+) -> Vec<Vec<(usize, [f64; FIELDS])>> {
+    let mut basis_eval = SurfaceBasisEvaluator::new(slave);
+    let mut sb = SurfaceBasis::new(slave);
+    samples
+        .iter()
+        .map(|sm| {
+            basis_eval.eval(sm.u, sm.v, &mut sb);
+            (0..sb.len())
+                .filter_map(|q| {
+                    let (i, j) = sb.control_index(q);
+                    let c = column[slave.index(i, j)]?;
+                    let coef = coefficients(&sb, q);
+                    coef.iter().any(|&x| x != 0.0).then_some((c, coef))
+                })
+                .collect()
+        })
+        .collect()
+}
+
 impl<'a> Problem<'a> {
     /// The problem of `slave` and `links`: the moving points ([`unknowns`]), the samples
     /// ([`samples`]) and the tolerance units of `params`; an error for a tolerance that is not
@@ -606,10 +593,12 @@ impl<'a> Problem<'a> {
             column[slave.index(i, j)] = Some(c);
             points[c] = (i, j);
         }
+        let samples = samples(slave, links, params);
+        let basis = sample_basis(slave, &samples, &column);
         Ok(Problem {
             links,
-            samples: samples(slave, links, params),
-            column,
+            samples,
+            basis,
             points,
             units: Units {
                 g0: t.g0,
@@ -661,7 +650,7 @@ pub fn polish_joint(
         worst_before: worst(&r),
         ..JointReport::default()
     };
-    let pattern = problem.pattern(&s);
+    let pattern = problem.pattern();
     // each moving point's displacement from `slave`
     let mut offset = vec![0.0; 3 * problem.points.len()];
     let mut lambda = DAMPING_START;
