@@ -7,29 +7,8 @@ use hier_fair::framework::{MAX_NET, net_bound, worse_than};
 use hier_fair::{FairModelReport, FairParams, Model, ProblemKind, Role, RoleMethods, fair_model};
 use nurbs_core::Continuity;
 
-/// The kernel models, as the directory's `index.json` lists them (one list for every test and
-/// `cargo xtask regress`).
-fn models() -> Vec<String> {
-    let path =
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/occt/index.json");
-    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    let index: Vec<serde_json::Value> = serde_json::from_str(&text).unwrap();
-    let names: Vec<String> = index
-        .iter()
-        .map(|m| m["name"].as_str().expect("a name per model").to_string())
-        .collect();
-    assert!(names.len() >= 6, "{names:?}");
-    names
-}
-
-fn model(name: &str) -> Option<Model> {
-    // the models are part of the repository: a missing one is a failure, never a skip
-    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../../fixtures/occt")
-        .join(format!("{name}.json"));
-    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
-    Some(Model::from_json(&text).unwrap())
-}
+mod common;
+use common::{model, models};
 
 /// `name` faired with the default methods and tolerances, once per test binary: the tests that
 /// read the default result share it (each kernel model takes seconds to fair; the tests run in

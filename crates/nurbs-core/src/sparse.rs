@@ -179,6 +179,20 @@ impl SparseSpd {
         y
     }
 
+    /// The matrix with every diagonal entry a_ii of its pattern replaced by f(a_ii) (a damped
+    /// system from its undamped one, without assembling again).
+    pub fn map_diagonal(&self, f: impl Fn(f64) -> f64) -> SparseSpd {
+        let mut out = self.clone();
+        for c in 0..self.n {
+            for k in self.col_ptr[c]..self.col_ptr[c + 1] {
+                if self.row_idx[k] == c {
+                    out.values[k] = f(self.values[k]);
+                }
+            }
+        }
+        out
+    }
+
     /// Solves A X = B by sparse Cholesky; a matrix that is not positive definite is
     /// [`Error::SingularSystem`].
     pub fn solve(&self, rhs: &DMatrix<f64>, solver: SpdSolver) -> Result<DMatrix<f64>> {
@@ -248,14 +262,16 @@ impl SparseSpd {
         ordering: FillOrdering,
         custom: Option<(&[usize], &[usize])>,
     ) -> Result<DMatrix<f64>> {
-        use faer::dyn_stack::{MemBuffer, MemStack};
-        use faer::sparse::linalg::cholesky::{SymmetricOrdering, factorize_symbolic_cholesky};
-        use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-        let fail = |what: &str, e: String| Error::SingularSystem {
-            reason: format!("{what}: {e}"),
-        };
+        let (col_ptr, row_idx, values) = self.upper();
+        let symbolic = symbolic_cholesky(self.n, &col_ptr, &row_idx, ordering, custom)?;
+        numeric_solve(&symbolic, (&col_ptr, &row_idx, &values), rhs)
+    }
+
+    /// The upper triangle (rows ≤ column, a prefix of every sorted column) in compressed
+    /// columns: faer's input.
+    #[cfg(feature = "faer")]
+    fn upper(&self) -> (Vec<usize>, Vec<usize>, Vec<f64>) {
         let n = self.n;
-        // the upper triangle: rows ≤ column, a prefix of every sorted column
         let mut col_ptr = Vec::with_capacity(n + 1);
         let mut row_idx = Vec::with_capacity(self.row_idx.len() / 2 + n);
         let mut values = Vec::with_capacity(self.row_idx.len() / 2 + n);
@@ -269,42 +285,136 @@ impl SparseSpd {
             }
             col_ptr.push(row_idx.len());
         }
-        let pattern = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
-        let upper = SparseColMatRef::new(pattern, &values);
-        let order = match (custom, ordering) {
-            (Some((fwd, inv)), _) => {
-                SymmetricOrdering::Custom(faer::perm::PermRef::new_checked(fwd, inv, n))
-            }
-            (None, FillOrdering::Natural) => SymmetricOrdering::Identity,
-            (None, FillOrdering::Amd | FillOrdering::NestedDissection) => SymmetricOrdering::Amd,
-        };
-        let symbolic =
-            factorize_symbolic_cholesky(pattern, faer::Side::Upper, order, Default::default())
-                .map_err(|e| fail("symbolic factorization", format!("{e:?}")))?;
-        let par = faer::Par::Seq;
-        let mut factor = vec![0.0; symbolic.len_val()];
-        let mut buffer = MemBuffer::try_new(
-            symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
-        )
-        .map_err(|e| fail("memory", format!("{e:?}")))?;
-        let llt = symbolic
-            .factorize_numeric_llt::<f64>(
-                &mut factor,
-                upper,
-                faer::Side::Upper,
-                Default::default(),
-                par,
-                MemStack::new(&mut buffer),
-                Default::default(),
-            )
-            .map_err(|e| fail("matrix is not positive definite", format!("{e:?}")))?;
-        let mut b = faer::Mat::<f64>::from_fn(n, rhs.ncols(), |i, j| rhs[(i, j)]);
-        let mut buffer =
-            MemBuffer::try_new(symbolic.solve_in_place_scratch::<f64>(rhs.ncols(), par))
-                .map_err(|e| fail("memory", format!("{e:?}")))?;
-        llt.solve_in_place_with_conj(faer::Conj::No, b.as_mut(), par, MemStack::new(&mut buffer));
-        Ok(DMatrix::from_fn(n, rhs.ncols(), |i, j| b[(i, j)]))
+        (col_ptr, row_idx, values)
     }
+}
+
+/// A sparse Cholesky's symbolic part — the fill-reducing order and the factor's structure —
+/// found once for a sparsity pattern and reused for every matrix of that pattern (a damped
+/// Gauss–Newton method solves one system of the same pattern per damping it tries). Solving
+/// with it gives the same result, bit for bit, as [`SparseSpd::solve`] with the same ordering:
+/// the ordering depends on the pattern only.
+#[cfg(feature = "faer")]
+pub struct SpdSymbolic {
+    n: usize,
+    /// the full pattern (both triangles) of the matrices it serves
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    /// its upper triangle, faer's input
+    upper_col_ptr: Vec<usize>,
+    upper_row_idx: Vec<usize>,
+    symbolic: faer::sparse::linalg::cholesky::SymbolicCholesky<usize>,
+}
+
+#[cfg(feature = "faer")]
+impl SpdSymbolic {
+    /// The symbolic factorization of `a`'s pattern with `ordering` ([`FillOrdering::NestedDissection`]
+    /// takes AMD, as [`SparseSpd::solve`] does).
+    pub fn new(a: &SparseSpd, ordering: FillOrdering) -> Result<Self> {
+        let (upper_col_ptr, upper_row_idx, _) = a.upper();
+        let symbolic = symbolic_cholesky(a.n, &upper_col_ptr, &upper_row_idx, ordering, None)?;
+        Ok(Self {
+            n: a.n,
+            col_ptr: a.col_ptr.clone(),
+            row_idx: a.row_idx.clone(),
+            upper_col_ptr,
+            upper_row_idx,
+            symbolic,
+        })
+    }
+
+    /// Whether `a` has the pattern this was made for.
+    pub fn fits(&self, a: &SparseSpd) -> bool {
+        a.n == self.n && a.col_ptr == self.col_ptr && a.row_idx == self.row_idx
+    }
+
+    /// Solves A X = B for a matrix of this pattern; another pattern is
+    /// [`Error::ControlNetShape`], a matrix that is not positive definite
+    /// [`Error::SingularSystem`].
+    pub fn solve(&self, a: &SparseSpd, rhs: &DMatrix<f64>) -> Result<DMatrix<f64>> {
+        if !self.fits(a) {
+            return Err(Error::ControlNetShape {
+                detail: "the matrix's sparsity pattern is not the factorization's".to_string(),
+            });
+        }
+        if rhs.nrows() != self.n {
+            return Err(Error::LengthMismatch {
+                what: "right-hand side rows vs matrix size",
+                left: rhs.nrows(),
+                right: self.n,
+            });
+        }
+        let (_, _, values) = a.upper();
+        numeric_solve(
+            &self.symbolic,
+            (&self.upper_col_ptr, &self.upper_row_idx, &values),
+            rhs,
+        )
+    }
+}
+
+/// faer's symbolic Cholesky of the upper-triangle pattern (`col_ptr`, `row_idx`).
+#[cfg(feature = "faer")]
+fn symbolic_cholesky(
+    n: usize,
+    col_ptr: &[usize],
+    row_idx: &[usize],
+    ordering: FillOrdering,
+    custom: Option<(&[usize], &[usize])>,
+) -> Result<faer::sparse::linalg::cholesky::SymbolicCholesky<usize>> {
+    use faer::sparse::SymbolicSparseColMatRef;
+    use faer::sparse::linalg::cholesky::{SymmetricOrdering, factorize_symbolic_cholesky};
+    let pattern = SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, row_idx);
+    let order = match (custom, ordering) {
+        (Some((fwd, inv)), _) => {
+            SymmetricOrdering::Custom(faer::perm::PermRef::new_checked(fwd, inv, n))
+        }
+        (None, FillOrdering::Natural) => SymmetricOrdering::Identity,
+        (None, FillOrdering::Amd | FillOrdering::NestedDissection) => SymmetricOrdering::Amd,
+    };
+    factorize_symbolic_cholesky(pattern, faer::Side::Upper, order, Default::default()).map_err(
+        |e| Error::SingularSystem {
+            reason: format!("symbolic factorization: {e:?}"),
+        },
+    )
+}
+
+/// The numeric Cholesky of the upper triangle `upper` on `symbolic`, and A X = B solved with it.
+#[cfg(feature = "faer")]
+fn numeric_solve(
+    symbolic: &faer::sparse::linalg::cholesky::SymbolicCholesky<usize>,
+    (col_ptr, row_idx, values): (&[usize], &[usize], &[f64]),
+    rhs: &DMatrix<f64>,
+) -> Result<DMatrix<f64>> {
+    use faer::dyn_stack::{MemBuffer, MemStack};
+    use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+    let fail = |what: &str, e: String| Error::SingularSystem {
+        reason: format!("{what}: {e}"),
+    };
+    let n = rhs.nrows();
+    let pattern = SymbolicSparseColMatRef::new_checked(n, n, col_ptr, None, row_idx);
+    let upper = SparseColMatRef::new(pattern, values);
+    let par = faer::Par::Seq;
+    let mut factor = vec![0.0; symbolic.len_val()];
+    let mut buffer =
+        MemBuffer::try_new(symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()))
+            .map_err(|e| fail("memory", format!("{e:?}")))?;
+    let llt = symbolic
+        .factorize_numeric_llt::<f64>(
+            &mut factor,
+            upper,
+            faer::Side::Upper,
+            Default::default(),
+            par,
+            MemStack::new(&mut buffer),
+            Default::default(),
+        )
+        .map_err(|e| fail("matrix is not positive definite", format!("{e:?}")))?;
+    let mut b = faer::Mat::<f64>::from_fn(n, rhs.ncols(), |i, j| rhs[(i, j)]);
+    let mut buffer = MemBuffer::try_new(symbolic.solve_in_place_scratch::<f64>(rhs.ncols(), par))
+        .map_err(|e| fail("memory", format!("{e:?}")))?;
+    llt.solve_in_place_with_conj(faer::Conj::No, b.as_mut(), par, MemStack::new(&mut buffer));
+    Ok(DMatrix::from_fn(n, rhs.ncols(), |i, j| b[(i, j)]))
 }
 
 /// Subsets of at most this many unknowns are not dissected further.
@@ -491,6 +601,47 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// One symbolic factorization serves every matrix of its pattern, with the results of a
+    /// fresh solve bit for bit; another pattern is refused; `map_diagonal` keeps the pattern.
+    #[cfg(feature = "faer")]
+    #[test]
+    fn a_symbolic_factorization_is_reused_for_its_pattern() {
+        let n = 40;
+        let rhs = DMatrix::from_fn(n, 1, |i, _| (i as f64 * 0.37).sin());
+        let shifted = |shift: f64| {
+            let mut t = Vec::new();
+            for i in 0..n {
+                t.push((i, i, 2.0 + shift + 0.01 * i as f64));
+                for j in [i + 1, i + 7].into_iter().filter(|&j| j < n) {
+                    t.push((i, j, -0.5));
+                    t.push((j, i, -0.5));
+                }
+            }
+            SparseSpd::from_triplets(n, &t).unwrap()
+        };
+        let first = shifted(0.0);
+        let symbolic = SpdSymbolic::new(&first, FillOrdering::Amd).unwrap();
+        for shift in [0.0, 0.3, 5.0] {
+            let a = shifted(shift);
+            assert!(symbolic.fits(&a));
+            let fresh = a.solve(&rhs, SpdSolver::Faer(FillOrdering::Amd)).unwrap();
+            assert_eq!(symbolic.solve(&a, &rhs).unwrap(), fresh, "shift {shift}");
+        }
+        // the damped matrix from the undamped one, without assembling again
+        assert_eq!(first.map_diagonal(|v| v + 0.3), shifted(0.3));
+        let other = laplacian_1d(n);
+        assert!(!symbolic.fits(&other));
+        assert!(matches!(
+            symbolic.solve(&other, &rhs),
+            Err(Error::ControlNetShape { .. })
+        ));
+        // not positive definite: an error, not a panic
+        assert!(matches!(
+            symbolic.solve(&shifted(-10.0), &rhs),
+            Err(Error::SingularSystem { .. })
+        ));
     }
 
     #[cfg(feature = "faer")]

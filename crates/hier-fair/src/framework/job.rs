@@ -57,7 +57,7 @@ impl Job<'_> {
         let mut problems = Vec::new();
         let mut missed = Vec::new();
         let (surface, stages, processed) = match self.stages(original, &mut problems, &mut missed) {
-            Ok((s, stages)) => (self.joint_polish(s), stages, true),
+            Ok((s, stages)) => (s, stages, true),
             Err(message) => {
                 problems.push(Problem {
                     kind: ProblemKind::Failed,

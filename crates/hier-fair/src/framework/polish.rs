@@ -1,9 +1,12 @@
 //! The joint polish of a surface's frames ([`g_continuity::joint`]): where the stages' result
 //! misses a G2 link, every link's conditions are solved at once over the rows the links own,
-//! and the result is kept only where it is better. (Polishing the dry run's G2 step and the
+//! and the result is kept only where it is better; where links are still missed, the
+//! continuity setting is polished instead and then faired keeping G2
+//! ([`Job::polished_stages`]). (Polishing the dry run's G2 step in every lead-in trial and the
 //! stages' G2 set step as well met one more link of the six kernel models, at 2–4 s more on
 //! the lofted block and the variable-radius box: docs/benchmarks.md.)
 
+use super::stages::StagePlan;
 use super::*;
 
 impl Job<'_> {
@@ -75,4 +78,86 @@ impl Job<'_> {
             _ => surface,
         }
     }
+
+    /// The links of this surface that `surface` meets by the model's tolerances.
+    pub(super) fn met_links(&self, links: &[SideLink<'_>], surface: &BSplineSurface) -> usize {
+        let t = &self.connect.tolerances;
+        links
+            .iter()
+            .filter(|l| {
+                l.measure(surface, &self.connect.measure)
+                    .is_ok_and(|m| m.meets(l.target, t.g0, t.g1_deg, t.g2_rel))
+            })
+            .count()
+    }
+
+    /// The stages' result `s` polished ([`Self::joint_polish`]); where it still misses a link
+    /// and the plan reached G2, also the other order: the continuity setting polished first,
+    /// then faired once keeping G2 ([`Job::faired_once`]; its rows at every G2 side are fixed, so
+    /// the fairing keeps what the polish met). The stages' fairing moves the frames the polish
+    /// starts from by up to the fairing budget, which on a vertex blend with a degenerate
+    /// corner can leave a state the polish does not bring back, while the setting's frames,
+    /// the ones the dry run measured, are within reach. The other order is taken only when it
+    /// meets more links, is no worse than the input and stays within the tolerance.
+    pub(super) fn polished_stages(
+        &self,
+        plan: &StagePlan<'_>,
+        original: &BSplineSurface,
+        s: BSplineSurface,
+        stages: Vec<StageReport>,
+        problems: &mut Vec<Problem>,
+    ) -> (BSplineSurface, Vec<StageReport>) {
+        // the polish sees only the rows the links own: a result that kept the setting's rows
+        // (the setting faired once keeping G2) would be polished the same way again
+        let same_frames = same_frames(&s, &plan.connected, plan.links);
+        let s = self.joint_polish(s);
+        let met = self.met_links(plan.links, &s);
+        if plan.highest != Some(Continuity::G2) || met == plan.links.len() || same_frames {
+            return (s, stages);
+        }
+        let polished = self.joint_polish(plan.connected.clone());
+        if self.met_links(plan.links, &polished) <= met {
+            return (s, stages);
+        }
+        let other = StagePlan {
+            connected: polished,
+            master_sides: plan.master_sides.clone(),
+            prepared: plan.prepared.clone(),
+            ..*plan
+        };
+        let Some(prepare) = stages.first() else {
+            return (s, stages);
+        };
+        let Some((faired, once)) = self.faired_once(&other, original, prepare) else {
+            return (s, stages);
+        };
+        if self.met_links(plan.links, &faired) <= met
+            || self.worse_link(plan.labelled, &faired).is_some()
+        {
+            return (s, stages);
+        }
+        self.limited(
+            problems,
+            "the continuity setting was polished and then faired once keeping G2: the stages' result missed links the polish could not bring back".to_string(),
+            None,
+        );
+        (faired, once)
+    }
+}
+
+/// Whether `a` and `b` have the same knots and weights and the same control points in rows
+/// 0..=r of every side of `links` (r: the row of the link's target, [`g_continuity::rows::row_of`]).
+fn same_frames(a: &BSplineSurface, b: &BSplineSurface, links: &[SideLink<'_>]) -> bool {
+    let (nu, nv) = (a.num_u(), a.num_v());
+    a.knots_u() == b.knots_u()
+        && a.knots_v() == b.knots_v()
+        && a.weights() == b.weights()
+        && links.iter().all(|l| {
+            (0..=g_continuity::rows::row_of(l.target)).all(|k| {
+                l.side
+                    .row(k, nu, nv)
+                    .into_iter()
+                    .all(|(i, j)| a.control_points()[i * nv + j] == b.control_points()[i * nv + j])
+            })
+        })
 }

@@ -5,23 +5,23 @@
 use super::*;
 
 /// What the stages of one surface work from, after the dry run.
-struct StagePlan<'a> {
+pub(super) struct StagePlan<'a> {
     /// the surface's links with their model indices
-    labelled: &'a [(usize, SideLink<'a>)],
+    pub(super) labelled: &'a [(usize, SideLink<'a>)],
     /// the same links
-    links: &'a [SideLink<'a>],
+    pub(super) links: &'a [SideLink<'a>],
     /// sides along which a slave hangs on this surface ([`MASTER_FRAME`] kept)
-    master_sides: Vec<Side>,
+    pub(super) master_sides: Vec<Side>,
     /// the deviation the fairing stages may plan with ([`DEVIATION_SAFETY`], [`MASTER_SHARE`])
-    budget: f64,
+    pub(super) budget: f64,
     /// the highest level the tolerance allows (`None`: not even C0)
-    highest: Option<Continuity>,
+    pub(super) highest: Option<Continuity>,
     /// the highest target of the links (`None`: no links)
-    top: Option<Continuity>,
+    pub(super) top: Option<Continuity>,
     /// the prepared surface, with the dry run's knots
-    prepared: BSplineSurface,
+    pub(super) prepared: BSplineSurface,
     /// the dry run's result at `highest`
-    connected: BSplineSurface,
+    pub(super) connected: BSplineSurface,
 }
 
 impl StagePlan<'_> {
@@ -68,8 +68,9 @@ impl Job<'_> {
             .and_then(|h| dry.steps.iter().find(|(c, _, _)| *c == h))
             .map_or_else(|| prepared.clone(), |(_, s, _)| s.clone());
         if top.is_some() && highest.is_none() {
-            // not even C0 fits within the tolerance: keep the input
-            return Ok((self.start.clone(), run.stages));
+            // not even C0 fits within the tolerance: keep the input (polished where that is
+            // better, [`Job::joint_polish`])
+            return Ok((self.joint_polish(self.start.clone()), run.stages));
         }
         let prepared = self.with_dry_run_knots(prepared, &connected, highest, &mut run)?;
         let plan = StagePlan {
@@ -83,7 +84,9 @@ impl Job<'_> {
             connected,
         };
         let s = self.run_levels(&plan, prepared, dry.tangent_corners, &mut run, problems)?;
-        Ok(self.never_worse(&plan, s, run, problems))
+        let original = run.original;
+        let (s, stages) = self.never_worse(&plan, s, run, problems);
+        Ok(self.polished_stages(&plan, original, s, stages, problems))
     }
 
     /// Links that do not touch their masters are bad input: the surface is left alone.
@@ -407,7 +410,12 @@ impl Job<'_> {
     }
 
     /// A `limited` problem of this surface.
-    fn limited(&self, problems: &mut Vec<Problem>, message: String, amount: Option<f64>) {
+    pub(super) fn limited(
+        &self,
+        problems: &mut Vec<Problem>,
+        message: String,
+        amount: Option<f64>,
+    ) {
         problems.push(Problem {
             kind: ProblemKind::Limited,
             surface: self.model.surfaces[self.surface].name.clone(),
@@ -420,7 +428,7 @@ impl Job<'_> {
     /// The plan's continuity setting faired once keeping its level, with its stage records
     /// (`prepare` the prepare stage's record), when that stays within the tolerance and loses
     /// no link the setting met.
-    fn faired_once(
+    pub(super) fn faired_once(
         &self,
         plan: &StagePlan<'_>,
         original: &BSplineSurface,

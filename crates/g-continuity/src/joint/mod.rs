@@ -28,8 +28,6 @@
 
 use std::collections::BTreeMap;
 
-use nalgebra::DMatrix;
-use nurbs_core::sparse::{FillOrdering, SparseSpd, SpdSolver};
 use nurbs_core::surface_basis::{SurfaceBasis, SurfaceBasisEvaluator};
 use nurbs_core::{
     BSplineSurface, Continuity, Direction, Point3, Side, SurfaceDerivatives, Vector3,
@@ -41,11 +39,15 @@ use crate::params::ConnectParams;
 use crate::rows::row_of;
 use crate::slave::{SideLink, degenerate_corner_blocks};
 
+mod normal;
+
 /// Most Gauss–Newton iterations of one polish: a bound of work. On kernel vertex blends (four
 /// G2 sides, nets up to 37 × 59) the worst residual fell by about a factor of ten every four
-/// iterations at first and by a few per cent an iteration after twenty; forty leaves room for
-/// that tail at a cost of about one staged G2 round per ten iterations.
-pub const JOINT_ITERATIONS: usize = 40;
+/// iterations at first and by 1–3 % an iteration after twenty; the eighty after those bring a
+/// residual down by another factor of 5–10 (e^(−80·0.02) ≈ 0.2, e^(−80·0.03) ≈ 0.09), what a
+/// blend left at a few times its goal by the first twenty needs. An iteration costs one
+/// numeric factorization per damping tried (the ordering and symbolic factor are found once).
+pub const JOINT_ITERATIONS: usize = 100;
 
 /// Samples inside each knot span along a side, besides the measure's uniform samples
 /// ([`DEFAULT_SAMPLES`]): near a corner the knots may lie a hundredth of a percent of the side
@@ -304,11 +306,6 @@ fn samples(slave: &BSplineSurface, links: &[SideLink], params: &ConnectParams) -
 /// Least damping: below it the damped diagonal differs from the undamped by rounding only.
 const DAMPING_MIN: f64 = 1e-12;
 
-/// Added to every diagonal entry of the normal equations, relative to the largest: keeps the
-/// factorization positive definite where a direction of a point reaches no residual (rounding
-/// against the largest entry, no pull on the solution).
-const NUGGET: f64 = 1e-14;
-
 /// The polish's least-squares problem: the samples, the moving points and the units.
 struct Problem<'a> {
     links: &'a [SideLink<'a>],
@@ -319,18 +316,6 @@ struct Problem<'a> {
     /// ([`sample_basis`]: they depend on the knots and weights only, so they are found once)
     basis: Vec<Vec<(usize, [f64; FIELDS])>>,
     units: Units,
-}
-
-/// The block pattern of JᵀJ ([`Problem::pattern`]).
-struct Pattern {
-    /// the point pairs (a ≥ b), sorted
-    keys: Vec<(usize, usize)>,
-    /// per sample, the slot in `keys` of each pair it couples, in visiting order
-    slots: Vec<Vec<usize>>,
-}
-
-fn dot(a: &[f64; RES], b: &[f64]) -> f64 {
-    a.iter().zip(b).map(|(x, y)| x * y).sum()
 }
 
 /// The value and derivatives of basis function `q` of `sb`, in the order of [`field`].
@@ -412,117 +397,6 @@ impl Problem<'_> {
             }
             out.push((c, rows));
         }
-    }
-
-    /// The block pattern of JᵀJ: the point pairs (a ≥ b) some sample couples, sorted, and per
-    /// sample the slot of each of its pairs in the order [`Self::normal_equations`] visits them.
-    /// The pattern depends on the knots only, so it is found once.
-    fn pattern(&self) -> Pattern {
-        let points: Vec<Vec<usize>> = self
-            .basis
-            .iter()
-            .map(|b| b.iter().map(|&(c, _)| c).collect())
-            .collect();
-        let mut keys: Vec<(usize, usize)> = points
-            .iter()
-            .flat_map(|p| {
-                p.iter().enumerate().flat_map(move |(a, &ca)| {
-                    p[..=a].iter().map(move |&cb| (ca.max(cb), ca.min(cb)))
-                })
-            })
-            .collect();
-        keys.sort_unstable();
-        keys.dedup();
-        let slots = points
-            .iter()
-            .map(|p| {
-                p.iter()
-                    .enumerate()
-                    .flat_map(|(a, &ca)| {
-                        let keys = &keys;
-                        p[..=a].iter().map(move |&cb| {
-                            keys.binary_search(&(ca.max(cb), ca.min(cb))).unwrap_or(0)
-                        })
-                    })
-                    .collect()
-            })
-            .collect();
-        Pattern { keys, slots }
-    }
-
-    /// The normal equations on `s` with residuals `r`: JᵀJ in the 3 × 3 blocks of `pattern`
-    /// (entry [d][e] couples coordinate d of the pair's first point with coordinate e of its
-    /// second), and Jᵀr.
-    fn normal_equations(
-        &self,
-        s: &BSplineSurface,
-        r: &[f64],
-        pattern: &Pattern,
-    ) -> (Vec<[[f64; 3]; 3]>, Vec<f64>) {
-        let mut eval = s.evaluator();
-        let mut jac = Vec::new();
-        let mut blocks = vec![[[0.0; 3]; 3]; pattern.keys.len()];
-        let mut jtr = vec![0.0; 3 * self.points.len()];
-        for (k, (sm, slots)) in self.samples.iter().zip(&pattern.slots).enumerate() {
-            let ds = eval.derivatives(sm.u, sm.v);
-            self.jacobian(k, &ds, &mut jac);
-            let rk = &r[RES * k..RES * (k + 1)];
-            let mut slot = slots.iter();
-            for (a, (ca, ja)) in jac.iter().enumerate() {
-                for d in 0..3 {
-                    jtr[3 * ca + d] += dot(&ja[d], rk);
-                }
-                for (cb, jb) in &jac[..=a] {
-                    let (first, second) = if ca >= cb { (ja, jb) } else { (jb, ja) };
-                    let block = &mut blocks[*slot.next().unwrap_or(&0)];
-                    for (x, row) in block.iter_mut().zip(first) {
-                        for (y, col) in x.iter_mut().zip(second) {
-                            *y += dot(row, col);
-                        }
-                    }
-                }
-            }
-        }
-        (blocks, jtr)
-    }
-
-    /// The damped Gauss–Newton step: (JᵀJ + λ diag(JᵀJ)) δ = −Jᵀr, by sparse Cholesky.
-    fn step(
-        &self,
-        pattern: &Pattern,
-        blocks: &[[[f64; 3]; 3]],
-        jtr: &[f64],
-        lambda: f64,
-    ) -> Result<Vec<f64>> {
-        let n = jtr.len();
-        let big = pattern
-            .keys
-            .iter()
-            .zip(blocks)
-            .filter(|((a, b), _)| a == b)
-            .flat_map(|(_, m)| (0..3).map(move |d| m[d][d]))
-            .fold(0.0f64, f64::max);
-        let mut triplets = Vec::with_capacity(18 * blocks.len());
-        for (&(a, b), m) in pattern.keys.iter().zip(blocks) {
-            for (da, row) in m.iter().enumerate() {
-                for (db, &v) in row.iter().enumerate() {
-                    let (i, j) = (3 * a + da, 3 * b + db);
-                    if i == j {
-                        triplets.push((i, j, v * (1.0 + lambda) + NUGGET * big));
-                    } else if a == b {
-                        // a diagonal block holds both triangles already
-                        triplets.push((i, j, v));
-                    } else {
-                        triplets.push((i, j, v));
-                        triplets.push((j, i, v));
-                    }
-                }
-            }
-        }
-        let spd = SparseSpd::from_triplets(n, &triplets)?;
-        let rhs = DMatrix::from_iterator(n, 1, jtr.iter().map(|x| -x));
-        let x = spd.solve(&rhs, SpdSolver::Faer(FillOrdering::Amd))?;
-        Ok(x.column(0).iter().copied().collect())
     }
 
     /// `s` with every moving point displaced by its block of `dx`.
@@ -654,12 +528,14 @@ pub fn polish_joint(
     // each moving point's displacement from `slave`
     let mut offset = vec![0.0; 3 * problem.points.len()];
     let mut lambda = DAMPING_START;
+    let mut symbolic = None;
     let mut done = problem.points.is_empty() || worst(&r) <= JOINT_GOAL;
     while !done && report.iterations < JOINT_ITERATIONS {
         let (blocks, jtr) = problem.normal_equations(&s, &r, &pattern);
+        let (jtj, big) = problem.matrix(&pattern, &blocks)?;
         done = true;
         while lambda <= DAMPING_MAX {
-            let dx = problem.step(&pattern, &blocks, &jtr, lambda)?;
+            let dx = problem.step((&jtj, big), &jtr, lambda, &mut symbolic)?;
             let moved: Vec<f64> = offset.iter().zip(&dx).map(|(o, d)| o + d).collect();
             let within = moved
                 .chunks(3)
