@@ -161,3 +161,65 @@ fn same_frames(a: &BSplineSurface, b: &BSplineSurface, links: &[SideLink<'_>]) -
             })
         })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nurbs_core::shapes::plane_patch;
+    use nurbs_core::{Point3, Vector3};
+
+    /// A 6 × 6 bicubic patch of the unit square (knots inserted into the bilinear plane).
+    fn patch() -> BSplineSurface {
+        let p = plane_patch(
+            Point3::origin(),
+            Vector3::x(),
+            Vector3::y(),
+            (0.0, 1.0),
+            (0.0, 1.0),
+        )
+        .unwrap();
+        let p = p.elevate_degree(nurbs_core::Direction::U, 2).unwrap();
+        let p = p.elevate_degree(nurbs_core::Direction::V, 2).unwrap();
+        let p = p.refine(nurbs_core::Direction::U, &[0.3, 0.6]).unwrap();
+        p.refine(nurbs_core::Direction::V, &[0.3, 0.6]).unwrap()
+    }
+
+    /// Frames are the rows 0..=r a link owns: a move there tells two surfaces apart, a move
+    /// inside does not, nor does a row beyond the link's target.
+    #[test]
+    fn same_frames_compares_the_rows_the_links_own() {
+        let a = patch();
+        let (nu, nv) = (a.num_u(), a.num_v());
+        assert_eq!((nu, nv), (6, 6));
+        let master = patch();
+        let links = [
+            SideLink {
+                side: Side::U0,
+                master: &master,
+                target: Continuity::G2,
+                range: None,
+            },
+            SideLink {
+                side: Side::V1,
+                master: &master,
+                target: Continuity::G1,
+                range: None,
+            },
+        ];
+        let moved = |i: usize, j: usize| {
+            let mut b = a.clone();
+            b.control_points_mut()[i * nv + j].z += 1e-9;
+            same_frames(&a, &b, &links)
+        };
+        assert!(same_frames(&a, &a.clone(), &links));
+        // U0, G2: rows i = 0, 1, 2
+        assert!(!moved(2, 3));
+        assert!(moved(3, 2));
+        // V1, G1: columns j = 5, 4 only
+        assert!(!moved(3, 4));
+        assert!(moved(4, 3));
+        // other knots are other frames
+        let refined = a.refine(nurbs_core::Direction::U, &[0.8]).unwrap();
+        assert!(!same_frames(&a, &refined, &links));
+    }
+}
