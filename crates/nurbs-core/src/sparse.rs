@@ -3,7 +3,9 @@
 //!
 //! Two back ends: nalgebra-sparse's `CscCholesky` (no reordering: fill follows the given
 //! numbering) and faer's sparse Cholesky (feature `faer`, on by default) with an optional AMD
-//! fill-reducing ordering. `docs/benchmarks.md` records which is faster on which problem.
+//! fill-reducing ordering. `docs/benchmarks.md` records which is faster on which problem. Where
+//! many matrices of one pattern are solved (a damped Gauss–Newton method's trials),
+//! [`SpdSymbolic`] keeps faer's ordering and symbolic factor for all of them.
 
 use nalgebra::DMatrix;
 
@@ -295,6 +297,7 @@ impl SparseSpd {
 /// with it gives the same result, bit for bit, as [`SparseSpd::solve`] with the same ordering:
 /// the ordering depends on the pattern only.
 #[cfg(feature = "faer")]
+#[derive(Debug)]
 pub struct SpdSymbolic {
     n: usize,
     /// the full pattern (both triangles) of the matrices it serves
