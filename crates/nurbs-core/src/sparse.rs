@@ -3,9 +3,7 @@
 //!
 //! Two back ends: nalgebra-sparse's `CscCholesky` (no reordering: fill follows the given
 //! numbering) and faer's sparse Cholesky (feature `faer`, on by default) with an optional AMD
-//! fill-reducing ordering. `docs/benchmarks.md` records which is faster on which problem. Where
-//! many matrices of one pattern are solved (a damped Gauss–Newton method's trials),
-//! [`SpdSymbolic`] keeps faer's ordering and symbolic factor for all of them.
+//! fill-reducing ordering. `docs/benchmarks.md` records which is faster on which problem.
 
 use nalgebra::DMatrix;
 
