@@ -339,16 +339,19 @@ fn worst(r: &[f64]) -> f64 {
 }
 
 impl Problem<'_> {
-    /// Every sample's residuals on `s`, in sample order.
-    fn residual(&self, s: &BSplineSurface) -> Vec<f64> {
+    /// Every sample's residuals on `s`, in sample order, with the slave's derivatives there
+    /// (the normal equations of an accepted state reuse them).
+    fn residual(&self, s: &BSplineSurface) -> (Vec<f64>, Vec<SurfaceDerivatives>) {
         let mut eval = s.evaluator();
         let mut r = Vec::with_capacity(self.samples.len() * RES);
+        let mut derivatives = Vec::with_capacity(self.samples.len());
         for sm in &self.samples {
             let l = &self.links[sm.link];
             let ds = eval.derivatives(sm.u, sm.v);
             r.extend(residuals(&ds, sm, l.side, l.target, self.units));
+            derivatives.push(ds);
         }
-        r
+        (r, derivatives)
     }
 
     /// The derivatives of one sample's residuals with respect to each coordinate of each slave
@@ -519,7 +522,7 @@ pub fn polish_joint(
     }
     let problem = Problem::new(slave, links, params)?;
     let mut s = slave.clone();
-    let mut r = problem.residual(&s);
+    let (mut r, mut ds) = problem.residual(&s);
     let mut report = JointReport {
         worst_before: worst(&r),
         ..JointReport::default()
@@ -531,7 +534,7 @@ pub fn polish_joint(
     let mut symbolic = None;
     let mut done = problem.points.is_empty() || worst(&r) <= JOINT_GOAL;
     while !done && report.iterations < JOINT_ITERATIONS {
-        let (blocks, jtr) = problem.normal_equations(&s, &r, &pattern);
+        let (blocks, jtr) = problem.normal_equations(&ds, &r, &pattern);
         let (jtj, big) = problem.matrix(&pattern, &blocks)?;
         done = true;
         while lambda <= DAMPING_MAX {
@@ -542,9 +545,9 @@ pub fn polish_joint(
                 .all(|m| Vector3::new(m[0], m[1], m[2]).norm() <= max_move);
             if within {
                 let trial = problem.apply(&s, &dx);
-                let rt = problem.residual(&trial);
+                let (rt, dt) = problem.residual(&trial);
                 if cost(&rt) < cost(&r) {
-                    (s, r, offset) = (trial, rt, moved);
+                    (s, r, ds, offset) = (trial, rt, dt, moved);
                     lambda = (lambda / DAMPING_DOWN).max(DAMPING_MIN);
                     report.iterations += 1;
                     done = worst(&r) <= JOINT_GOAL || problem.all_met(&s, params);

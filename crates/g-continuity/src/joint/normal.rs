@@ -2,7 +2,7 @@
 //! blocks, and the damped step solved by sparse Cholesky ([NW] §10.3).
 
 use nalgebra::DMatrix;
-use nurbs_core::BSplineSurface;
+use nurbs_core::SurfaceDerivatives;
 use nurbs_core::sparse::{FillOrdering, SparseSpd, SpdSymbolic};
 
 use super::{Problem, RES};
@@ -62,22 +62,20 @@ impl Problem<'_> {
         Pattern { keys, slots }
     }
 
-    /// The normal equations on `s` with residuals `r`: JᵀJ in the 3 × 3 blocks of `pattern`
-    /// (entry [d][e] couples coordinate d of the pair's first point with coordinate e of its
-    /// second), and Jᵀr.
+    /// The normal equations at the state whose per-sample derivatives are `ds` and residuals
+    /// `r` ([`Problem::residual`]): JᵀJ in the 3 × 3 blocks of `pattern` (entry [d][e] couples
+    /// coordinate d of the pair's first point with coordinate e of its second), and Jᵀr.
     pub(super) fn normal_equations(
         &self,
-        s: &BSplineSurface,
+        ds: &[SurfaceDerivatives],
         r: &[f64],
         pattern: &Pattern,
     ) -> (Vec<[[f64; 3]; 3]>, Vec<f64>) {
-        let mut eval = s.evaluator();
         let mut jac = Vec::new();
         let mut blocks = vec![[[0.0; 3]; 3]; pattern.keys.len()];
         let mut jtr = vec![0.0; 3 * self.points.len()];
-        for (k, (sm, slots)) in self.samples.iter().zip(&pattern.slots).enumerate() {
-            let ds = eval.derivatives(sm.u, sm.v);
-            self.jacobian(k, &ds, &mut jac);
+        for (k, (dk, slots)) in ds.iter().zip(&pattern.slots).enumerate() {
+            self.jacobian(k, dk, &mut jac);
             let rk = &r[RES * k..RES * (k + 1)];
             let mut slot = slots.iter();
             for (a, (ca, ja)) in jac.iter().enumerate() {
