@@ -129,13 +129,21 @@ fn boxes_with_spherical_corners_reach_g2_everywhere() {
 }
 
 #[test]
-fn variable_radius_boxes_never_get_worse() {
-    never_worse(&["box12_var", "box12_var2"]);
+fn variable_radius_boxes_reach_g2_everywhere() {
+    // box12_var2's freeform blend has two degenerate corners (a side meets a fillet's end
+    // tangentially): the polished continuity setting met the two fillet sides there but left
+    // the plane side's angle at 2.2 tolerances next to the corner, until the polish reweights
+    // its residuals towards a minimax fit (47 of 49 links without)
+    for r in never_worse(&["box12_var", "box12_var2"]) {
+        assert!(unmet(&r).is_empty(), "unmet: {:?}", unmet(&r));
+    }
 }
 
 #[test]
-fn three_radii_corners_never_get_worse() {
-    never_worse(&["corner3_a", "corner3_b"]);
+fn three_radii_corners_reach_g2_everywhere() {
+    for r in never_worse(&["corner3_a", "corner3_b"]) {
+        assert!(unmet(&r).is_empty(), "unmet: {:?}", unmet(&r));
+    }
 }
 
 #[test]

@@ -142,7 +142,12 @@ impl SurfaceDerivatives {
     /// Normal curvature in the 3D `direction` (its tangential part is used), `None` at singular
     /// points or when the direction is normal to the surface.
     pub fn normal_curvature(&self, direction: &Vector3) -> Option<f64> {
-        let ff = self.fundamental_forms()?;
+        self.normal_curvature_with(&self.fundamental_forms()?, direction)
+    }
+
+    /// [`Self::normal_curvature`] with this point's fundamental forms `ff` given (found once
+    /// for many directions at the same point; the same value bit for bit).
+    pub fn normal_curvature_with(&self, ff: &FundamentalForms, direction: &Vector3) -> Option<f64> {
         let det = ff.e * ff.g - ff.f * ff.f;
         let (du_d, dv_d) = (direction.dot(&self.du), direction.dot(&self.dv));
         let a = (ff.g * du_d - ff.f * dv_d) / det;

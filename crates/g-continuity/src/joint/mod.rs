@@ -40,6 +40,7 @@ use crate::rows::row_of;
 use crate::slave::{SideLink, degenerate_corner_blocks};
 
 mod normal;
+mod weights;
 
 /// Most Gauss–Newton iterations of one polish: a bound of work. On kernel vertex blends (four
 /// G2 sides, nets up to 37 × 59) the worst residual fell by about a factor of ten every four
@@ -48,6 +49,21 @@ mod normal;
 /// blend left at a few times its goal by the first twenty needs. An iteration costs one
 /// numeric factorization per damping tried (the ordering and symbolic factor are found once).
 pub const JOINT_ITERATIONS: usize = 100;
+
+/// Rounds of reweighting after the first least-squares solve (Lawson's update,
+/// `weights::lawson`): the least-squares optimum can leave a few samples beyond their
+/// tolerance while the sum of squares is small — next to a degenerate corner of a vertex blend,
+/// where two sides meet tangentially and the normal turns fast, one side's angle stayed at 2.2
+/// tolerances while the polish met the other three sides. Each round multiplies the weight of
+/// every residual group by how far it is beyond [`JOINT_GOAL`], as Lawson's algorithm does
+/// towards a minimax fit, and starts from the last round's state. The rounds run only after a
+/// first round that met more links than its start (it is converging towards the tolerances;
+/// where it met none more, as on blends whose rows ring at a corner, reweighting never met one
+/// on the kernel models), continue only while the worst residual falls, and share one round's
+/// iterations ([`JOINT_ITERATIONS`] / 3 each: the polish at most doubles its work). The round
+/// meeting the most links (then with the smallest worst residual) is kept, so the rounds only
+/// help. Three: the variable-radius boxes' blends needed one (docs/benchmarks.md).
+pub const JOINT_REWEIGHTS: usize = 3;
 
 /// Samples inside each knot span along a side, besides the measure's uniform samples
 /// ([`DEFAULT_SAMPLES`]): near a corner the knots may lie a hundredth of a percent of the side
@@ -106,6 +122,8 @@ struct Sample {
     v: f64,
     foot: Point3,
     dm: SurfaceDerivatives,
+    /// the master's fundamental forms at the foot (`None` where it has no normal)
+    ff: Option<nurbs_core::FundamentalForms>,
     nm: Vector3,
     /// an orthonormal pair spanning the master's tangent plane at the foot
     t1: Vector3,
@@ -181,7 +199,8 @@ fn residuals(
     if target < Continuity::G2 {
         return out;
     }
-    if let (Some(ns), Some(km)) = (ds.normal(), sm.dm.normal_curvature(&e)) {
+    let km = sm.ff.and_then(|ff| sm.dm.normal_curvature_with(&ff, &e));
+    if let (Some(ns), Some(km)) = (ds.normal(), km) {
         let km = if sm.nm.dot(&ns) < 0.0 { -km } else { km };
         let ks = second.dot(&ns) / (le * le);
         out[5] = (ks - km) / (units.g2 * km.abs().max(units.flat));
@@ -293,6 +312,7 @@ fn samples(slave: &BSplineSurface, links: &[SideLink], params: &ConnectParams) -
                 u,
                 v,
                 foot: dm.point,
+                ff: dm.fundamental_forms(),
                 dm,
                 nm,
                 t1,
@@ -316,6 +336,8 @@ struct Problem<'a> {
     /// ([`sample_basis`]: they depend on the knots and weights only, so they are found once)
     basis: Vec<Vec<(usize, [f64; FIELDS])>>,
     units: Units,
+    /// per sample and residual its weight in the cost ([`reweighted`]; 1 in the first round)
+    weights: Vec<f64>,
 }
 
 /// The value and derivatives of basis function `q` of `sb`, in the order of [`field`].
@@ -348,7 +370,9 @@ impl Problem<'_> {
         for sm in &self.samples {
             let l = &self.links[sm.link];
             let ds = eval.derivatives(sm.u, sm.v);
-            r.extend(residuals(&ds, sm, l.side, l.target, self.units));
+            let w = &self.weights[r.len()..r.len() + RES];
+            let res = residuals(&ds, sm, l.side, l.target, self.units);
+            r.extend(res.iter().zip(w).map(|(x, w)| x * w));
             derivatives.push(ds);
         }
         (r, derivatives)
@@ -388,6 +412,7 @@ impl Problem<'_> {
     /// by R_ij,kl δ).
     fn jacobian(&self, k: usize, ds: &SurfaceDerivatives, out: &mut Vec<(usize, [[f64; RES]; 3])>) {
         let g = self.gradient(ds, &self.samples[k]);
+        let w = &self.weights[RES * k..RES * (k + 1)];
         out.clear();
         for &(c, coef) in &self.basis[k] {
             let mut rows = [[0.0; RES]; 3];
@@ -396,6 +421,9 @@ impl Problem<'_> {
                     for (x, gq) in row.iter_mut().zip(g[f][d]) {
                         *x += cf * gq;
                     }
+                }
+                for (x, wq) in row.iter_mut().zip(w) {
+                    *x *= wq;
                 }
             }
             out.push((c, rows));
@@ -472,9 +500,11 @@ impl<'a> Problem<'a> {
         }
         let samples = samples(slave, links, params);
         let basis = sample_basis(slave, &samples, &column);
+        let weights = vec![1.0; RES * samples.len()];
         Ok(Problem {
             links,
             samples,
+            weights,
             basis,
             points,
             units: Units {
@@ -503,9 +533,10 @@ impl<'a> Problem<'a> {
 /// shrinks — a trust region on the moves; with R_ij ≥ 0 and Σ R_ij = 1 the surface then moves
 /// at most `max_move` too), until every residual is within [`JOINT_GOAL`] of its tolerance or
 /// every link meets its target by the measure of `params`, no step is accepted, or
-/// [`JOINT_ITERATIONS`]. Each accepted step lowers the sum of squared residuals (in tolerance
-/// units) at the polish's samples; whether the result is better for the model is the caller's
-/// to judge. A `max_move` that is not positive is an error.
+/// [`JOINT_ITERATIONS`]; then, where links are still missed, in reweighted rounds
+/// ([`JOINT_REWEIGHTS`]). Each accepted step lowers the sum of squared (weighted) residuals,
+/// in tolerance units, at the polish's samples; whether the result is better for the model is
+/// the caller's to judge. A `max_move` that is not positive is an error.
 pub fn polish_joint(
     slave: &BSplineSurface,
     links: &[SideLink],
@@ -520,43 +551,61 @@ pub fn polish_joint(
             reason: "the joint polish's move bound must be positive",
         });
     }
-    let problem = Problem::new(slave, links, params)?;
-    let mut s = slave.clone();
-    let (mut r, mut ds) = problem.residual(&s);
+    let mut problem = Problem::new(slave, links, params)?;
+    let (r, ds) = problem.residual(slave);
     let mut report = JointReport {
         worst_before: worst(&r),
         ..JointReport::default()
     };
-    let pattern = problem.pattern();
-    // each moving point's displacement from `slave`
-    let mut offset = vec![0.0; 3 * problem.points.len()];
-    let mut lambda = DAMPING_START;
-    let mut symbolic = None;
-    let mut done = problem.points.is_empty() || worst(&r) <= JOINT_GOAL;
-    while !done && report.iterations < JOINT_ITERATIONS {
-        let (blocks, jtr) = problem.normal_equations(&ds, &r, &pattern);
-        let (jtj, big) = problem.matrix(&pattern, &blocks)?;
-        done = true;
-        while lambda <= DAMPING_MAX {
-            let dx = problem.step((&jtj, big), &jtr, lambda, &mut symbolic)?;
-            let moved: Vec<f64> = offset.iter().zip(&dx).map(|(o, d)| o + d).collect();
-            let within = moved
-                .chunks(3)
-                .all(|m| Vector3::new(m[0], m[1], m[2]).norm() <= max_move);
-            if within {
-                let trial = problem.apply(&s, &dx);
-                let (rt, dt) = problem.residual(&trial);
-                if cost(&rt) < cost(&r) {
-                    (s, r, ds, offset) = (trial, rt, dt, moved);
-                    lambda = (lambda / DAMPING_DOWN).max(DAMPING_MIN);
-                    report.iterations += 1;
-                    done = worst(&r) <= JOINT_GOAL || problem.all_met(&s, params);
-                    break;
-                }
-            }
-            lambda *= DAMPING_UP;
+    let mut lm = normal::Lm {
+        pattern: problem.pattern(),
+        symbolic: None,
+        s: slave.clone(),
+        r,
+        ds,
+        offset: vec![0.0; 3 * problem.points.len()],
+    };
+    // the best round's state: (links met, worst residual, surface, residuals)
+    let mut best: Option<(usize, f64, BSplineSurface, Vec<f64>)> = None;
+    let mut met_before = None;
+    for round in 0..=JOINT_REWEIGHTS {
+        // the reweighting rounds share one round's iterations (bounded work)
+        let limit = if round == 0 {
+            JOINT_ITERATIONS
+        } else {
+            JOINT_ITERATIONS / JOINT_REWEIGHTS
+        };
+        report.iterations += problem.least_squares(&mut lm, limit, max_move, params)?;
+        let unweighted = problem.unweighted(&lm.r);
+        let w = worst(&unweighted);
+        if round == 0 && w <= JOINT_GOAL {
+            break;
         }
+        let met = problem.met(&lm.s, params);
+        // a round that left the worst residual where it was, or higher, ends the rounds; the
+        // first runs only after a least-squares round that met more links than its start
+        let improved = best.as_ref().is_none_or(|b| w < b.1);
+        if best
+            .as_ref()
+            .is_none_or(|b| met > b.0 || (met == b.0 && w < b.1))
+        {
+            best = Some((met, w, lm.s.clone(), unweighted.clone()));
+        }
+        let started = *met_before.get_or_insert_with(|| problem.met(slave, params));
+        if met == links.len()
+            || round == JOINT_REWEIGHTS
+            || !improved
+            || (round == 0 && met <= started)
+        {
+            break;
+        }
+        problem.reweight(&unweighted);
+        (lm.r, lm.ds) = problem.residual(&lm.s);
     }
+    let (s, r) = match best {
+        Some((_, _, b, unweighted)) => (b, unweighted),
+        None => (lm.s, lm.r),
+    };
     report.worst_after = worst(&r);
     report.max_move = s
         .control_points()
