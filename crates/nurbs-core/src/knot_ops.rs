@@ -268,6 +268,83 @@ pub(crate) fn extract(kv: &KnotVector, pw: &[[f64; 4]], a: f64, b: f64) -> Resul
     Ok((KnotVector::new(p, sub)?, cur.1[first..=last].to_vec()))
 }
 
+/// The curve with its first knot span [a, u₁] replaced by the polynomial of the next span
+/// [u₁, u₂] continued over it (in homogeneous coordinates, so a rational curve continues its
+/// rational piece): the part over [u₁, b] is extracted, u₂ raised to multiplicity p so that
+/// the first p + 1 points are that span's Bézier polygon, the polygon extended to [a, u₂] by de
+/// Casteljau's subdivision at r = (a − u₁)/(u₂ − u₁) < 0 (the right part, [NB] §5.6 — the
+/// same polynomial), and the copies of u₂ removed again (exactly: the curve on both sides of
+/// u₂ is what it was). The domain stays [a, b]; the curve over [u₁, b] does not change.
+pub(crate) fn merge_first_span(kv: &KnotVector, pw: &[[f64; 4]]) -> Result<Polygon> {
+    let p = kv.degree();
+    let (a, b) = kv.domain();
+    let mut breaks: Vec<f64> = kv
+        .knots()
+        .iter()
+        .copied()
+        .filter(|&t| t >= a && t <= b)
+        .collect();
+    breaks.dedup();
+    if breaks.len() < 3 {
+        return Err(Error::Degenerate {
+            detail: "a curve of one knot span has no span to merge its first into".to_string(),
+        });
+    }
+    let (u1, u2) = (breaks[1], breaks[2]);
+    let (kv1, pw1) = extract(kv, pw, u1, b)?;
+    let raised = if u2 < b {
+        p.saturating_sub(kv1.multiplicity(u2))
+    } else {
+        0
+    };
+    let (kv2, mut pw2) = if raised > 0 {
+        insert(&kv1, &pw1, u2, raised)?
+    } else {
+        (kv1, pw1)
+    };
+    let r = (a - u1) / (u2 - u1);
+    let mut level: Vec<[f64; 4]> = pw2[..=p].to_vec();
+    for j in 1..=p {
+        for i in 0..=p - j {
+            level[i] = lerp4(&level[i], 1.0 - r, &level[i + 1], r);
+        }
+        // b_{p−j}^j is the right part's point p − j
+        pw2[p - j] = level[p - j];
+    }
+    let mut knots = vec![a; p + 1];
+    knots.extend_from_slice(&kv2.knots()[p + 1..]);
+    let merged = (KnotVector::new(p, knots)?, pw2);
+    if raised == 0 {
+        return Ok(merged);
+    }
+    let tolerance = EXACT_REMOVAL_REL_TOL * extent4(&merged.1).max(f64::MIN_POSITIVE);
+    let (out, removed) = remove(&merged.0, &merged.1, u2, raised, tolerance)?;
+    if removed != raised {
+        return Err(Error::RemovalFailed {
+            value: u2,
+            tolerance,
+        });
+    }
+    Ok(out)
+}
+
+/// [`merge_first_span`] at the other end: the last span replaced by the continuation of the one
+/// before it (the curve reversed, merged, and reversed back).
+pub(crate) fn merge_last_span(kv: &KnotVector, pw: &[[f64; 4]]) -> Result<Polygon> {
+    let (rk, rp) = reverse(kv, pw)?;
+    let (mk, mp) = merge_first_span(&rk, &rp)?;
+    reverse(&mk, &mp)
+}
+
+/// The same curve with its parameter negated (t → −t, exact, so that reversing twice gives
+/// the knots back bit for bit).
+fn reverse(kv: &KnotVector, pw: &[[f64; 4]]) -> Result<Polygon> {
+    let knots: Vec<f64> = kv.knots().iter().rev().map(|&t| -t).collect();
+    let mut points = pw.to_vec();
+    points.reverse();
+    Ok((KnotVector::new(kv.degree(), knots)?, points))
+}
+
 /// Raises the degree by `by` keeping the curve ([NB] §5.5).
 pub(crate) fn elevate(kv: &KnotVector, pw: &[[f64; 4]], by: usize) -> Result<Polygon> {
     if by == 0 {

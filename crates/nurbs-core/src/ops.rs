@@ -185,6 +185,20 @@ impl BSplineSurface {
         Ok((cur, removed))
     }
 
+    /// The surface with the first (`last` false) or last knot span of direction `dir` replaced
+    /// by the continuation of its neighbouring span (every iso-polygon in homogeneous
+    /// coordinates, [`knot_ops::merge_first_span`]): the same domain, one span fewer, the
+    /// surface unchanged outside that span. What it does inside the span is the caller's to
+    /// measure (a kernel's sliver span, a hundredth of a millimetre long, comes out within
+    /// rounding of where it was; a span with a shape of its own does not).
+    pub fn merge_end_span(&self, dir: Direction, last: bool) -> Result<Self> {
+        if last {
+            self.map_polygons(dir, knot_ops::merge_last_span)
+        } else {
+            self.map_polygons(dir, knot_ops::merge_first_span)
+        }
+    }
+
     /// Raises the degree of direction `dir` by `by`; the surface is unchanged.
     pub fn elevate_degree(&self, dir: Direction, by: usize) -> Result<Self> {
         self.map_polygons(dir, |kv, pw| knot_ops::elevate(kv, pw, by))

@@ -245,6 +245,37 @@ proptest! {
         }
     }
 
+    /// A sliver end span that continues its neighbour (knots inserted a relative 10^−exp into
+    /// the first or last span, as a kernel's fillet carries a span a hundredth of a millimetre
+    /// long) merges back into the surface it was cut from: the original knots, and the same
+    /// surface everywhere up to rounding (the continuation is a subdivision at r ≈ −10^−exp,
+    /// well conditioned; the copies of the neighbour's knot come out exactly).
+    #[test]
+    fn a_sliver_end_span_merges_back_into_its_neighbour(seed in 0u64..10_000, rational in any::<bool>(), exp in 2.0f64..8.0, last in any::<bool>(), times in 1usize..=5) {
+        let s = random_surface(seed, 1..=5, 9, rational);
+        let (a, b) = s.domain_v();
+        let knots = s.knots_v().knots();
+        let next = knots.iter().copied().find(|&t| t > a).unwrap();
+        let before = knots.iter().rev().copied().find(|&t| t < b).unwrap();
+        let d = 10f64.powf(-exp);
+        let t = if last { b - d * (b - before) } else { a + d * (next - a) };
+        let cut = s.insert_knot(Direction::V, t, times.min(s.degree_v())).unwrap();
+        let merged = cut.merge_end_span(Direction::V, last).unwrap();
+        prop_assert_eq!(merged.knots_v(), s.knots_v());
+        prop_assert_eq!(merged.knots_u(), s.knots_u());
+        let scale = 1.0 + s.control_points().iter().map(|p| p.coords.norm()).fold(0.0, f64::max);
+        prop_assert!(max_gap(&s, &merged, 23) < 1e-9 * scale, "{}", max_gap(&s, &merged, 23));
+        // a span with a shape of its own does not: merging s's own first span (where the
+        // continuation over it stays a valid surface) changes the surface
+        if s.degree_v() >= 2
+            && !s.knots_v().interior_knots().is_empty()
+            && let Ok(other) = s.merge_end_span(Direction::V, false)
+        {
+            prop_assert_eq!(other.num_v(), s.num_v() - s.knots_v().interior_knots()[0].1);
+            prop_assert!(max_gap(&s, &other, 23) > 1e-9 * scale);
+        }
+    }
+
     #[test]
     fn extraction_and_isocurves_are_exact(seed in 0u64..10_000, rational in any::<bool>(), a in 0.05f64..0.45, b in 0.55f64..0.95) {
         let s = random_surface(seed, 1..=5, 9, rational);

@@ -67,6 +67,7 @@ mod plan;
 mod polish;
 mod report;
 mod seams;
+mod slivers;
 mod stages;
 mod vertex;
 
@@ -88,6 +89,7 @@ pub use report::{
 };
 use report::{edge_reports, found_edge_reports, link_reports, unmet_problems, worse_edge_problems};
 pub use seams::LINKED_SEAM_FRACTION;
+pub use slivers::SLIVER_MOVE_SHARE;
 
 /// The framework's [`g_continuity::SetParams::g2_move_factor`]: a lighter-weighted G2 solution
 /// (closer to the exact scalar condition) is taken only when no control point moves more than
@@ -224,10 +226,14 @@ pub fn fair_model_with(
         ranges: &ranges,
     };
     let mut out = model.clone();
+    let slivers = slivers::merge_slivers(&mut out, connect.tolerances.g0, |m, k| {
+        m.deviation_of(k, &params.role_tolerance, params.tolerance)
+    });
     let mut report = FairModelReport {
         tolerance,
         ..FairModelReport::default()
     };
+    report.problems.extend(slivers);
     plan.run(&mut out, &mut report, progress)?;
     let after = measure_links(&out, &ranges, &connect);
     report.links = link_reports(model, plan.before, after, &cap);
