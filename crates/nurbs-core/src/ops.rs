@@ -187,8 +187,8 @@ impl BSplineSurface {
 
     /// The surface with the first (`last` false) or last knot span of direction `dir` replaced
     /// by the continuation of its neighbouring span (every iso-polygon in homogeneous
-    /// coordinates, as `knot_ops::merge_first_span` does it): the same domain, one span fewer, the
-    /// surface unchanged outside that span. What it does inside the span is the caller's to
+    /// coordinates, as `knot_ops::merge_first_span` does it): the same domain, one span fewer,
+    /// the surface unchanged outside that span. What it does inside the span is the caller's to
     /// measure (a kernel's sliver span, a hundredth of a millimetre long, comes out within
     /// rounding of where it was; a span with a shape of its own does not).
     pub fn merge_end_span(&self, dir: Direction, last: bool) -> Result<Self> {
