@@ -278,19 +278,13 @@ pub(crate) fn extract(kv: &KnotVector, pw: &[[f64; 4]], a: f64, b: f64) -> Resul
 pub(crate) fn merge_first_span(kv: &KnotVector, pw: &[[f64; 4]]) -> Result<Polygon> {
     let p = kv.degree();
     let (a, b) = kv.domain();
-    let mut breaks: Vec<f64> = kv
-        .knots()
-        .iter()
-        .copied()
-        .filter(|&t| t >= a && t <= b)
-        .collect();
-    breaks.dedup();
-    if breaks.len() < 3 {
+    let inner = kv.interior_knots();
+    let Some(&(u1, _)) = inner.first() else {
         return Err(Error::Degenerate {
             detail: "a curve of one knot span has no span to merge its first into".to_string(),
         });
-    }
-    let (u1, u2) = (breaks[1], breaks[2]);
+    };
+    let u2 = inner.get(1).map_or(b, |&(t, _)| t);
     let (kv1, pw1) = extract(kv, pw, u1, b)?;
     let raised = if u2 < b {
         p.saturating_sub(kv1.multiplicity(u2))

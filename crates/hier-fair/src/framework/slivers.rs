@@ -77,21 +77,11 @@ fn merged_end(
         Direction::V => s.knots_v(),
     };
     let (a, b) = kv.domain();
-    let mut breaks: Vec<f64> = kv
-        .knots()
-        .iter()
-        .copied()
-        .filter(|&t| t >= a && t <= b)
-        .collect();
-    breaks.dedup();
-    let n = breaks.len();
-    if n < 3 {
-        return None;
-    }
-    let (lo, hi) = if last {
-        (breaks[n - 2], b)
-    } else {
-        (a, breaks[1])
+    let inner = kv.interior_knots();
+    let (lo, hi) = match (inner.first(), inner.last()) {
+        (Some(&(t, _)), _) if !last => (a, t),
+        (_, Some(&(t, _))) if last => (t, b),
+        _ => return None,
     };
     let (c, d) = match dir {
         Direction::U => s.domain_v(),
