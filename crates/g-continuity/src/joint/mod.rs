@@ -59,7 +59,8 @@ pub const JOINT_ITERATIONS: usize = 100;
 /// towards a minimax fit, and starts from the last round's state. The rounds run only after a
 /// first round that met more links than its start (it is converging towards the tolerances;
 /// where it met none more, as on blends whose rows ring at a corner, reweighting never met one
-/// on the kernel models), continue only while the worst residual falls, and share one round's
+/// on the kernel models), continue only while each round's worst residual falls below that of
+/// the best round so far, and share one round's
 /// iterations ([`JOINT_ITERATIONS`] / 3 each: the polish at most doubles its work). The round
 /// meeting the most links (then with the smallest worst residual) is kept, so the rounds only
 /// help. Three: the variable-radius boxes' blends needed one (docs/benchmarks.md).
@@ -336,7 +337,8 @@ struct Problem<'a> {
     /// ([`sample_basis`]: they depend on the knots and weights only, so they are found once)
     basis: Vec<Vec<(usize, [f64; FIELDS])>>,
     units: Units,
-    /// per sample and residual its weight in the cost ([`reweighted`]; 1 in the first round)
+    /// per sample and residual its weight in the cost (`Problem::reweight`; 1 in the first
+    /// round)
     weights: Vec<f64>,
 }
 
@@ -582,7 +584,7 @@ pub fn polish_joint(
             break;
         }
         let met = problem.met(&lm.s, params);
-        // a round that left the worst residual where it was, or higher, ends the rounds; the
+        // a round whose worst residual is not below the best round's ends the rounds; the
         // first runs only after a least-squares round that met more links than its start
         let improved = best.as_ref().is_none_or(|b| w < b.1);
         if best
