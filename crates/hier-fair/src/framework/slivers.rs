@@ -87,36 +87,38 @@ fn merged_end(
         Direction::U => s.domain_v(),
         Direction::V => s.domain_u(),
     };
-    // the span's points on ACROSS × ALONG parameters, per iso-line across it
-    let at = |t: f64, w: f64| match dir {
-        Direction::U => (t, w),
-        Direction::V => (w, t),
+    // the span's points on ACROSS × ALONG parameters (nurbs-core's grid evaluation), the same
+    // grid on both surfaces: index (i across, j along)
+    let across: Vec<f64> = (0..ACROSS)
+        .map(|i| lo + (hi - lo) * i as f64 / (ACROSS - 1) as f64)
+        .collect();
+    let along: Vec<f64> = (0..ALONG)
+        .map(|j| c + (d - c) * j as f64 / (ALONG - 1) as f64)
+        .collect();
+    let grid = |surface: &BSplineSurface| match dir {
+        Direction::U => surface.eval_grid_points(&across, &along),
+        Direction::V => surface.eval_grid_points(&along, &across),
     };
-    let params = |j: usize| {
-        let w = c + (d - c) * j as f64 / (ALONG - 1) as f64;
-        (0..ACROSS).map(move |i| (lo + (hi - lo) * i as f64 / (ACROSS - 1) as f64, w))
+    let index = |i: usize, j: usize| match dir {
+        Direction::U => i * ALONG + j,
+        Direction::V => j * ACROSS + i,
     };
+    let before = grid(s);
     let length = (0..ALONG)
         .map(|j| {
-            let pts: Vec<_> = params(j)
-                .map(|(t, w)| {
-                    let (u, v) = at(t, w);
-                    s.point(u, v)
-                })
-                .collect();
-            pts.windows(2).map(|p| (p[1] - p[0]).norm()).sum::<f64>()
+            (1..ACROSS)
+                .map(|i| (before[index(i, j)] - before[index(i - 1, j)]).norm())
+                .sum::<f64>()
         })
         .fold(0.0f64, f64::max);
     if !(length <= longest) {
         return None;
     }
     let merged = s.merge_end_span(dir, last).ok()?;
-    let moved = (0..ALONG)
-        .flat_map(params)
-        .map(|(t, w)| {
-            let (u, v) = at(t, w);
-            (merged.point(u, v) - s.point(u, v)).norm()
-        })
+    let moved = grid(&merged)
+        .iter()
+        .zip(&before)
+        .map(|(a, b)| (a - b).norm())
         .fold(0.0f64, f64::max);
     // a merge that breaks the surface (a weight through zero) is no merge
     moved.is_finite().then_some((length, merged, moved))
