@@ -352,6 +352,7 @@ fn fair_command(args: FairArgs) -> Result<()> {
         report,
         images,
         quiet,
+        no_verify,
     } = args;
     let mut outputs = vec![("-o", output.as_path())];
     outputs.extend(report.as_deref().map(|r| ("--report", r)));
@@ -378,6 +379,7 @@ fn fair_command(args: FairArgs) -> Result<()> {
             iterations,
             target,
             quiet,
+            no_verify,
         };
         let outcome = crate::pipeline::run_fair(
             &input,
@@ -497,6 +499,10 @@ struct FairArgs {
     /// no progress bar
     #[arg(long)]
     quiet: bool,
+    /// models: no second run naming the deviation each unmet link needs (faster where links
+    /// are left unmet; the report then names only what the first run found)
+    #[arg(long)]
+    no_verify: bool,
 }
 
 /// `ROLE=MM` of `--tolerance-role`.

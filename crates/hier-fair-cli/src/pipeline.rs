@@ -32,6 +32,8 @@ pub struct ModelOptions {
     pub target: Option<Continuity>,
     /// no progress bar
     pub quiet: bool,
+    /// no verification run for unmet links ([`FairParams::verify_unmet`])
+    pub no_verify: bool,
 }
 
 /// Whether JSON text is a model (surfaces with names and roles) rather than a bare surface file.
@@ -62,6 +64,7 @@ pub fn fair(model: &Model, options: &ModelOptions) -> Result<(Model, FairModelRe
         target: options.target,
         tolerance: options.tolerance,
         role_tolerance: options.role_tolerance,
+        verify_unmet: !options.no_verify,
         ..FairParams::default()
     };
     let show = !options.quiet && std::io::stdout().is_terminal();

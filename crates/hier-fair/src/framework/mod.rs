@@ -69,6 +69,7 @@ mod report;
 mod seams;
 mod slivers;
 mod stages;
+mod verify;
 mod vertex;
 
 pub use budget::{DEVIATION_SAFETY, DeviationBudget, GROUP_SHARE, LEAD_IN_SHARE, MASTER_SHARE};
@@ -90,6 +91,7 @@ pub use report::{
 use report::{edge_reports, found_edge_reports, link_reports, unmet_problems, worse_edge_problems};
 pub use seams::LINKED_SEAM_FRACTION;
 pub use slivers::SLIVER_MOVE_SHARE;
+pub use verify::VERIFY_FACTOR;
 
 /// The framework's [`g_continuity::SetParams::g2_move_factor`]: a lighter-weighted G2 solution
 /// (closer to the exact scalar condition) is taken only when no control point moves more than
@@ -155,6 +157,10 @@ pub struct FairParams {
     pub parallel: bool,
     /// How each surface's deviation tolerance is shared ([`DeviationBudget`]).
     pub budget: DeviationBudget,
+    /// Run the model once more with the surfaces of every unmet link at [`VERIFY_FACTOR`] times
+    /// their deviation, and name each unmet link with the figure that run met it at (default
+    /// true; costs one more run, only where a link is left unmet).
+    pub verify_unmet: bool,
 }
 
 impl Default for FairParams {
@@ -175,6 +181,7 @@ impl Default for FairParams {
             deviation_grid: crate::connect::DEVIATION_GRID,
             parallel: true,
             budget: DeviationBudget::default(),
+            verify_unmet: true,
         }
     }
 }
@@ -250,6 +257,10 @@ pub fn fair_model_with(
         .extend(edge_reports(model, &edges, edges_before, after_edges));
     let worse = worse_edge_problems(&report.edges);
     report.problems.extend(worse);
+    if params.verify_unmet {
+        let needed = verify::verify_unmet(given, fairers, params, &report)?;
+        report.problems.extend(needed);
+    }
     report.seconds_total = start.elapsed().as_secs_f64();
     Ok((out, report))
 }

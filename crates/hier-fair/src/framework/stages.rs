@@ -180,10 +180,11 @@ impl Job<'_> {
         }
     }
 
-    /// A link the dry run misses although every step stayed within the tolerance is no
-    /// deviation conflict: it is named with the deviation the kept trial took (and a vertex
+    /// A link the dry run misses although every step stayed within the tolerance is no conflict
+    /// of the dry run's: it is named with the deviation the kept trial took (and a vertex
     /// conflict of its masters where that is the reason); `run` reports it if the result still
-    /// misses it.
+    /// misses it, and the model's verification run names what deviation meets it
+    /// ([`super::verify`]).
     fn report_missed(
         &self,
         labelled: &[(usize, SideLink<'_>)],
@@ -210,7 +211,7 @@ impl Job<'_> {
                 surface: self.model.surfaces[self.surface].name.clone(),
                 link: Some(self.model.link_label(*k)),
                 message: format!(
-                    "the continuity steps miss {target:?} here in every curvature lead-in tried, deviating {d:.4} (tolerance {:.4}): not a deviation conflict",
+                    "the continuity steps miss {target:?} here in every curvature lead-in tried, deviating only {d:.4} (tolerance {:.4})",
                     self.tolerance,
                 ),
                 amount: Some(*d),
