@@ -186,12 +186,19 @@ impl Refiner {
 /// all where its master bends, a corner whose masters disagree — is a G2 row that did not take
 /// hold, and how far beyond that a round lands says nothing of its progress (on a vertex blend
 /// whose fillet corners conflict, rounds of 14 × 20 up to 41 × 44 points all landed at 1.7 –
-/// 1.97); the same multiple of the gap and angle tolerances counts alike. Between rounds that
-/// rank the same the earlier one, with fewer knots, is kept.
+/// 1.97); the same multiple of the gap and angle tolerances counts alike. Among rounds at that
+/// cap alike the one with fewer samples beyond their tolerances wins: a round that joins a side
+/// everywhere but at the samples next to a corner whose masters disagree by a rounding (a
+/// curvature of 1e-3 where the master is flat is a relative figure of 1) is not the round that
+/// misses the whole side — on the freeform vertex blend of box12_variable as its STEP file has
+/// it, the rounds of 16 × 28 and 27 × 46 points both capped, the second missing only its four
+/// corner samples, and keeping the first left all four sides missed after the stages and the
+/// polish. Between rounds that rank the same the earlier one, with fewer knots, is kept.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct RoundRank {
     met: usize,
     worst: f64,
+    failing: usize,
 }
 
 impl RoundRank {
@@ -208,15 +215,24 @@ impl RoundRank {
         let (met, worst) = excesses.fold((0, 0.0f64), |(met, worst), e| {
             (met + usize::from(e <= 1.0), worst.max(e))
         });
+        let failing = links
+            .iter()
+            .zip(after)
+            .map(|(l, m)| failing_samples(m, l.target.min(step), tol))
+            .sum();
         Self {
             met,
             worst: worst.min(1.0 / tol.g2_rel),
+            failing,
         }
     }
 
     /// Whether a later round ranked `self` replaces the best so far, ranked `best`.
     pub(super) fn beats(&self, best: &RoundRank) -> bool {
-        self.met > best.met || (self.met == best.met && self.worst < best.worst)
+        self.met > best.met
+            || (self.met == best.met
+                && (self.worst < best.worst
+                    || (self.worst == best.worst && self.failing < best.failing)))
     }
 }
 
@@ -234,6 +250,25 @@ pub(super) fn worst_excess(
         .fold(0.0, f64::max)
 }
 
+/// Whether sample `s` of a link with target `target` is above the tolerances.
+fn sample_fails(s: &crate::measure::SampleMeasure, target: Continuity, tol: &Tolerances) -> bool {
+    s.gap > tol.g0
+        || (target >= Continuity::G1 && s.angle_deg.is_some_and(|a| a > tol.g1_deg))
+        || (target >= Continuity::G2
+            && match (s.kappa_slave, s.kappa_master) {
+                (Some(a), Some(b)) => (a - b).abs() > tol.g2_rel * a.abs().max(b.abs()),
+                _ => false,
+            })
+}
+
+/// The samples of `m` above the tolerances.
+fn failing_samples(m: &LinkMeasure, target: Continuity, tol: &Tolerances) -> usize {
+    m.detail
+        .iter()
+        .filter(|s| sample_fails(s, target, tol))
+        .count()
+}
+
 /// Midpoints of the along-side knot spans that hold a sample above the tolerances.
 fn failing_spans(
     surface: &BSplineSurface,
@@ -245,14 +280,7 @@ fn failing_spans(
     let k = kv.knots();
     let mut mids: Vec<f64> = Vec::new();
     for s in &m.detail {
-        let bad = s.gap > tol.g0
-            || (target >= Continuity::G1 && s.angle_deg.is_some_and(|a| a > tol.g1_deg))
-            || (target >= Continuity::G2
-                && match (s.kappa_slave, s.kappa_master) {
-                    (Some(a), Some(b)) => (a - b).abs() > tol.g2_rel * a.abs().max(b.abs()),
-                    _ => false,
-                });
-        if bad {
+        if sample_fails(s, target, tol) {
             let span = kv.span(s.t);
             let mid = 0.5 * (k[span] + k[span + 1]);
             if !mids.contains(&mid) {
@@ -329,6 +357,12 @@ mod tests {
     /// Ranks of rounds with the relative curvatures `rels` on two G2 links (gaps and angles
     /// met), with ρ = 0.005 (not held from a relative figure of 1, an excess of 200).
     fn rank(rels: [f64; 2]) -> RoundRank {
+        rank_with(rels, [0, 0])
+    }
+
+    /// [`rank`] with `missing[k]` of link k's ten samples beyond the curvature tolerance
+    /// (slave curvature 1e-3 where the master's is 0), the others exact.
+    fn rank_with(rels: [f64; 2], missing: [usize; 2]) -> RoundRank {
         let master = plane_patch(
             Point3::origin(),
             Vector3::x(),
@@ -350,7 +384,21 @@ mod tests {
         let after: Vec<LinkMeasure> = sides
             .iter()
             .zip(rels)
-            .map(|(&side, rel)| measure(side, 1e-6, 1e-3, rel))
+            .zip(missing)
+            .map(|((&side, rel), n)| {
+                let mut m = measure(side, 1e-6, 1e-3, rel);
+                m.detail = (0..10)
+                    .map(|k| crate::measure::SampleMeasure {
+                        t: k as f64 / 9.0,
+                        master_params: (0.0, 0.0),
+                        gap: 1e-6,
+                        angle_deg: Some(1e-3),
+                        kappa_slave: Some(if k < n { 1e-3 } else { 0.2 }),
+                        kappa_master: Some(if k < n { 0.0 } else { 0.2 }),
+                    })
+                    .collect();
+                m
+            })
             .collect();
         let tol = Tolerances {
             g0: 1e-3,
@@ -373,6 +421,17 @@ mod tests {
         // with more knots, does not replace the earlier one
         assert!(!rank([0.01, 1.7]).beats(&rank([0.01, 1.97])));
         assert_eq!(rank([0.01, 1.7]), rank([0.01, 1.97]));
+    }
+
+    #[test]
+    fn among_rounds_not_held_the_one_missing_fewer_samples_wins() {
+        // both capped; the later round misses only the two corner samples of each side
+        let coarse = rank_with([1.9, 1.9], [10, 10]);
+        let refined = rank_with([1.0, 1.0], [2, 2]);
+        assert!(refined.beats(&coarse));
+        assert!(!coarse.beats(&refined));
+        // a link met still counts first
+        assert!(rank_with([0.004, 1.9], [0, 10]).beats(&refined));
     }
 
     #[test]

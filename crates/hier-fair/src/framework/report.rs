@@ -396,3 +396,13 @@ pub(super) fn worse_edge_problems(edges: &[crate::edges::EdgeFair]) -> Vec<Probl
         })
         .collect()
 }
+
+/// A length (model units) for a message: four decimals from 1e-3 on, else four significant
+/// digits in exponent form, so that a tight tolerance (1e-6) does not read as 0.0000.
+pub(super) fn length(x: f64) -> String {
+    if x == 0.0 || x.abs() >= 1e-3 {
+        format!("{x:.4}")
+    } else {
+        format!("{x:.3e}")
+    }
+}

@@ -138,8 +138,8 @@ impl Job<'_> {
                     surface: self.model.surfaces[self.surface].name.clone(),
                     link: Some(self.model.link_label(*j)),
                     message: format!(
-                        "setting {step:?} misses its links within the deviations tried (up to {:.4}) and {worse}; the surface is kept at {below:?}",
-                        dry.steps[k].2
+                        "setting {step:?} misses its links within the deviations tried (up to {}) and {worse}; the surface is kept at {below:?}",
+                        report::length(dry.steps[k].2)
                     ),
                     amount: Some(dry.steps[k].2),
                 });
@@ -171,8 +171,9 @@ impl Job<'_> {
                     surface: self.model.surfaces[self.surface].name.clone(),
                     link: Some(self.model.link_label(*k)),
                     message: format!(
-                        "setting {step:?} needs a deviation of {amount:.4} from the original, above the tolerance {:.4}; the surface is kept at {kept}",
-                        self.tolerance
+                        "setting {step:?} needs a deviation of {} from the original, above the tolerance {}; the surface is kept at {kept}",
+                        report::length(amount),
+                        report::length(self.tolerance)
                     ),
                     amount: Some(amount),
                 });
@@ -211,8 +212,9 @@ impl Job<'_> {
                 surface: self.model.surfaces[self.surface].name.clone(),
                 link: Some(self.model.link_label(*k)),
                 message: format!(
-                    "the continuity steps miss {target:?} here in every curvature lead-in tried, deviating only {d:.4} (tolerance {:.4})",
-                    self.tolerance,
+                    "the continuity steps miss {target:?} here in every curvature lead-in tried, deviating only {} (tolerance {})",
+                    report::length(*d),
+                    report::length(self.tolerance),
                 ),
                 amount: Some(*d),
             }));
@@ -349,9 +351,9 @@ impl Job<'_> {
         let why = if run.deviation() > self.tolerance {
             (
                 format!(
-                    "the faired surface deviates {:.4} (tolerance {:.4}); fairing dropped, continuity setting kept",
-                    run.deviation(),
-                    self.tolerance
+                    "the faired surface deviates {} (tolerance {}); fairing dropped, continuity setting kept",
+                    report::length(run.deviation()),
+                    report::length(self.tolerance)
                 ),
                 Some(run.deviation()),
             )

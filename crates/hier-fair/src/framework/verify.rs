@@ -90,8 +90,11 @@ impl Raise<'_> {
         );
         let (to_slave, to_master) = (self.to(link.slave), self.to(link.master));
         let raise = format!(
-            "the deviation of {} raised to {to_slave:.4} and of {} to {to_master:.4}{alike}",
-            slave.name, master.name
+            "the deviation of {} raised to {} and of {} to {}{alike}",
+            slave.name,
+            report::length(to_slave),
+            master.name,
+            report::length(to_master)
         );
         let deviation_in_again = |name: &str| {
             again
@@ -106,9 +109,9 @@ impl Raise<'_> {
                 surface: slave.name.clone(),
                 link: Some(l.label.clone()),
                 message: format!(
-                    "met in a second run with {raise} (they deviate {:.4} and {:.4} there): the deviation this link needs at most, verified",
-                    deviation_in_again(&slave.name),
-                    deviation_in_again(&master.name),
+                    "met in a second run with {raise} (they deviate {} and {} there): the deviation this link needs at most, verified",
+                    report::length(deviation_in_again(&slave.name)),
+                    report::length(deviation_in_again(&master.name)),
                 ),
                 amount: Some(to_slave),
             }
