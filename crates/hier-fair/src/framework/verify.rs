@@ -4,9 +4,9 @@
 //! Within one run a link is called a conflict only from the dry run's trials, which set the
 //! continuity without the fairing stages; a link those trials miss within the tolerance is not
 //! one — yet the stages, the polish and the masters' own fairing all depend on the deviation
-//! they may use, and not monotonically (a corner blend whose master fillet may deviate 0.04 mm
-//! meets its links where the same fillet at 0.06 mm leaves it missing all four). A figure that
-//! is not run is a guess; this module runs it. Every link the run leaves unmet gets its slave
+//! they may use, and not monotonically (measured on a three-radii corner's blend: all four links
+//! met with its master fillet at 0.04 mm, one missed at 0.05, all four at 0.06–0.1 mm;
+//! docs/benchmarks.md). A figure that is not run is a guess; this module runs it. Every link the run leaves unmet gets its slave
 //! and its master raised to [`VERIFY_FACTOR`] times their own deviation tolerance, the model is
 //! faired once more with those per-surface deviations (exactly what a user who sets them in the
 //! model file gets: the run is deterministic), and each unmet link is then named either with the
@@ -25,21 +25,21 @@ pub const VERIFY_FACTOR: f64 = 2.0;
 /// The problems that name, for every link `report` leaves unmet, the deviation it needs: one
 /// more run of `given` (the model as the caller gave it) with each unmet link's slave and master
 /// at [`VERIFY_FACTOR`] times their tolerance; a link met there is a [`ProblemKind::Conflict`]
-/// whose amount is the slave's raised figure, one still missed is [`ProblemKind::Limited`].
-/// Nothing when every link is met.
+/// whose amount is the slave's raised figure, one still missed is [`ProblemKind::Limited`] (as
+/// is every unmet link where the second run fails). Nothing when every link is met.
 pub(super) fn verify_unmet(
     given: &Model,
     fairers: Fairers<'_>,
     params: &FairParams,
     report: &FairModelReport,
-) -> Result<Vec<Problem>> {
+) -> Vec<Problem> {
     let unmet: Vec<&LinkFair> = report
         .links
         .iter()
         .filter(|l| !l.met && l.after.is_some())
         .collect();
     if unmet.is_empty() {
-        return Ok(Vec::new());
+        return Vec::new();
     }
     let raise = Raise { given, params };
     let mut raised = given.clone();
@@ -53,16 +53,20 @@ pub(super) fn verify_unmet(
         verify_unmet: false,
         ..*params
     };
-    let (_, again) = fair_model_with(&raised, fairers, &again_params, &|_| {})?;
+    // the first run's result stands whatever the second does
+    let again = match fair_model_with(&raised, fairers, &again_params, &|_| {}) {
+        Ok((_, again)) => again,
+        Err(e) => return unmet.iter().map(|l| raise.failed(l, &e)).collect(),
+    };
     let alike = if unmet.len() > 1 {
         " (every unmet link's slave and master raised alike in that run)"
     } else {
         ""
     };
-    Ok(unmet
+    unmet
         .iter()
         .map(|l| raise.named(l, &again, alike))
-        .collect())
+        .collect()
 }
 
 /// The raise of the verification run: a surface's deviation tolerance in the first run, times
@@ -79,6 +83,19 @@ impl Raise<'_> {
             * self
                 .given
                 .deviation_of(k, &self.params.role_tolerance, self.params.tolerance)
+    }
+
+    /// Unmet link `l` where the verification run failed with `e`.
+    fn failed(&self, l: &LinkFair, e: &crate::error::Error) -> Problem {
+        Problem {
+            kind: ProblemKind::Limited,
+            surface: self.given.surfaces[self.given.links[l.link].slave]
+                .name
+                .clone(),
+            link: Some(l.label.clone()),
+            message: format!("the second run that would name the deviation it needs failed: {e}"),
+            amount: None,
+        }
     }
 
     /// Unmet link `l` named with what the verification run `again` made of it.
