@@ -46,31 +46,37 @@ fn fair_with(name: &str, more: &[&str]) -> Value {
     fair_file(&variant(name, "step"), more)
 }
 
+/// The per-role deviations of every run here but [`fair_default`]'s.
+const PER_ROLE: [&str; 6] = [
+    "--tolerance-role",
+    "primary=0.05",
+    "--tolerance-role",
+    "connecting=0.5",
+    "--tolerance-role",
+    "corner=0.5",
+];
+
 /// Fairs the model file `input` per role (with `more` arguments) and returns the report.
 fn fair_file(input: &str, more: &[&str]) -> Value {
+    fair_args(input, PER_ROLE.iter().copied().chain(more.iter().copied()))
+}
+
+/// Fairs `fixtures/occt_variants/NAME.step` with the model's default deviation (0.05 mm
+/// everywhere) and returns the report.
+fn fair_default(name: &str) -> Value {
+    fair_args(&variant(name, "step"), std::iter::empty())
+}
+
+/// Fairs the model file `input` with the arguments `more` and returns the report.
+fn fair_args<'a>(input: &str, more: impl Iterator<Item = &'a str>) -> Value {
     let tmp = tempfile::tempdir().unwrap();
     let (out, report) = (tmp.path().join("out.json"), tmp.path().join("report.json"));
     let (out, report) = (out.to_str().unwrap(), report.to_str().unwrap());
-    hier_fair(
-        &[
-            "fair",
-            input,
-            "-o",
-            out,
-            "--report",
-            report,
-            "--tolerance-role",
-            "primary=0.05",
-            "--tolerance-role",
-            "connecting=0.5",
-            "--tolerance-role",
-            "corner=0.5",
-            "--quiet",
-        ]
-        .into_iter()
-        .chain(more.iter().copied())
-        .collect::<Vec<_>>(),
-    );
+    let mut args: Vec<String> = ["fair", input, "-o", out, "--report", report, "--quiet"]
+        .map(String::from)
+        .to_vec();
+    args.extend(more.map(String::from));
+    hier_fair(&args.iter().map(String::as_str).collect::<Vec<_>>());
     serde_json::from_str(&std::fs::read_to_string(report).unwrap()).unwrap()
 }
 
@@ -154,6 +160,15 @@ fn the_variable_radius_box_as_its_step_file_has_it_reaches_g2_everywhere() {
         Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/occt/occt_box12_variable.step");
     let r = fair_file(input.to_str().unwrap(), &[]);
     assert_eq!(r["links"].as_array().unwrap().len(), 49);
+    assert!(unmet(&r).is_empty(), "unmet: {:?}", unmet(&r));
+}
+
+/// By default too: box12_var's freeform blend at the varying edge met its last side only in
+/// the polish's reweighted rounds with a whole round's iterations each (47 of 49 without, and
+/// the second run that names what the misses need took as long as the first).
+#[test]
+fn the_variable_radius_box_meets_every_link_by_default() {
+    let r = fair_default("box12_var");
     assert!(unmet(&r).is_empty(), "unmet: {:?}", unmet(&r));
 }
 

@@ -42,6 +42,8 @@ use crate::slave::{SideLink, degenerate_corner_blocks};
 mod normal;
 mod weights;
 
+use weights::Round;
+
 /// Most Gauss–Newton iterations of one polish: a bound of work. On kernel vertex blends (four
 /// G2 sides, nets up to 37 × 59) the worst residual fell by about a factor of ten every four
 /// iterations at first and by 1–3 % an iteration after twenty; the eighty after those bring a
@@ -61,9 +63,15 @@ pub const JOINT_ITERATIONS: usize = 100;
 /// where it met none more, as on blends whose rows ring at a corner, reweighting never met one
 /// on the kernel models), continue only while each round's worst residual falls below that of
 /// the best round so far, and share one round's
-/// iterations ([`JOINT_ITERATIONS`] / 3 each: the polish at most doubles its work). The round
+/// iterations ([`JOINT_ITERATIONS`] / 3 each: the polish at most doubles its work). Where none
+/// of those rounds beat the first (each stopped as its worst residual rose: too short to solve
+/// its reweighted problem, which Lawson's update assumes solved), they run once more from the
+/// first round's state with [`JOINT_ITERATIONS`] each (the polish then at most quintuples its
+/// work): a variable-radius box's blend by default met its last side in the third such round
+/// (313 iterations), while where the short rounds did lower the worst residual, longer ones only
+/// continued a slow descent (300 iterations, no link more; docs/benchmarks.md). The round
 /// meeting the most links (then with the smallest worst residual) is kept, so the rounds only
-/// help. Three: the variable-radius boxes' blends needed one (docs/benchmarks.md).
+/// help. Three: the variable-radius boxes' blends needed one to three.
 pub const JOINT_REWEIGHTS: usize = 3;
 
 /// Samples inside each knot span along a side, besides the measure's uniform samples
@@ -567,46 +575,28 @@ pub fn polish_joint(
         ds,
         offset: vec![0.0; 3 * problem.points.len()],
     };
-    // the best round's state: (links met, worst residual, surface, residuals)
-    let mut best: Option<(usize, f64, BSplineSurface, Vec<f64>)> = None;
-    let mut met_before = None;
-    for round in 0..=JOINT_REWEIGHTS {
-        // the reweighting rounds share one round's iterations (bounded work)
-        let limit = if round == 0 {
-            JOINT_ITERATIONS
-        } else {
-            JOINT_ITERATIONS / JOINT_REWEIGHTS
-        };
-        report.iterations += problem.least_squares(&mut lm, limit, max_move, params)?;
-        let unweighted = problem.unweighted(&lm.r);
-        let w = worst(&unweighted);
-        if round == 0 && w <= JOINT_GOAL {
-            break;
-        }
+    report.iterations += problem.least_squares(&mut lm, JOINT_ITERATIONS, max_move, params)?;
+    let unweighted = problem.unweighted(&lm.r);
+    let w = worst(&unweighted);
+    let (s, r) = if w <= JOINT_GOAL {
+        (lm.s, lm.r)
+    } else {
         let met = problem.met(&lm.s, params);
-        // a round whose worst residual is not below the best round's ends the rounds; the
-        // first runs only after a least-squares round that met more links than its start
-        let improved = best.as_ref().is_none_or(|b| w < b.1);
-        if best
-            .as_ref()
-            .is_none_or(|b| met > b.0 || (met == b.0 && w < b.1))
-        {
-            best = Some((met, w, lm.s.clone(), unweighted.clone()));
-        }
-        let started = *met_before.get_or_insert_with(|| problem.met(slave, params));
-        if met == links.len()
-            || round == JOINT_REWEIGHTS
-            || !improved
-            || (round == 0 && met <= started)
-        {
-            break;
-        }
-        problem.reweight(&unweighted);
-        (lm.r, lm.ds) = problem.residual(&lm.s);
-    }
-    let (s, r) = match best {
-        Some((_, _, b, unweighted)) => (b, unweighted),
-        None => (lm.s, lm.r),
+        let mut best = Round {
+            met,
+            worst: w,
+            s: lm.s.clone(),
+            r: unweighted.clone(),
+        };
+        report.iterations += problem.reweighted(
+            &mut lm,
+            (met, w, &unweighted),
+            slave,
+            max_move,
+            params,
+            &mut best,
+        )?;
+        (best.s, best.r)
     };
     report.worst_after = worst(&r);
     report.max_move = s

@@ -3,7 +3,8 @@
 
 use nurbs_core::BSplineSurface;
 
-use super::{JOINT_GOAL, Problem, RES};
+use super::{JOINT_GOAL, JOINT_ITERATIONS, JOINT_REWEIGHTS, Problem, RES, normal, worst};
+use crate::error::Result;
 use crate::params::ConnectParams;
 
 /// Lawson's update ([`JOINT_REWEIGHTS`]): each group of a sample's residuals (the gap, the
@@ -52,6 +53,108 @@ impl Problem<'_> {
                     .is_ok_and(|m| m.meets(l.target, t.g0, t.g1_deg, t.g2_rel))
             })
             .count()
+    }
+}
+
+/// A polish round's result: the links it meets, its worst residual (without weights), its
+/// surface and residuals.
+pub(super) struct Round {
+    pub(super) met: usize,
+    pub(super) worst: f64,
+    pub(super) s: BSplineSurface,
+    pub(super) r: Vec<f64>,
+}
+
+impl Round {
+    /// Whether a round meeting `met` links with worst residual `worst` replaces this one: more
+    /// links met, or as many with a smaller worst residual.
+    fn beaten_by(&self, met: usize, worst: f64) -> bool {
+        met > self.met || (met == self.met && worst < self.worst)
+    }
+}
+
+impl Problem<'_> {
+    /// The reweighted rounds after a first round (from `lm`'s state) that met `first.0` links
+    /// with worst residual `first.1` and residuals `first.2`, where it met more than `slave`
+    /// did but not all ([`JOINT_REWEIGHTS`]); `best` keeps the best round. Returns the
+    /// iterations.
+    pub(super) fn reweighted(
+        &mut self,
+        lm: &mut normal::Lm,
+        first: (usize, f64, &[f64]),
+        slave: &BSplineSurface,
+        max_move: f64,
+        params: &ConnectParams,
+        best: &mut Round,
+    ) -> Result<usize> {
+        let (met, w) = (first.0, first.1);
+        let mut iterations = 0;
+        // the reweighted rounds run only after a first round that met more links than its
+        // start, sharing one round's iterations; where none of them beat the first round (each
+        // stopped as its worst residual rose: too short to solve its reweighted problem, which
+        // Lawson's update assumes solved) they run again from the first round's state with a
+        // whole round's iterations each
+        if met < self.links.len() && met > self.met(slave, params) {
+            let start = (lm.s.clone(), lm.r.clone(), lm.ds.clone(), lm.offset.clone());
+            let weights = self.weights.clone();
+            iterations += self.rounds(
+                lm,
+                first,
+                JOINT_ITERATIONS / JOINT_REWEIGHTS,
+                max_move,
+                params,
+                best,
+            )?;
+            if best.met == met && best.worst == w {
+                (lm.s, lm.r, lm.ds, lm.offset) = start;
+                self.weights = weights;
+                iterations += self.rounds(lm, first, JOINT_ITERATIONS, max_move, params, best)?;
+            }
+        }
+        Ok(iterations)
+    }
+
+    /// Up to [`JOINT_REWEIGHTS`] reweighted rounds of `limit` iterations each from the state of
+    /// `lm`, whose first round met `first.0` links with worst residual `first.1` and residuals
+    /// `first.2` (unweighted): Lawson's update, then a least-squares round, while each round's
+    /// worst residual is below that of the best round of these rounds so far and links are
+    /// missed; `best` keeps the round meeting the most links (then with the smallest worst
+    /// residual). Returns the iterations.
+    fn rounds(
+        &mut self,
+        lm: &mut normal::Lm,
+        first: (usize, f64, &[f64]),
+        limit: usize,
+        max_move: f64,
+        params: &ConnectParams,
+        best: &mut Round,
+    ) -> Result<usize> {
+        let (mut kept_met, mut kept_worst) = (first.0, first.1);
+        let mut unweighted = first.2.to_vec();
+        let mut iterations = 0;
+        for _ in 0..JOINT_REWEIGHTS {
+            self.reweight(&unweighted);
+            (lm.r, lm.ds) = self.residual(&lm.s);
+            iterations += self.least_squares(lm, limit, max_move, params)?;
+            unweighted = self.unweighted(&lm.r);
+            let (w, met) = (worst(&unweighted), self.met(&lm.s, params));
+            let improved = w < kept_worst;
+            if best.beaten_by(met, w) {
+                *best = Round {
+                    met,
+                    worst: w,
+                    s: lm.s.clone(),
+                    r: unweighted.clone(),
+                };
+            }
+            if met > kept_met || (met == kept_met && w < kept_worst) {
+                (kept_met, kept_worst) = (met, w);
+            }
+            if met == self.links.len() || !improved {
+                break;
+            }
+        }
+        Ok(iterations)
     }
 }
 
