@@ -6,12 +6,12 @@
 //! one — yet the stages, the polish and the masters' own fairing all depend on the deviation
 //! they may use, and not monotonically (measured on a three-radii corner's blend: all four links
 //! met with its master fillet at 0.04 mm, one missed at 0.05, all four at 0.06–0.1 mm;
-//! docs/benchmarks.md). A figure that is not run is a guess; this module runs it. Every link the run leaves unmet gets its slave
-//! and its master raised to [`VERIFY_FACTOR`] times their own deviation tolerance, the model is
-//! faired once more with those per-surface deviations (exactly what a user who sets them in the
-//! model file gets: the run is deterministic), and each unmet link is then named either with the
-//! deviations under which it was met (a conflict whose figure is verified) or as not reached by
-//! that much more deviation.
+//! docs/benchmarks.md). A figure that is not run is a guess; this module runs it. Every link
+//! the run leaves unmet gets its slave and its master raised to [`VERIFY_FACTOR`] times their
+//! own deviation tolerance, the model is faired once more with those per-surface deviations
+//! (exactly what a user who sets them in the model file gets: the run is deterministic), and
+//! each unmet link is then named either with the deviations under which it was met (a conflict
+//! whose figure is verified) or as not reached by that much more deviation.
 
 use super::*;
 
