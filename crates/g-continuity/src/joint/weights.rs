@@ -69,8 +69,14 @@ impl Round {
     /// Whether a round meeting `met` links with worst residual `worst` replaces this one: more
     /// links met, or as many with a smaller worst residual.
     fn beaten_by(&self, met: usize, worst: f64) -> bool {
-        met > self.met || (met == self.met && worst < self.worst)
+        ranks_above((met, worst), (self.met, self.worst))
     }
+}
+
+/// Whether a round meeting `a.0` links with worst residual `a.1` ranks above one with `b`: more
+/// links met, or as many with a smaller worst residual.
+fn ranks_above(a: (usize, f64), b: (usize, f64)) -> bool {
+    a.0 > b.0 || (a.0 == b.0 && a.1 < b.1)
 }
 
 impl Problem<'_> {
@@ -147,7 +153,7 @@ impl Problem<'_> {
                     r: unweighted.clone(),
                 };
             }
-            if met > kept_met || (met == kept_met && w < kept_worst) {
+            if ranks_above((met, w), (kept_met, kept_worst)) {
                 (kept_met, kept_worst) = (met, w);
             }
             if met == self.links.len() || !improved {
