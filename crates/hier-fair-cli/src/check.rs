@@ -23,6 +23,19 @@ pub fn run(
     as_json: bool,
     fail_above: Option<&str>,
 ) -> Result<CheckOutcome> {
+    run_with(model_text, source, samples, as_json, fail_above, false)
+}
+
+/// [`run`], and with `fairness` the fairness figures of every surface too (`check --fairness`,
+/// hier-fair's `fairness` module): a table after the links, or a `fairness` array in the JSON.
+pub fn run_with(
+    model_text: &str,
+    source: &str,
+    samples: usize,
+    as_json: bool,
+    fail_above: Option<&str>,
+    fairness: bool,
+) -> Result<CheckOutcome> {
     let preset = match fail_above {
         None => None,
         Some(name) => Some(Preset::named(name).ok_or_else(|| {
@@ -56,14 +69,21 @@ pub fn run(
         if !joins.is_empty() {
             v["surfaces"] = joins_json(&joins, preset.map(|_| join_flags.as_slice()));
         }
+        if fairness {
+            v["fairness"] = fairness_json(&model);
+        }
         serde_json::to_string_pretty(&v)? + "\n"
     } else {
-        table(
+        let mut text = table(
             &model,
             &checks,
             preset.map(|_| flags.as_slice()),
             fail_above,
-        ) + &joins_table(&joins, preset.map(|_| join_flags.as_slice()), fail_above)
+        ) + &joins_table(&joins, preset.map(|_| join_flags.as_slice()), fail_above);
+        if fairness {
+            text += &fairness_table(&model);
+        }
+        text
     };
     Ok(CheckOutcome { text, exceeded })
 }
@@ -224,5 +244,59 @@ fn joins_table(joins: &[SurfaceJoins], flags: Option<&[bool]>, preset: Option<&s
             note
         );
     }
+    out
+}
+
+/// Every surface's fairness figures (hier-fair `fairness`), as `check --json --fairness` lists
+/// them: the name and role with the fields of a fair report's `fairness_after`.
+fn fairness_json(model: &Model) -> Value {
+    let list: Vec<Value> = model
+        .surfaces
+        .iter()
+        .zip(hier_fair::fairness::model_fairness(model))
+        .map(|(s, f)| {
+            let mut v = hier_fair::report::fairness_json(&f);
+            v["name"] = json!(s.name);
+            v["role"] = json!(s.role.name());
+            v
+        })
+        .collect();
+    Value::Array(list)
+}
+
+/// Every surface's fairness figures as a table (units per model unit).
+fn fairness_table(model: &Model) -> String {
+    let unit = model.units.as_deref().unwrap_or("unit");
+    let mut out = format!(
+        "\n{:<24} {:<10} {:>12} {:>12} {:>12} {:>8} {:>12} {:>9} {:>6}\n",
+        "surface",
+        "role",
+        format!("peak 1/{unit}"),
+        format!("max 1/{unit}"),
+        "H spread",
+        "extrema",
+        "energy",
+        "net",
+        "degree"
+    );
+    for (s, f) in model
+        .surfaces
+        .iter()
+        .zip(hier_fair::fairness::model_fairness(model))
+    {
+        out += &format!(
+            "{:<24} {:<10} {:>12.4e} {:>12.4e} {:>12.3e} {:>8} {:>12.4e} {:>9} {:>6}\n",
+            s.name,
+            s.role.name(),
+            f.peak_curvature,
+            f.max_curvature,
+            f.mean_curvature_spread,
+            f.cross_extrema.map_or("–".to_string(), |n| n.to_string()),
+            f.energy,
+            format!("{}×{}", f.net.0, f.net.1),
+            format!("{}/{}", f.degree.0, f.degree.1),
+        );
+    }
+    out += "peak: the 99th percentile of the largest principal curvature; extrema: of the normal curvature along the iso-lines across a slave's linked sides (links found on shared edges included)\n";
     out
 }

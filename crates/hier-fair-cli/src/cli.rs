@@ -102,6 +102,10 @@ enum Command {
         /// Exits with code 1 when a link exceeds the preset (up to its target continuity).
         #[arg(long, value_parser = ["class-a", "standard", "exchange"])]
         fail_above: Option<String>,
+        /// Also measures every surface's fairness: peak curvature, mean-curvature spread, the
+        /// curvature extrema across its linked sides, thin-plate energy, net and degree.
+        #[arg(long)]
+        fairness: bool,
     },
     /// Sets continuity only (no fairing), slave by slave in hierarchy order.
     Connect {
@@ -141,7 +145,8 @@ fn run(cli: Cli) -> Result<()> {
             samples,
             json,
             fail_above,
-        } => check_command(model, samples, json, fail_above),
+            fairness,
+        } => check_command(model, samples, json, fail_above, fairness),
         Command::Connect {
             model,
             output,
@@ -210,14 +215,16 @@ fn check_command(
     samples: usize,
     json: bool,
     fail_above: Option<String>,
+    fairness: bool,
 ) -> Result<()> {
     let text = files::read_text(&model)?;
-    let outcome = crate::check::run(
+    let outcome = crate::check::run_with(
         &text,
         &model.display().to_string(),
         samples,
         json,
         fail_above.as_deref(),
+        fairness,
     )?;
     print!("{}", outcome.text);
     if outcome.exceeded {
@@ -353,6 +360,7 @@ fn fair_command(args: FairArgs) -> Result<()> {
         images,
         quiet,
         no_verify,
+        keep_faired,
     } = args;
     let mut outputs = vec![("-o", output.as_path())];
     outputs.extend(report.as_deref().map(|r| ("--report", r)));
@@ -380,6 +388,7 @@ fn fair_command(args: FairArgs) -> Result<()> {
             target,
             quiet,
             no_verify,
+            keep_faired,
         };
         let outcome = crate::pipeline::run_fair(
             &input,
@@ -503,6 +512,11 @@ struct FairArgs {
     /// are left unmet; the report then names only what the first run found)
     #[arg(long)]
     no_verify: bool,
+    /// models: keep the fairing method's result of every surface that meets its links, even
+    /// where the continuity setting alone is fairer (by default a surface that is no master and
+    /// whose faired peak curvature is beyond 1.6× its input's keeps the fairer setting)
+    #[arg(long)]
+    keep_faired: bool,
 }
 
 /// `ROLE=MM` of `--tolerance-role`.

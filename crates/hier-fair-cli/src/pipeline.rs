@@ -34,6 +34,9 @@ pub struct ModelOptions {
     pub quiet: bool,
     /// no verification run for unmet links ([`FairParams::verify_unmet`])
     pub no_verify: bool,
+    /// keep every method's result where it meets the links, even where the continuity setting
+    /// alone is fairer ([`FairParams::prefer_fairer`] false)
+    pub keep_faired: bool,
 }
 
 /// Whether JSON text is a model (surfaces with names and roles) rather than a bare surface file.
@@ -65,6 +68,7 @@ pub fn fair(model: &Model, options: &ModelOptions) -> Result<(Model, FairModelRe
         tolerance: options.tolerance,
         role_tolerance: options.role_tolerance,
         verify_unmet: !options.no_verify,
+        prefer_fairer: !options.keep_faired,
         ..FairParams::default()
     };
     let show = !options.quiet && std::io::stdout().is_terminal();
@@ -134,6 +138,25 @@ pub fn summary(report: &FairModelReport, title: &str) -> String {
         ea,
         worst,
         report.tolerance
+    );
+    let unfair: Vec<String> = report
+        .surfaces
+        .iter()
+        .filter_map(|x| {
+            let v = x.fairness_verdict();
+            (!v.fair()).then(|| format!("{} ({})", x.name, v.faults().join(", ")))
+        })
+        .collect();
+    let _ = writeln!(
+        s,
+        "fairness: {} of {} surfaces fair against their input{}",
+        report.surfaces.len() - unfair.len(),
+        report.surfaces.len(),
+        if unfair.is_empty() {
+            String::new()
+        } else {
+            format!("; not: {}", unfair.join("; "))
+        }
     );
     for p in &report.problems {
         let _ = writeln!(s, "{p}");

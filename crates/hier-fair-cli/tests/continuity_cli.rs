@@ -164,3 +164,33 @@ fn binary_check_exit_codes_and_connect_outputs() {
         "{err}"
     );
 }
+
+/// `check --fairness` measures every surface: on the kernel's plate with a boss, the torus
+/// fillets read their tube curvature (1/3 and 1/5 per mm) with no extremum across, the planes 0
+/// with no cross lines (they are no slaves).
+#[test]
+fn check_fairness_reads_the_fillet_radii() {
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fixtures/occt/occt_plate_boss.json");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let out = hier_fair_cli::check::run_with(&text, "m.json", 21, true, None, true).unwrap();
+    let v: Value = serde_json::from_str(&out.text).unwrap();
+    let list = v["fairness"].as_array().unwrap();
+    assert_eq!(list.len(), 10);
+    let get = |name: &str| list.iter().find(|s| s["name"] == name).unwrap();
+    for (name, r) in [("F09_torus", 3.0), ("F02_torus", 5.0)] {
+        let s = get(name);
+        let peak = s["peak_curvature"].as_f64().unwrap();
+        assert!((peak - 1.0 / r).abs() < 1e-9, "{name}: {s}");
+        assert_eq!(s["cross_extrema"], json!(0), "{name}: {s}");
+    }
+    assert_eq!(get("P01_plane")["peak_curvature"], json!(0.0));
+    assert_eq!(get("P01_plane")["cross_extrema"], Value::Null);
+    // the table names every surface after the links
+    let table = hier_fair_cli::check::run_with(&text, "m.json", 21, false, None, true).unwrap();
+    assert!(
+        table.text.contains("F09_torus") && table.text.contains("peak 1/mm"),
+        "{}",
+        table.text
+    );
+}

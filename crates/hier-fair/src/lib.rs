@@ -31,6 +31,7 @@ pub mod connect;
 pub mod corners;
 pub mod edges;
 pub mod error;
+pub mod fairness;
 pub mod framework;
 pub mod methods;
 pub mod model;

@@ -7,6 +7,9 @@ use std::fmt::Write;
 use g_continuity::LinkMeasure;
 use serde_json::{Value, json};
 
+use nurbs_core::Fairness;
+
+use crate::fairness::FairnessVerdict;
 use crate::framework::{FairModelReport, LinkFair};
 
 fn measure_json(m: &Option<LinkMeasure>) -> Value {
@@ -40,6 +43,10 @@ pub fn report_json(report: &FairModelReport) -> Value {
                 "processed": s.processed,
                 "crease_deg_before": s.crease_deg.0,
                 "crease_deg_after": s.crease_deg.1,
+                "fairness_before": fairness_json(&s.fairness.0),
+                "fairness_after": fairness_json(&s.fairness.1),
+                "fairness": verdict_json(&s.fairness_verdict()),
+                "joint_curvature": s.joint_curvature,
                 "stages": s.stages.iter().map(|st| json!({
                     "stage": st.stage.name(),
                     "max_move": if st.max_move.is_finite() { json!(st.max_move) } else { Value::Null },
@@ -97,6 +104,32 @@ pub fn report_json(report: &FairModelReport) -> Value {
     })
 }
 
+/// The fairness figures of one surface as JSON ([`nurbs_core::fairness`]).
+pub fn fairness_json(f: &Fairness) -> Value {
+    json!({
+        "energy": f.energy,
+        "peak_curvature": f.peak_curvature,
+        "max_curvature": f.max_curvature,
+        "mean_curvature_spread": f.mean_curvature_spread,
+        "cross_extrema": f.cross_extrema,
+        "cross_peak": f.cross_peak,
+        "net": [f.net.0, f.net.1],
+        "degree": [f.degree.0, f.degree.1],
+    })
+}
+
+/// A result's fairness verdict as JSON ([`FairnessVerdict`]).
+fn verdict_json(v: &FairnessVerdict) -> Value {
+    json!({
+        "fair": v.fair(),
+        "peak_ratio": if v.peak_ratio.is_finite() { json!(v.peak_ratio) } else { Value::Null },
+        "energy_ratio": if v.energy_ratio.is_finite() { json!(v.energy_ratio) } else { Value::Null },
+        "extrema_gained": v.extrema_gained,
+        "net_within": v.net_within,
+        "faults": v.faults(),
+    })
+}
+
 fn link_json(l: &LinkFair) -> Value {
     let (slave, rest) = l.label.split_once('.').unwrap_or((&l.label, ""));
     let (side, master) = rest.split_once(" -> ").unwrap_or((rest, ""));
@@ -140,6 +173,7 @@ pub fn report_markdown_in(report: &FairModelReport, title: &str, units: Option<&
     );
     links_section(&mut md, report, unit);
     surfaces_section(&mut md, report, unit);
+    fairness_section(&mut md, report, unit);
     groups_section(&mut md, report);
     problems_section(&mut md, report);
     md
@@ -228,6 +262,65 @@ fn surfaces_section(md: &mut String, report: &FairModelReport, unit: &str) {
             .sum::<usize>(),
         report.seconds_total
     );
+}
+
+/// The fairness table: per surface the peak curvature, the comb's extrema across its
+/// boundary, the mean-curvature spread and the net, before and after, and the verdict.
+fn fairness_section(md: &mut String, report: &FairModelReport, unit: &str) {
+    if report.surfaces.is_empty() {
+        return;
+    }
+    let fair = report
+        .surfaces
+        .iter()
+        .filter(|s| s.fairness_verdict().fair())
+        .count();
+    let _ = writeln!(
+        md,
+        "## Fairness
+"
+    );
+    let _ = writeln!(
+        md,
+        "{fair} of {} surfaces fair against their input (peak curvature ≤ {}× the input's or the masters' at the joins, energy ≤ {}×, at most {} more curvature extremum across the boundary, net ≤ max(2n, n + {})).\n",
+        report.surfaces.len(),
+        crate::fairness::PEAK_FACTOR,
+        crate::fairness::ENERGY_FACTOR,
+        crate::fairness::ONE_HUMP_EXTREMA,
+        crate::fairness::NET_GROWTH_ROWS,
+    );
+    let _ = writeln!(
+        md,
+        "| surface | peak curvature before (1/{unit}) | after | ratio | extrema across before | after | mean-curvature spread before | after | net before | after | fair |"
+    );
+    let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|---|");
+    let count = |c: Option<usize>| c.map_or("–".to_string(), |n| n.to_string());
+    for s in &report.surfaces {
+        let (b, a) = &s.fairness;
+        let v = s.fairness_verdict();
+        let _ = writeln!(
+            md,
+            "| {} | {:.4} | {:.4} | {:.2} | {} | {} | {:.3e} | {:.3e} | {}×{} | {}×{} | {} |",
+            s.name,
+            b.peak_curvature,
+            a.peak_curvature,
+            v.peak_ratio,
+            count(b.cross_extrema),
+            count(a.cross_extrema),
+            b.mean_curvature_spread,
+            a.mean_curvature_spread,
+            b.net.0,
+            b.net.1,
+            a.net.0,
+            a.net.1,
+            if v.fair() {
+                "yes".to_string()
+            } else {
+                format!("**no**: {}", v.faults().join("; "))
+            }
+        );
+    }
+    md.push('\n');
 }
 
 /// The corner groups table, where there are groups.

@@ -32,6 +32,7 @@ pub mod diffgeom;
 pub mod energy;
 pub mod error;
 pub mod fairing;
+pub mod fairness;
 pub mod fit;
 pub mod frames;
 pub mod gram;
@@ -72,6 +73,7 @@ pub use error::{Error, Result};
 pub use fairing::{
     Faired, FairingProblem, FairingReport, SurfaceFairing, check_contract, max_displacement,
 };
+pub use fairness::{Fairness, FairnessParams, fairness};
 pub use fit::{FitParams, FitReport, fit_curve, fit_surface};
 pub use frames::{Continuity, ControlMask, Frame, Side};
 pub use gram::{BandedMatrix, ThinPlateGram, gram_matrix};

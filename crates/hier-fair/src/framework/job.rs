@@ -90,8 +90,20 @@ impl Job<'_> {
             });
         }
         let crease_deg = self.creases(original, &surface, &mut problems);
+        let fairness = (
+            crate::fairness::surface_fairness(self.model, self.surface, original),
+            crate::fairness::surface_fairness(self.model, self.surface, &surface),
+        );
+        let joint_curvature = crate::fairness::joint_curvature(
+            self.current,
+            self.surface,
+            &surface,
+            &self.connect.measure,
+        );
         let report = SurfaceFair {
             crease_deg,
+            fairness,
+            joint_curvature,
             surface: self.surface,
             name: entry.name.clone(),
             role: entry.role,

@@ -161,6 +161,12 @@ pub struct FairParams {
     /// their deviation, and name each unmet link with the figure that run met it at (default
     /// true; costs one more run, only where a link is left unmet).
     pub verify_unmet: bool,
+    /// Keep the continuity setting alone instead of the faired result of a surface that is no
+    /// other surface's master where the faired result's peak curvature is beyond
+    /// [`crate::fairness::PEAK_FACTOR`] of its input's and the setting is fairer (default
+    /// true; false keeps every method's result where it meets the links, for a researcher who
+    /// wants to see what the method does: `--keep-faired`).
+    pub prefer_fairer: bool,
 }
 
 impl Default for FairParams {
@@ -182,6 +188,7 @@ impl Default for FairParams {
             parallel: true,
             budget: DeviationBudget::default(),
             verify_unmet: true,
+            prefer_fairer: true,
         }
     }
 }

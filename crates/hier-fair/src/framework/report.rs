@@ -111,6 +111,22 @@ pub struct SurfaceFair {
     /// the largest normal jump (degrees) across the C⁰ knot lines of the input and of the
     /// result ([`nurbs_core::creases`]; 0 without such lines)
     pub crease_deg: (f64, f64),
+    /// the fairness figures of the input and of the result ([`crate::fairness`])
+    pub fairness: (nurbs_core::Fairness, nurbs_core::Fairness),
+    /// the masters' largest curvature across this surface's G2 joins (1/model unit; 0 without
+    /// G2 links): the peak-curvature reference where the input is flatter
+    pub joint_curvature: f64,
+}
+
+impl SurfaceFair {
+    /// The result's fairness against its input's ([`crate::fairness::FairnessVerdict`]).
+    pub fn fairness_verdict(&self) -> crate::fairness::FairnessVerdict {
+        crate::fairness::FairnessVerdict::new(
+            &self.fairness.0,
+            &self.fairness.1,
+            self.joint_curvature,
+        )
+    }
 }
 
 /// Kind of a reported problem.

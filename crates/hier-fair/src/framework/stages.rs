@@ -370,7 +370,7 @@ impl Job<'_> {
                 None,
             )
         } else {
-            return (s, run.stages);
+            return self.fairer_of(plan, s, run, problems);
         };
         self.limited(problems, why.0, why.1);
         // the alternating stages failed: the continuity setting, faired once keeping its level
@@ -410,6 +410,71 @@ impl Job<'_> {
             vec![run.stages[0].clone()],
         ));
         self.least_grown(plan, candidates, &worse, problems)
+    }
+
+    /// The faired result `s` (no link worse, none lost, within the tolerance), or — on a surface
+    /// that is no other surface's master, with [`FairParams::prefer_fairer`] — the continuity
+    /// setting alone where the faired result's peak curvature is beyond
+    /// [`crate::fairness::PEAK_FACTOR`] of its input's and the setting is fairer
+    /// ([`crate::fairness::FairnessVerdict::fairer_than`]): a fairing stage minimizes its
+    /// method's functional, which on a strongly curved connecting surface need not lower its
+    /// curvature peaks (with 0.5 mm of deviation the thin-plate energy of plate_boss's torus
+    /// fillet drops 4 % while its peak curvature grows 2.6×). Below that bound the method's
+    /// own functional decides ([SV] §3.2): on near-flat surfaces (the X-node's fillets, a few
+    /// 1e-3 /mm) the comb's extrema counted at the G2 tolerance's hysteresis trade against a
+    /// lower peak and energy, and the energy method's result is kept. The choice is reported
+    /// with both figures.
+    fn fairer_of(
+        &self,
+        plan: &StagePlan<'_>,
+        s: BSplineSurface,
+        run: Run<'_>,
+        problems: &mut Vec<Problem>,
+    ) -> (BSplineSurface, Vec<StageReport>) {
+        // a master's result is what its slaves are set against: a master changed here would
+        // change their joins (a vertex blend between four fillets kept at their settings missed
+        // G2 on all four sides, lofted block a), so masters keep the method's result
+        if !self.params.prefer_fairer
+            || self.is_master()
+            || plan.highest.is_none()
+            || self.worse_link(plan.labelled, &plan.connected).is_some()
+        {
+            return (s, run.stages);
+        }
+        let verdict = |x: &BSplineSurface| {
+            let before = crate::fairness::surface_fairness(self.model, self.surface, run.original);
+            let after = crate::fairness::surface_fairness(self.model, self.surface, x);
+            let joint = crate::fairness::joint_curvature(
+                self.current,
+                self.surface,
+                x,
+                &self.connect.measure,
+            );
+            crate::fairness::FairnessVerdict::new(&before, &after, joint)
+        };
+        let faired = verdict(&s);
+        if faired.peak_ratio <= crate::fairness::PEAK_FACTOR {
+            return (s, run.stages);
+        }
+        let setting = verdict(&plan.connected);
+        if !setting.fairer_than(&faired, self.connect.tolerances.g2_rel) {
+            return (s, run.stages);
+        }
+        self.limited(
+            problems,
+            format!(
+                "fairing dropped, continuity setting kept: it is fairer (peak curvature {:.2}× the input's, {} curvature extrema gained across the boundary; the faired result {:.2}×, {})",
+                setting.peak_ratio,
+                setting.extrema_gained,
+                faired.peak_ratio,
+                faired.extrema_gained
+            ),
+            None,
+        );
+        let mut c = run.stages[0].clone();
+        c.deviation = max_deviation(run.original, &plan.connected, self.params.deviation_grid);
+        c.energy = thin_plate_energy(&plan.connected);
+        (plan.connected.clone(), vec![c])
     }
 
     /// A `limited` problem of this surface.

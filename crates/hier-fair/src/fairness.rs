@@ -1,0 +1,270 @@
+//! The fairness of a model's surfaces, measured in their place in the hierarchy, and the
+//! verdict of a result against its input: what a surfacer rejects even where every link is
+//! continuous ([SV] §1: "even curvature distribution with large, monotone curvature areas is
+//! crucial"; §1.2: continuity constraints "may crease the surface near the sides").
+//!
+//! The figures are nurbs-core's [`nurbs_core::fairness`]; the model decides which iso-lines are
+//! cross-boundary (those across the sides a surface is linked by, as a slave) and the
+//! hysteresis of their extrema (the model's relative G2 tolerance, with the link measure's
+//! flatness cut-off as a floor).
+//!
+//! # The verdict ([`FairnessVerdict`])
+//! A result is fair against its input when
+//! - its peak curvature is at most [`PEAK_FACTOR`] × the input's (a rolling-ball section set G2
+//!   to flat masters must overshoot the arc's curvature to turn the same angle: a quintic
+//!   lead-in keeps its peak within 1.1–1.6× of the arc's; beyond that the G2 was bought with a
+//!   spike) — where the input's peak is smaller than the curvature the surface has to reach at
+//!   its joins (its masters'), that joint curvature is the reference instead;
+//! - its thin-plate energy is at most [`ENERGY_FACTOR`] × the input's;
+//! - along a slave's cross-boundary iso-lines, its profile has at most [`ONE_HUMP_EXTREMA`]
+//!   interior extremum more than the input's (the one hump of a lead-in that rises once and falls
+//!   once);
+//! - its net grows to at most max(2n, n + [`NET_GROWTH_ROWS`]) per direction of its input's n.
+
+use g_continuity::MeasureParams;
+use nurbs_core::fairness::{Fairness, FairnessParams, fairness};
+use nurbs_core::{BSplineSurface, Direction};
+
+use crate::model::{Model, ModelTolerances};
+
+/// Largest peak curvature of a result relative to its input's (or to its masters' at the
+/// joints where the input is flatter): 1.6, the top of the range of a quintic lead-in that
+/// keeps a rolling-ball section's contact lines (1.1–1.6× the arc's curvature for ramps from
+/// a tenth to a third of the section).
+pub const PEAK_FACTOR: f64 = 1.6;
+
+/// Largest thin-plate energy of a result relative to its input's: 3. A result whose curvature
+/// stays within [`PEAK_FACTOR`] of its input's everywhere has at most PEAK_FACTOR² ≈ 2.56 times
+/// its ∫κ²; the rest is room for the parametric part of the thin-plate energy (a lead-in's
+/// denser knots change the speed of the parametrization, not the shape).
+pub const ENERGY_FACTOR: f64 = 3.0;
+
+/// Interior extrema a cross-boundary profile may gain over its input's: one, the hump of a
+/// profile that rises once from each G2 side and falls once.
+pub const ONE_HUMP_EXTREMA: usize = 1;
+
+/// The rows a net may gain per direction beyond doubling a small one: 16 — what a sparse input
+/// (a kernel's 3 × 3 sphere blend) needs in one direction for G2 on both its sides: degree
+/// raised to 5 (+3), three lead-in knots at each of the two sides (+6), and seven rows for the
+/// refinement of a side that the first setting misses.
+pub const NET_GROWTH_ROWS: usize = 16;
+
+/// The largest net per direction a result of an input with `n` rows may have.
+pub fn net_limit(n: usize) -> usize {
+    (2 * n).max(n + NET_GROWTH_ROWS)
+}
+
+/// The fairness settings of a model: the hysteresis of the comb's extrema is its relative G2
+/// tolerance, with the flatness cut-off of the link measure (a radius of a thousand surface
+/// sizes, g-continuity's `FLAT_RADIUS_FACTOR`) as a floor.
+pub fn fairness_params(tolerances: &ModelTolerances, surface: &BSplineSurface) -> FairnessParams {
+    FairnessParams {
+        wiggle_relative: tolerances.g2_rel,
+        flat_curvature: 1.0
+            / (g_continuity::measure::FLAT_RADIUS_FACTOR * surface.size().max(f64::MIN_POSITIVE)),
+        ..FairnessParams::default()
+    }
+}
+
+/// The directions across the sides surface `k` of `model` hangs on as a slave (each once).
+pub fn cross_directions(model: &Model, k: usize) -> Vec<Direction> {
+    let mut out = Vec::new();
+    for l in model.links_of_slave(k) {
+        let d = model.links[l].side.cross_direction();
+        if !out.contains(&d) {
+            out.push(d);
+        }
+    }
+    out
+}
+
+/// The fairness figures of every surface of `model`, with the links the framework finds on its
+/// shared edges ([`crate::edges::link_edges`]: a fillet side lying tangentially on a higher
+/// surface) counted as links, as `fair` counts them.
+pub fn model_fairness(model: &Model) -> Vec<Fairness> {
+    let edges = crate::edges::shared_edges(model);
+    let (work, _, _) = crate::edges::link_edges(model, &edges);
+    (0..work.surfaces.len())
+        .map(|k| surface_fairness(&work, k, &work.surfaces[k].surface))
+        .collect()
+}
+
+/// The fairness figures of `surface` standing as surface `k` of `model`.
+pub fn surface_fairness(model: &Model, k: usize, surface: &BSplineSurface) -> Fairness {
+    let params = fairness_params(&model.tolerances, surface);
+    fairness(surface, &cross_directions(model, k), &params)
+}
+
+/// The largest |normal curvature| across the joins of surface `k` that its masters have there
+/// (1/model unit): the curvature a G2 result must reach at its sides, measured on the masters
+/// of `model` as they stand (`measure` gives the samples; 0 without G2 links).
+pub fn joint_curvature(
+    model: &Model,
+    k: usize,
+    surface: &BSplineSurface,
+    measure: &MeasureParams,
+) -> f64 {
+    let mut out = 0.0_f64;
+    for l in model.links_of_slave(k) {
+        let link = &model.links[l];
+        if link.continuity != nurbs_core::Continuity::G2 {
+            continue;
+        }
+        let master = &model.surfaces[link.master].surface;
+        if let Ok(m) = g_continuity::measure_link(master, surface, link.side, measure) {
+            for s in &m.detail {
+                if let Some(km) = s.kappa_master {
+                    out = out.max(km.abs());
+                }
+            }
+        }
+    }
+    out
+}
+
+/// How a result's fairness compares with its input's (see the module docs).
+#[derive(Debug, Clone, PartialEq)]
+pub struct FairnessVerdict {
+    /// peak curvature after / the reference (the input's peak, or the masters' joint curvature
+    /// where that is larger); 0 when the reference is 0 and the result flat
+    pub peak_ratio: f64,
+    /// thin-plate energy after / before (1 when both are 0)
+    pub energy_ratio: f64,
+    /// cross-boundary extrema gained over the input's (0 when there are none or fewer)
+    pub extrema_gained: usize,
+    /// whether the net stays within [`net_limit`] in both directions
+    pub net_within: bool,
+}
+
+impl FairnessVerdict {
+    /// The verdict of `after` against `before`, with `joint` the masters' curvature at the
+    /// joins ([`joint_curvature`]).
+    pub fn new(before: &Fairness, after: &Fairness, joint: f64) -> Self {
+        let reference = before.peak_curvature.max(joint);
+        let peak_ratio = ratio(after.peak_curvature, reference);
+        let energy_ratio = ratio(after.energy, before.energy);
+        let extrema_gained = after
+            .cross_extrema
+            .unwrap_or(0)
+            .saturating_sub(before.cross_extrema.unwrap_or(0));
+        let net_within =
+            after.net.0 <= net_limit(before.net.0) && after.net.1 <= net_limit(before.net.1);
+        Self {
+            peak_ratio,
+            energy_ratio,
+            extrema_gained,
+            net_within,
+        }
+    }
+
+    /// Whether the result is fair by every criterion of the module docs.
+    pub fn fair(&self) -> bool {
+        self.peak_ratio <= PEAK_FACTOR
+            && self.energy_ratio <= ENERGY_FACTOR
+            && self.extrema_gained <= ONE_HUMP_EXTREMA
+            && self.net_within
+    }
+
+    /// Whether this verdict is strictly fairer than `other`'s: fewer faults, else as many and
+    /// fewer curvature extrema gained, else both as many and a peak ratio lower by more than
+    /// `same` (relative; the framework passes the model's relative G2 tolerance: curvatures
+    /// that close are "the same curvature" at a join, and so are two peaks).
+    pub fn fairer_than(&self, other: &Self, same: f64) -> bool {
+        let (a, b) = (self.faults().len(), other.faults().len());
+        if a != b {
+            return a < b;
+        }
+        if self.extrema_gained != other.extrema_gained {
+            return self.extrema_gained < other.extrema_gained;
+        }
+        self.peak_ratio < other.peak_ratio * (1.0 - same)
+    }
+
+    /// What is wrong, in words (empty when [`Self::fair`]).
+    pub fn faults(&self) -> Vec<String> {
+        let mut out = Vec::new();
+        if self.peak_ratio > PEAK_FACTOR {
+            out.push(format!(
+                "peak curvature {:.2}× its input's (at most {PEAK_FACTOR})",
+                self.peak_ratio
+            ));
+        }
+        if self.energy_ratio > ENERGY_FACTOR {
+            out.push(format!(
+                "thin-plate energy {:.2}× its input's (at most {ENERGY_FACTOR})",
+                self.energy_ratio
+            ));
+        }
+        if self.extrema_gained > ONE_HUMP_EXTREMA {
+            out.push(format!(
+                "{} more curvature extrema across its boundary (one hump allows {ONE_HUMP_EXTREMA})",
+                self.extrema_gained
+            ));
+        }
+        if !self.net_within {
+            out.push("its net grew beyond max(2n, n + 16)".to_string());
+        }
+        out
+    }
+}
+
+/// a / b, 1 when both vanish, infinite when only b does.
+fn ratio(a: f64, b: f64) -> f64 {
+    if b > 0.0 {
+        a / b
+    } else if a > 0.0 {
+        f64::INFINITY
+    } else {
+        1.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn figures(peak: f64, energy: f64, extrema: Option<usize>, net: (usize, usize)) -> Fairness {
+        Fairness {
+            energy,
+            peak_curvature: peak,
+            max_curvature: peak,
+            mean_curvature_spread: 0.0,
+            cross_extrema: extrema,
+            cross_peak: None,
+            net,
+            degree: (3, 3),
+            regular_samples: 1,
+        }
+    }
+
+    #[test]
+    fn net_limits() {
+        assert_eq!(net_limit(3), 19);
+        assert_eq!(net_limit(16), 32);
+        assert_eq!(net_limit(40), 80);
+    }
+
+    #[test]
+    fn verdicts() {
+        let before = figures(0.2, 10.0, Some(0), (4, 4));
+        let fair = FairnessVerdict::new(&before, &figures(0.3, 25.0, Some(1), (20, 9)), 0.0);
+        assert!(fair.fair(), "{fair:?}");
+        assert!(fair.faults().is_empty());
+        let spike = FairnessVerdict::new(&before, &figures(0.5, 25.0, Some(1), (20, 9)), 0.0);
+        assert!(!spike.fair());
+        assert_eq!(spike.faults().len(), 1);
+        // the masters' curvature at the joints is the reference where the input is flatter
+        let flat = figures(0.0, 0.0, Some(0), (2, 2));
+        let joined = FairnessVerdict::new(&flat, &figures(0.3, 0.0, Some(0), (2, 2)), 0.25);
+        assert!((joined.peak_ratio - 1.2).abs() < 1e-12);
+        let wave = FairnessVerdict::new(&before, &figures(0.3, 25.0, Some(3), (4, 4)), 0.0);
+        assert_eq!(wave.extrema_gained, 3);
+        assert!(!wave.fair());
+        assert!(fair.fairer_than(&spike, 0.005));
+        assert!(!spike.fairer_than(&fair, 0.005));
+        assert!(!fair.fairer_than(&fair, 0.005));
+        let grown = FairnessVerdict::new(&before, &figures(0.2, 10.0, Some(0), (57, 61)), 0.0);
+        assert!(!grown.net_within);
+        assert_eq!(grown.faults().len(), 1);
+    }
+}
