@@ -194,7 +194,73 @@ pub fn write_images(
     for l in &report.links {
         written.push(write_link_plot(dir, l, unit)?);
     }
+    for k in 0..original.surfaces.len().min(faired.surfaces.len()) {
+        for along in hier_fair::fairness::cross_directions(original, k) {
+            written.push(write_profile_plot(dir, original, faired, k, along, unit)?);
+        }
+    }
     Ok(written)
+}
+
+/// Samples of a cross-section profile plot: 201, a sample every 0.5 % of the section, so that a
+/// lead-in of a twentieth of it is drawn by ten points.
+const PROFILE_PLOT_SAMPLES: usize = 201;
+
+/// The curvature plot across slave `k` through the middle of its linked sides (the iso-line
+/// running in `along` at the middle of the other parameter): the normal curvature in the
+/// line's direction before (light) and after (dark) — the comb a surfacer reads across a
+/// fillet (one hump: the lead-ins rise once and fall once). Returns the file.
+fn write_profile_plot(
+    dir: &Path,
+    original: &Model,
+    faired: &Model,
+    k: usize,
+    along: nurbs_core::Direction,
+    unit: &str,
+) -> Result<PathBuf> {
+    let name = &original.surfaces[k].name;
+    let profile = |s: &BSplineSurface| -> Vec<(f64, f64)> {
+        let p = nurbs_core::fairness::cross_profile(s, along, 0.5, PROFILE_PLOT_SAMPLES);
+        let n = (p.len().max(2) - 1) as f64;
+        p.iter()
+            .enumerate()
+            .filter_map(|(i, v)| v.map(|v| (i as f64 / n, v)))
+            .collect()
+    };
+    let curves = vec![
+        hier_fair::plots::Series {
+            label: "before".to_string(),
+            points: profile(&original.surfaces[k].surface),
+            colour: image::Rgb([240, 150, 150]),
+            dashed: false,
+        },
+        hier_fair::plots::Series {
+            label: "after".to_string(),
+            points: profile(&faired.surfaces[k].surface),
+            colour: image::Rgb([200, 20, 20]),
+            dashed: false,
+        },
+    ];
+    let (param, other) = match along {
+        nurbs_core::Direction::U => ("u", "v"),
+        nurbs_core::Direction::V => ("v", "u"),
+    };
+    let file = format!(
+        "profile_{}_{param}.png",
+        name.replace(|c: char| !c.is_ascii_alphanumeric() && c != '_', "_")
+    );
+    let path = dir.join(file);
+    let plot = hier_fair::plots::line_plot(
+        &format!("{name}: normal curvature across, along {param} at {other} = middle"),
+        &format!("{param} from side to side (0 to 1)"),
+        &format!("curvature (1/{unit})"),
+        &curves,
+        720,
+        320,
+    )
+    .map_err(|e| anyhow::anyhow!(e))?;
+    png(&path, &plot)?;
+    Ok(path)
 }
 
 /// The zebra pictures (two views) and the mean-curvature map of the surfaces `before` and
@@ -353,7 +419,10 @@ pub fn images_legend() -> String {
      the scale and its values (1/length unit) on the colour bar at the right.\n\
      - `curvature_<slave>_<side>_on_<master>.png`: normal curvature across the join along each \
      link (axis: t along the slave side, curvature in 1/length unit); light before, dark after, \
-     red solid the slave, blue dashed the master: where they coincide the join is G2.\n"
+     red solid the slave, blue dashed the master: where they coincide the join is G2.\n\
+     - `profile_<surface>_<u|v>.png`: the normal curvature along the middle iso-line across each \
+     surface that hangs on masters, from side to side (light before, dark after): the comb a \
+     surfacer reads across a fillet; a fair G2 fillet rises once from each side and falls once.\n"
         .to_string()
 }
 
