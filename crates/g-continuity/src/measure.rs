@@ -23,9 +23,9 @@
 //! - [`LinkMeasure::g2_rel_across`], [`LinkMeasure::g2_abs_across`]: the same relative and
 //!   absolute differences of the normal curvatures taken in the true cross-boundary direction
 //!   d = n_s × T, T the slave side's tangent (S_v on u sides, S_u on v sides) — the plane normal
-//!   to the boundary that CATIA's connect checker and Open CASCADE's `BRepLProp`/
-//!   `LocalAnalysis_SurfaceContinuity` measure in ([`cross_boundary_direction`]) — over the
-//!   interior samples, every sample but the two ends;
+//!   to the boundary that CATIA's connect checker and Open CASCADE's continuity analysis
+//!   measure in ([`cross_boundary_direction`]) — over the interior samples, every sample but
+//!   the two ends;
 //! - [`LinkMeasure::vertex_g1_deg`], [`LinkMeasure::vertex_g2_rel`]: the normal angle and the
 //!   relative curvature difference (across, too) of the two end samples, the side's vertices,
 //!   where the side meets the neighbouring side and its master, whose curvature may disagree
