@@ -17,6 +17,46 @@
 //! By the linkage curve theorem (Pegna–Wolter, [SV] §2) equal normal curvature in one
 //! non-tangent direction along a G1 join means G2.
 //!
+//! # The checker's figures: across the boundary, vertices apart
+//! The same pass also computes the figures an industry connect checker reports, and only
+//! reports them: nothing is decided on them.
+//! - [`LinkMeasure::g2_rel_across`], [`LinkMeasure::g2_abs_across`]: the same relative and
+//!   absolute differences of the normal curvatures taken in the true cross-boundary direction
+//!   d = n_s × T, T the slave side's tangent (S_v on u sides, S_u on v sides) — the plane normal
+//!   to the boundary that CATIA's connect checker and Open CASCADE's continuity analysis
+//!   measure in ([`cross_boundary_direction`]) — over the interior samples, every sample but
+//!   the two ends;
+//! - [`LinkMeasure::vertex_g1_deg`], [`LinkMeasure::vertex_g2_rel`]: the normal angle and the
+//!   relative curvature difference (across, too) of the two end samples, the side's vertices,
+//!   where the side meets the neighbouring side and its master, whose curvature may disagree
+//!   with this master's (two fillets of different radii at a corner blend) so that no surface
+//!   can be G2 to both there; a checker reports an edge's end points apart from its interior.
+//!
+//! Why both: the parametric figure ([`LinkMeasure::g2_rel`], d = S_u or S_v, every sample) is
+//! the one the framework's row systems set (the G2 row of a sample prescribes the slave's
+//! curvature row along its cross derivative) and the one every decision is taken on
+//! ([`LinkMeasure::meets`], [`LinkMeasure::excess`]: refinement, the joint polish, which links
+//! are met). Along a G1 join the two directions agree wherever S_u is perpendicular to the
+//! boundary, and an exactly G2 join reads ≈ 0 both ways (linkage curve theorem); they differ
+//! where the parametrization is skewed — next to a corner whose sides meet at a small angle,
+//! S_u runs almost along the boundary, and the curvature along it is nearly the boundary's
+//! own, which both surfaces share by G1 whatever their curvature across (a jump across shows in
+//! κ(S_u) only by sin² of the angle between S_u and T) — and where the master is nearly
+//! straight across the boundary, so that a small absolute difference is a large relative one.
+//! Measured on the kernel's lofted block (fixtures/occt/occt_loft_block.json, faired by
+//! default, K = 101, g2 tolerance 0.005): all 25 G2 links meet the parametric figure, while 13
+//! read above 0.005 across, every one of them a side of the four corner patches (C11, C12,
+//! C16, C17), whose cross derivatives run 3–20° off the perpendicular to the side and whose
+//! masters are nearly straight across (curvature radii of thousands of units on patches of
+//! size 6–7.5, the flatness cut-off a radius of 1000 sizes): C11.v0 → F14 reads 0.0012
+//! parametric and 1.50 across (κ across −1.5e-4 against 3.1e-4, of opposite sign, while along
+//! S_u both read −2.31e-3, the shared along-boundary part), C12.v1 → F15 0.0039 against 1.44,
+//! C16.v0 → F18 0.0050 against 1.03, and C11.u0 → P13 (a plane) 0 against 1 (the slave's
+//! curvature along S_u 2e-7, below the cut-off, across 3.5e-4, above it). The vertex figures
+//! of the same corners reach 0.86 (C11.v0) and 1.8 (C12.u1 → F04). The variable-radius box
+//! shows three such links (one corner patch), the three-radii corner one; the other kernel
+//! models none.
+//!
 //! Samples where a normal is undefined (poles, degenerate points) are counted, not measured; a
 //! side whose boundary is a single point is reported as collapsed with no G1/G2 value.
 //!
@@ -78,6 +118,12 @@ pub struct SampleMeasure {
     pub kappa_slave: Option<f64>,
     /// master normal curvature in the same direction, signed w.r.t. the slave normal
     pub kappa_master: Option<f64>,
+    /// slave normal curvature in the true cross-boundary direction n_s × T
+    /// ([`cross_boundary_direction`]; 1/unit), signed w.r.t. the slave normal; reported only
+    pub kappa_slave_across: Option<f64>,
+    /// master normal curvature in the direction n_s × T, signed w.r.t. the slave normal;
+    /// reported only
+    pub kappa_master_across: Option<f64>,
 }
 
 /// Continuity of one link: the worst sample of each measure.
@@ -103,6 +149,21 @@ pub struct LinkMeasure {
     pub g2_abs: Option<f64>,
     /// parameter of the largest relative difference
     pub worst_g2_t: Option<f64>,
+    /// largest relative curvature difference in the true cross-boundary direction n_s × T over
+    /// the interior samples (all but the two ends), the checker's figure (module doc); `None`
+    /// when no interior sample has both curvatures. Reported only: decisions take [`Self::g2_rel`]
+    pub g2_rel_across: Option<f64>,
+    /// largest absolute curvature difference in the direction n_s × T over the interior
+    /// samples (1/unit); reported only
+    pub g2_abs_across: Option<f64>,
+    /// parameter of the largest interior relative difference across
+    pub worst_g2_across_t: Option<f64>,
+    /// larger normal angle of the two end samples, the side's vertices (degrees); `None` when
+    /// neither has both normals; reported only
+    pub vertex_g1_deg: Option<f64>,
+    /// larger relative curvature difference in the direction n_s × T of the two end samples;
+    /// `None` when neither has both curvatures; reported only
+    pub vertex_g2_rel: Option<f64>,
     /// samples where a normal (slave or master) is undefined
     pub undefined_normals: usize,
     /// samples where a normal curvature is undefined
@@ -156,12 +217,32 @@ pub fn is_collapsed(slave: &BSplineSurface, side: Side) -> bool {
     side_extent(slave, side) <= COLLAPSED_SIDE_RELATIVE * slave.size()
 }
 
-/// The slave's cross-boundary derivative on `side` (S_u or S_v).
+/// The slave's parametric cross-boundary derivative on `side` (S_u on u sides, S_v on v sides).
 pub(crate) fn cross_derivative(d: &SurfaceDerivatives, side: Side) -> Vector3 {
     match side.cross_direction() {
         Direction::U => d.du,
         Direction::V => d.dv,
     }
+}
+
+/// The true cross-boundary direction of `side` at the slave point `d`: n_s × T, T the side's
+/// tangent (S_v on u sides, S_u on v sides), scaled as the part of the cross derivative e
+/// (S_u, S_v) perpendicular to T, d = e − (e·T/|T|²) T — which lies in the tangent plane and is
+/// perpendicular to T, so parallel to n_s × T (normal curvature is even in d and does not depend
+/// on its length). `None` where the normal is undefined (poles, degenerate points; a vanishing
+/// T — a collapsed side — is one) or d vanishes.
+pub fn cross_boundary_direction(d: &SurfaceDerivatives, side: Side) -> Option<Vector3> {
+    d.normal()?;
+    let (e, t) = match side.cross_direction() {
+        Direction::U => (d.du, d.dv),
+        Direction::V => (d.dv, d.du),
+    };
+    let tt = t.norm_squared();
+    if !(tt > 0.0) {
+        return None;
+    }
+    let dir = e - t * (e.dot(&t) / tt);
+    (dir.norm_squared() > 0.0).then_some(dir)
 }
 
 /// Measures the link of `side` of `slave` on `master`.
@@ -228,6 +309,11 @@ impl LinkMeasure {
             g2_rel: None,
             g2_abs: None,
             worst_g2_t: None,
+            g2_rel_across: None,
+            g2_abs_across: None,
+            worst_g2_across_t: None,
+            vertex_g1_deg: None,
+            vertex_g2_rel: None,
             undefined_normals: 0,
             undefined_curvatures: 0,
             detail: Vec::with_capacity(ts.len()),
@@ -270,6 +356,8 @@ fn measure_gaps(
             angle_deg: None,
             kappa_slave: None,
             kappa_master: None,
+            kappa_slave_across: None,
+            kappa_master_across: None,
         });
         pairs.push((ds, dm));
     }
@@ -288,9 +376,19 @@ fn relative_orientation(pairs: &[(SurfaceDerivatives, SurfaceDerivatives)]) -> f
     if sum < 0.0 { -1.0 } else { 1.0 }
 }
 
+/// The relative and absolute difference of two normal curvatures, the relative one 0 where
+/// both are below `flat`.
+fn curvature_difference(ks: f64, km: f64, flat: f64) -> (f64, f64) {
+    let abs = (ks - km).abs();
+    let big = ks.abs().max(km.abs());
+    let rel = if big < flat { 0.0 } else { abs / big };
+    (rel, abs)
+}
+
 /// The second pass of a measurement: the normal angle and the normal curvatures of every
 /// sample of `m` from its derivatives `pairs`, the master's normal turned by `orientation`,
-/// curvatures below `flat` counting as zero in the relative difference.
+/// curvatures below `flat` counting as zero in the relative difference; the checker's figures
+/// (across the boundary, the vertices apart) from the same derivatives.
 fn measure_normals(
     m: &mut LinkMeasure,
     pairs: &[(SurfaceDerivatives, SurfaceDerivatives)],
@@ -298,8 +396,10 @@ fn measure_normals(
     flat: f64,
 ) {
     let (side, collapsed) = (m.side, m.collapsed);
-    for ((ds, dm), sample) in pairs.iter().zip(m.detail.iter_mut()) {
+    let last = pairs.len().saturating_sub(1);
+    for (k, ((ds, dm), sample)) in pairs.iter().zip(m.detail.iter_mut()).enumerate() {
         let t = sample.t;
+        let vertex = k == 0 || k == last;
         let normals = if collapsed {
             None
         } else {
@@ -320,15 +420,37 @@ fn measure_normals(
                     m.g1_deg = Some(angle);
                     m.worst_g1_t = Some(t);
                 }
+                if vertex && m.vertex_g1_deg.is_none_or(|a| angle > a) {
+                    m.vertex_g1_deg = Some(angle);
+                }
+                let across = cross_boundary_direction(ds, side)
+                    .and_then(|d| ds.normal_curvature(&d).zip(dm.normal_curvature(&d)));
+                if let Some((ks, km)) = across {
+                    let km = km * orientation;
+                    sample.kappa_slave_across = Some(ks);
+                    sample.kappa_master_across = Some(km);
+                    let (rel, abs) = curvature_difference(ks, km, flat);
+                    if vertex {
+                        if m.vertex_g2_rel.is_none_or(|r| rel > r) {
+                            m.vertex_g2_rel = Some(rel);
+                        }
+                    } else {
+                        if m.g2_abs_across.is_none_or(|a| abs > a) {
+                            m.g2_abs_across = Some(abs);
+                        }
+                        if m.g2_rel_across.is_none_or(|r| rel > r) {
+                            m.g2_rel_across = Some(rel);
+                            m.worst_g2_across_t = Some(t);
+                        }
+                    }
+                }
                 let dir = cross_derivative(ds, side);
                 match (ds.normal_curvature(&dir), dm.normal_curvature(&dir)) {
                     (Some(ks), Some(km)) => {
                         let km = km * orientation;
                         sample.kappa_slave = Some(ks);
                         sample.kappa_master = Some(km);
-                        let abs = (ks - km).abs();
-                        let big = ks.abs().max(km.abs());
-                        let rel = if big < flat { 0.0 } else { abs / big };
+                        let (rel, abs) = curvature_difference(ks, km, flat);
                         if m.g2_abs.is_none_or(|a| abs > a) {
                             m.g2_abs = Some(abs);
                         }
@@ -341,5 +463,198 @@ fn measure_normals(
                 }
             }
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nalgebra::DMatrix;
+    use nurbs_core::testing::assert_close;
+    use nurbs_core::{Continuity, KnotVector, Point3};
+
+    /// The bicubic Bézier patch over [0, 1]² of the polynomial map `f` (of degree ≤ 3 in each
+    /// parameter; exact up to rounding): its values on the uniform 4 × 4 grid interpolated.
+    fn bicubic_of(f: impl Fn(f64, f64) -> Point3) -> BSplineSurface {
+        const BINOMIAL: [f64; 4] = [1.0, 3.0, 3.0, 1.0];
+        let bernstein = DMatrix::from_fn(4, 4, |i, k| {
+            let s = i as f64 / 3.0;
+            BINOMIAL[k] * s.powi(k as i32) * (1.0 - s).powi(3 - k as i32)
+        });
+        let inverse = bernstein.try_inverse().unwrap();
+        let values: Vec<Point3> = (0..16)
+            .map(|k| f((k / 4) as f64 / 3.0, (k % 4) as f64 / 3.0))
+            .collect();
+        let points = (0..16)
+            .map(|k| {
+                let (a, b) = (k / 4, k % 4);
+                let mut p = Vector3::zeros();
+                for i in 0..4 {
+                    for j in 0..4 {
+                        p += values[4 * i + j].coords * inverse[(a, i)] * inverse[(b, j)];
+                    }
+                }
+                Point3::from(p)
+            })
+            .collect();
+        let k = KnotVector::bezier(3).unwrap();
+        BSplineSurface::new(k.clone(), k, points, None).unwrap()
+    }
+
+    /// The graph z = a·y² + b·x·y over y ≤ 0, x ∈ [0, 1]: u runs from the side u = 0 on the x
+    /// axis down to y = −1.
+    fn twisted_master(a: f64, b: f64) -> BSplineSurface {
+        bicubic_of(|u, v| Point3::new(v, -u, a * u * u - b * v * u))
+    }
+
+    /// The graph z = c·y² + b·x·y over y ≥ 0 with a skewed parametrization: x = v + u,
+    /// y = ε u, so that S_u = (1, ε, ·) runs at an angle of about ε radians to the side u = 0
+    /// on the x axis.
+    fn skewed_slave(c: f64, b: f64, eps: f64) -> BSplineSurface {
+        bicubic_of(|u, v| {
+            let (x, y) = (v + u, eps * u);
+            Point3::new(x, y, c * y * y + b * x * y)
+        })
+    }
+
+    #[test]
+    fn the_across_figure_shows_a_jump_the_skewed_parametric_figure_hides() {
+        // both graphs share the boundary (the x axis) and the tangent plane along it (z_y = b x
+        // on both sides): G1 exactly; across (along y) the master is flat (z_yy = 0) and the
+        // slave curves (z_yy = 0.2). S_u of the slave runs at 0.03 rad to the boundary, where
+        // both surfaces share the twist b: along S_u the curvatures differ by sin²(0.03)·0.2
+        // against 2·0.03·b of the shared twist, a relative 0.1·0.03/(0.1·0.03 + 1) ≈ 0.003,
+        // inside a class-A tolerance of 0.005
+        let (b, eps) = (1.0, 0.03);
+        let master = twisted_master(0.0, b);
+        let slave = skewed_slave(0.1, b, eps);
+        let m = measure_link(&master, &slave, Side::U0, &MeasureParams::default()).unwrap();
+        assert_close(m.g0, 0.0, 1e-9, "gap");
+        assert_close(m.g1_deg.unwrap(), 0.0, 1e-6, "angle");
+        let parametric = m.g2_rel.unwrap();
+        assert_close(parametric, 0.1 * eps / (0.1 * eps + b), 1e-3, "along S_u");
+        assert!(parametric < 0.005, "the parametric figure meets 0.005");
+        // the decisions are the parametric figure's: the link is met
+        assert!(m.meets(Continuity::G2, 1e-3, 0.01, 0.005));
+        assert!(m.excess(Continuity::G2, 1e-3, 0.01, 0.005) <= 1.0);
+        // across the boundary: κ_s = 0.2/(1 + b²x²)^(3/2) against 0, whatever the
+        // parametrization; largest at the vertex x = 0, in the interior at the next sample
+        assert_close(m.g2_rel_across.unwrap(), 1.0, 1e-9, "across");
+        let across = |x: f64| 0.2 / (1.0 + b * b * x * x).powf(1.5);
+        assert_close(
+            m.g2_abs_across.unwrap(),
+            across(0.01),
+            1e-9,
+            "|κs − κm| across",
+        );
+        assert_close(m.vertex_g2_rel.unwrap(), 1.0, 1e-9, "at the vertices");
+        let first = &m.detail[0];
+        // (signed w.r.t. the slave's normal S_u × S_v, which points down)
+        assert_close(
+            first.kappa_slave_across.unwrap(),
+            -across(0.0),
+            1e-9,
+            "κs at x = 0",
+        );
+        assert_close(first.kappa_master_across.unwrap(), 0.0, 1e-9, "κm at x = 0");
+    }
+
+    #[test]
+    fn one_surface_split_with_a_skewed_parametrization_reads_g2_both_ways() {
+        // the same graph z = 0.1 y² + x y on both sides of the x axis
+        let (c, b, eps) = (0.1, 1.0, 0.03);
+        let master = twisted_master(c, b);
+        let slave = skewed_slave(c, b, eps);
+        let m = measure_link(&master, &slave, Side::U0, &MeasureParams::default()).unwrap();
+        assert_close(m.g0, 0.0, 1e-9, "gap");
+        assert_close(m.g1_deg.unwrap(), 0.0, 1e-6, "angle");
+        assert_close(m.vertex_g1_deg.unwrap(), 0.0, 1e-6, "vertex angle");
+        assert!(m.g2_rel.unwrap() < 1e-6, "parametric {:?}", m.g2_rel);
+        assert!(
+            m.g2_rel_across.unwrap() < 1e-6,
+            "across {:?}",
+            m.g2_rel_across
+        );
+        assert!(
+            m.g2_abs_across.unwrap() < 1e-6,
+            "across {:?}",
+            m.g2_abs_across
+        );
+        assert!(
+            m.vertex_g2_rel.unwrap() < 1e-6,
+            "vertices {:?}",
+            m.vertex_g2_rel
+        );
+        assert_eq!((m.undefined_normals, m.undefined_curvatures), (0, 0));
+        // and two planes, one of them parametrized at 0.03 rad to the side
+        let m = measure_link(
+            &twisted_master(0.0, 0.0),
+            &skewed_slave(0.0, 0.0, eps),
+            Side::U0,
+            &MeasureParams::default(),
+        )
+        .unwrap();
+        assert_eq!((m.g2_rel, m.g2_abs), (Some(0.0), Some(0.0)));
+        assert_eq!((m.g2_rel_across, m.g2_abs_across), (Some(0.0), Some(0.0)));
+    }
+
+    #[test]
+    fn the_vertex_figures_are_the_two_end_samples() {
+        // master z = a y² (y ≤ 0); slave z = (c0 + c1 x) y² + g x³ (y ≥ 0): a gap g x³ and a
+        // normal angle ≈ 3 g x² along the side, and a curvature jump across, all largest at the
+        // vertex x = 1; S_u is perpendicular to the side, so both directions agree. K = 11
+        // samples, the interior's worst at x = 0.9
+        let (a, c0, c1, g) = (0.05, 0.1, 0.4, 1e-4);
+        let master = bicubic_of(|u, v| Point3::new(v, -u, a * u * u));
+        let slave = bicubic_of(|u, v| Point3::new(v, u, (c0 + c1 * v) * u * u + g * v.powi(3)));
+        let params = MeasureParams {
+            samples: 11,
+            ..MeasureParams::default()
+        };
+        let m = measure_link(&master, &slave, Side::U0, &params).unwrap();
+        assert_eq!(m.detail.len(), 11, "detail holds every sample");
+        let angle = |x: f64| (3.0 * g * x * x).atan().to_degrees();
+        let rel = |x: f64| 1.0 - a / (c0 + c1 * x);
+        let abs = |x: f64| 2.0 * (c0 + c1 * x - a);
+        // the framework's figures: every sample, the vertex x = 1 included
+        assert_close(m.g0, g, 1e-9, "gap");
+        assert_close(m.g1_deg.unwrap(), angle(1.0), 1e-6, "angle");
+        assert_close(m.worst_g1_t.unwrap(), 1.0, 1e-12, "angle at");
+        assert_close(m.g2_rel.unwrap(), rel(1.0), 1e-6, "relative");
+        assert_close(m.worst_g2_t.unwrap(), 1.0, 1e-12, "relative at");
+        // the checker's: the interior across, the vertices apart
+        assert_close(m.g2_rel_across.unwrap(), rel(0.9), 1e-6, "interior across");
+        assert_close(
+            m.worst_g2_across_t.unwrap(),
+            0.9,
+            1e-12,
+            "interior across at",
+        );
+        assert_close(
+            m.g2_abs_across.unwrap(),
+            abs(0.9),
+            1e-6,
+            "interior |κs − κm|",
+        );
+        assert_close(m.vertex_g1_deg.unwrap(), angle(1.0), 1e-6, "vertex angle");
+        assert_close(m.vertex_g2_rel.unwrap(), rel(1.0), 1e-6, "vertex relative");
+        // the decision is the framework's: a tolerance between the interior's and the
+        // vertex's figure is missed
+        let between = 0.5 * (rel(0.9) + rel(1.0));
+        assert!(!m.meets(Continuity::G2, 2.0 * g, 1.0, between));
+        // two samples: both are vertices, no interior
+        let params = MeasureParams {
+            samples: 2,
+            ..MeasureParams::default()
+        };
+        let m = measure_link(&master, &slave, Side::U0, &params).unwrap();
+        assert_eq!((m.g2_rel_across, m.g2_abs_across), (None, None));
+        assert_close(
+            m.vertex_g2_rel.unwrap(),
+            rel(1.0),
+            1e-6,
+            "vertex relative, K = 2",
+        );
+        assert_close(m.g2_rel.unwrap(), rel(1.0), 1e-6, "relative, K = 2");
     }
 }

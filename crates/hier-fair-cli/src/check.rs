@@ -103,6 +103,11 @@ pub fn measure_json(m: &LinkMeasure) -> Value {
         "worst_g0": {"t": m.worst_g0_t},
         "worst_g1": {"t": opt(m.worst_g1_t)},
         "worst_g2": {"t": opt(m.worst_g2_t)},
+        "g2_rel_across": opt(m.g2_rel_across),
+        "g2_abs_across": opt(m.g2_abs_across),
+        "worst_g2_across": {"t": opt(m.worst_g2_across_t)},
+        "g1_deg_vertex": opt(m.vertex_g1_deg),
+        "g2_rel_vertex": opt(m.vertex_g2_rel),
         "collapsed": m.collapsed,
         "undefined_normals": m.undefined_normals,
         "undefined_curvatures": m.undefined_curvatures,
@@ -162,8 +167,8 @@ fn table(
         .unwrap_or(4)
         .max(4);
     let mut out = format!(
-        "{:width$}  {:6}  {:>7}  {:>10}  {:>10}  {:>10}  {:>10}  {}\n",
-        "link", "target", "samples", "gap", "angle°", "g2 rel", "g2 abs", "note"
+        "{:width$}  {:6}  {:>7}  {:>10}  {:>10}  {:>10}  {:>10}  {:>10}  {}\n",
+        "link", "target", "samples", "gap", "angle°", "g2 rel", "g2 abs", "g2 across", "note"
     );
     for (k, c) in checks.iter().enumerate() {
         let m = &c.measure;
@@ -187,7 +192,7 @@ fn table(
             });
         }
         out += &format!(
-            "{:width$}  {:6}  {:>7}  {:>10.3e}  {:>10}  {:>10}  {:>10}  {}\n",
+            "{:width$}  {:6}  {:>7}  {:>10.3e}  {:>10}  {:>10}  {:>10}  {:>10}  {}\n",
             c.label,
             continuity_name(c.target),
             m.samples,
@@ -195,6 +200,7 @@ fn table(
             fmt_opt(m.g1_deg, 3),
             fmt_opt(m.g2_rel, 3),
             fmt_opt(m.g2_abs, 3),
+            fmt_opt(m.g2_rel_across, 3),
             note.join("; ")
         );
     }

@@ -194,3 +194,36 @@ fn check_fairness_reads_the_fillet_radii() {
         table.text
     );
 }
+
+/// `check --json` on the kernel's lofted block carries the checker's figures (across the
+/// boundary, the vertices apart) for every G2 link, next to the framework's; the table prints
+/// them as one more column.
+#[test]
+fn check_reports_the_across_figures_of_every_g2_link() {
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../fixtures/occt/occt_loft_block.json"
+    );
+    let text = std::fs::read_to_string(path).unwrap();
+    let out = hier_fair_cli::check::run(&text, path, 101, true, None).unwrap();
+    let v: Value = serde_json::from_str(&out.text).unwrap();
+    let links = v["links"].as_array().unwrap();
+    let g2: Vec<&Value> = links.iter().filter(|l| l["target"] == "G2").collect();
+    assert!(!g2.is_empty());
+    for l in g2 {
+        let name = format!("{}.{}", l["slave"], l["side"]);
+        assert!(l["g2_rel"].is_number(), "{name}: g2_rel");
+        let across = l["g2_rel_across"].as_f64();
+        assert!(across.is_some_and(|r| r >= 0.0), "{name}: g2_rel_across");
+        assert!(l["g2_abs_across"].is_number(), "{name}: g2_abs_across");
+        assert!(l["worst_g2_across"]["t"].is_number(), "{name}: worst t");
+        assert!(l["g1_deg_vertex"].is_number(), "{name}: g1_deg_vertex");
+        assert!(l["g2_rel_vertex"].is_number(), "{name}: g2_rel_vertex");
+    }
+    let table = hier_fair_cli::check::run(&text, path, 101, false, None).unwrap();
+    let header = table.text.lines().next().unwrap();
+    assert!(
+        header.contains("g2 abs") && header.contains("g2 across"),
+        "{header}"
+    );
+}

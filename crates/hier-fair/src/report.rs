@@ -14,7 +14,16 @@ use crate::framework::{FairModelReport, LinkFair};
 
 fn measure_json(m: &Option<LinkMeasure>) -> Value {
     match m {
-        Some(m) => json!({"g0": m.g0, "g1_deg": m.g1_deg, "g2_rel": m.g2_rel, "g2_abs": m.g2_abs}),
+        Some(m) => json!({
+            "g0": m.g0,
+            "g1_deg": m.g1_deg,
+            "g2_rel": m.g2_rel,
+            "g2_abs": m.g2_abs,
+            "g2_rel_across": m.g2_rel_across,
+            "g2_abs_across": m.g2_abs_across,
+            "g1_deg_vertex": m.vertex_g1_deg,
+            "g2_rel_vertex": m.vertex_g2_rel,
+        }),
         None => Value::Null,
     }
 }

@@ -348,6 +348,11 @@ mod tests {
             g2_rel: Some(rel),
             g2_abs: Some(rel),
             worst_g2_t: Some(0.0),
+            g2_rel_across: None,
+            g2_abs_across: None,
+            worst_g2_across_t: None,
+            vertex_g1_deg: None,
+            vertex_g2_rel: None,
             undefined_normals: 0,
             undefined_curvatures: 0,
             detail: Vec::new(),
@@ -395,6 +400,8 @@ mod tests {
                         angle_deg: Some(1e-3),
                         kappa_slave: Some(if k < n { 1e-3 } else { 0.2 }),
                         kappa_master: Some(if k < n { 0.0 } else { 0.2 }),
+                        kappa_slave_across: None,
+                        kappa_master_across: None,
                     })
                     .collect();
                 m
