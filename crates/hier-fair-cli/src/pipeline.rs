@@ -249,18 +249,34 @@ fn write_profile_plot(
         "profile_{}_{param}.png",
         name.replace(|c: char| !c.is_ascii_alphanumeric() && c != '_', "_")
     );
-    let path = dir.join(file);
-    let plot = hier_fair::plots::line_plot(
+    curvature_plot(
+        &dir.join(file),
         &format!("{name}: normal curvature across, along {param} at {other} = middle"),
         &format!("{param} from side to side (0 to 1)"),
-        &format!("curvature (1/{unit})"),
+        unit,
         &curves,
+    )
+}
+
+/// A curvature line plot (720 × 320, curvature in 1/`unit`) written to `path`; returns it.
+fn curvature_plot(
+    path: &Path,
+    title: &str,
+    x_desc: &str,
+    unit: &str,
+    curves: &[hier_fair::plots::Series],
+) -> Result<PathBuf> {
+    let plot = hier_fair::plots::line_plot(
+        title,
+        x_desc,
+        &format!("curvature (1/{unit})"),
+        curves,
         720,
         320,
     )
     .map_err(|e| anyhow::anyhow!(e))?;
-    png(&path, &plot)?;
-    Ok(path)
+    png(path, &plot)?;
+    Ok(path.to_path_buf())
 }
 
 /// The zebra pictures (two views) and the mean-curvature map of the surfaces `before` and
@@ -326,18 +342,13 @@ fn write_link_plot(dir: &Path, l: &LinkFair, unit: &str) -> Result<PathBuf> {
             .replace(" -> ", "_on_")
             .replace(|c: char| !c.is_ascii_alphanumeric() && c != '_', "_")
     );
-    let path = dir.join(file);
-    let plot = hier_fair::plots::line_plot(
+    curvature_plot(
+        &dir.join(file),
         &format!("{}: normal curvature across the join", l.label),
         "t along the slave side (0 to 1)",
-        &format!("curvature (1/{unit})"),
+        unit,
         &curves,
-        720,
-        320,
     )
-    .map_err(|e| anyhow::anyhow!(e))?;
-    png(&path, &plot)?;
-    Ok(path)
 }
 
 /// The slave's (or master's) normal curvature at the samples of `m` as (t ∈ [0, 1], κ), the

@@ -28,46 +28,45 @@ fn measure_json(m: &Option<LinkMeasure>) -> Value {
     }
 }
 
+/// One surface of the report as JSON (cli-contract.md's `surfaces` entry).
+fn surface_json(s: &crate::framework::SurfaceFair) -> Value {
+    json!({
+        "name": s.name,
+        "role": s.role.name(),
+        "method": s.method,
+        "energy_before": s.energy_before,
+        "energy_after": s.energy_after,
+        "max_deviation": s.max_deviation,
+        "tolerance": s.tolerance,
+        "degree": [s.degree.0, s.degree.1],
+        "net_before": [s.net.0.0, s.net.0.1],
+        "net_after": [s.net.1.0, s.net.1.1],
+        "iterations": s.iterations,
+        "seconds": s.seconds,
+        "knots_inserted": s.knots_inserted,
+        "processed": s.processed,
+        "crease_deg_before": s.crease_deg.0,
+        "crease_deg_after": s.crease_deg.1,
+        "fairness_before": fairness_json(&s.fairness.0),
+        "fairness_after": fairness_json(&s.fairness.1),
+        "fairness": verdict_json(&s.fairness_verdict()),
+        "joint_curvature": s.joint_curvature,
+        "stages": s.stages.iter().map(|st| json!({
+            "stage": st.stage.name(),
+            "max_move": if st.max_move.is_finite() { json!(st.max_move) } else { Value::Null },
+            "deviation": st.deviation,
+            "energy": st.energy,
+            "iterations": st.iterations,
+            "knots_inserted": st.knots_inserted,
+            "epsilon": st.epsilon,
+        })).collect::<Vec<_>>(),
+    })
+}
+
 /// The report as JSON (cli-contract.md: `seconds_total`, `surfaces`, `links`; plus
 /// `tolerance`, per-surface `stages` and `knots_inserted`, per-link `met`, and `problems`).
 pub fn report_json(report: &FairModelReport) -> Value {
-    let surfaces: Vec<Value> = report
-        .surfaces
-        .iter()
-        .map(|s| {
-            json!({
-                "name": s.name,
-                "role": s.role.name(),
-                "method": s.method,
-                "energy_before": s.energy_before,
-                "energy_after": s.energy_after,
-                "max_deviation": s.max_deviation,
-                "tolerance": s.tolerance,
-                "degree": [s.degree.0, s.degree.1],
-                "net_before": [s.net.0.0, s.net.0.1],
-                "net_after": [s.net.1.0, s.net.1.1],
-                "iterations": s.iterations,
-                "seconds": s.seconds,
-                "knots_inserted": s.knots_inserted,
-                "processed": s.processed,
-                "crease_deg_before": s.crease_deg.0,
-                "crease_deg_after": s.crease_deg.1,
-                "fairness_before": fairness_json(&s.fairness.0),
-                "fairness_after": fairness_json(&s.fairness.1),
-                "fairness": verdict_json(&s.fairness_verdict()),
-                "joint_curvature": s.joint_curvature,
-                "stages": s.stages.iter().map(|st| json!({
-                    "stage": st.stage.name(),
-                    "max_move": if st.max_move.is_finite() { json!(st.max_move) } else { Value::Null },
-                    "deviation": st.deviation,
-                    "energy": st.energy,
-                    "iterations": st.iterations,
-                    "knots_inserted": st.knots_inserted,
-                    "epsilon": st.epsilon,
-                })).collect::<Vec<_>>(),
-            })
-        })
-        .collect();
+    let surfaces: Vec<Value> = report.surfaces.iter().map(surface_json).collect();
     let links: Vec<Value> = report.links.iter().map(link_json).collect();
     let problems: Vec<Value> = report
         .problems

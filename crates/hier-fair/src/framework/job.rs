@@ -90,16 +90,7 @@ impl Job<'_> {
             });
         }
         let crease_deg = self.creases(original, &surface, &mut problems);
-        let fairness = (
-            crate::fairness::surface_fairness(self.model, self.surface, original),
-            crate::fairness::surface_fairness(self.model, self.surface, &surface),
-        );
-        let joint_curvature = crate::fairness::joint_curvature(
-            self.current,
-            self.surface,
-            &surface,
-            &self.connect.measure,
-        );
+        let (fairness, joint_curvature) = self.fairness(original, &surface);
         let report = SurfaceFair {
             crease_deg,
             fairness,
@@ -132,6 +123,26 @@ impl Job<'_> {
             report,
             problems,
         }
+    }
+
+    /// The fairness figures of `original` and `result` in this surface's place, and the
+    /// masters' curvature across its G2 joins ([`crate::fairness`]).
+    fn fairness(
+        &self,
+        original: &BSplineSurface,
+        result: &BSplineSurface,
+    ) -> ((nurbs_core::Fairness, nurbs_core::Fairness), f64) {
+        let figures = (
+            crate::fairness::surface_fairness(self.model, self.surface, original),
+            crate::fairness::surface_fairness(self.model, self.surface, result),
+        );
+        let joint = crate::fairness::joint_curvature(
+            self.current,
+            self.surface,
+            result,
+            &self.connect.measure,
+        );
+        (figures, joint)
     }
 
     /// A result of the input's shape (knots inserted, nothing moved) is the input itself: the

@@ -390,9 +390,7 @@ impl Job<'_> {
             }
             once_result = Some((faired, stages));
         }
-        let mut c = run.stages[0].clone();
-        c.deviation = max_deviation(run.original, &plan.connected, self.params.deviation_grid);
-        c.energy = thin_plate_energy(&plan.connected);
+        let c = self.connected_record(plan, &run);
         let Some(worse) = self.worse_link(plan.labelled, &plan.connected) else {
             return (plan.connected.clone(), vec![c]);
         };
@@ -441,8 +439,8 @@ impl Job<'_> {
         {
             return (s, run.stages);
         }
+        let before = crate::fairness::surface_fairness(self.model, self.surface, run.original);
         let verdict = |x: &BSplineSurface| {
-            let before = crate::fairness::surface_fairness(self.model, self.surface, run.original);
             let after = crate::fairness::surface_fairness(self.model, self.surface, x);
             let joint = crate::fairness::joint_curvature(
                 self.current,
@@ -471,10 +469,19 @@ impl Job<'_> {
             ),
             None,
         );
+        (
+            plan.connected.clone(),
+            vec![self.connected_record(plan, &run)],
+        )
+    }
+
+    /// The stage record of the continuity setting alone (`plan.connected`): the prepare
+    /// record with the setting's deviation from the original and its energy.
+    fn connected_record(&self, plan: &StagePlan<'_>, run: &Run<'_>) -> StageReport {
         let mut c = run.stages[0].clone();
         c.deviation = max_deviation(run.original, &plan.connected, self.params.deviation_grid);
         c.energy = thin_plate_energy(&plan.connected);
-        (plan.connected.clone(), vec![c])
+        c
     }
 
     /// A `limited` problem of this surface.
