@@ -43,6 +43,22 @@ pub enum Error {
         /// why
         reason: String,
     },
+    /// The slave has fewer control rows across a linked side than the link's frame: rows
+    /// 0..=r of the side (r = 0, 1, 2 for G0, G1, G2) must exist (an unprepared slave, e.g. a
+    /// kernel's 2 × 3 net under a G2 link).
+    #[error(
+        "side {side}, {target:?}: the slave has {rows} control rows across it, the frame needs {needed}"
+    )]
+    TooFewRows {
+        /// the side
+        side: Side,
+        /// the link's target
+        target: Continuity,
+        /// control rows across the side
+        rows: usize,
+        /// rows the target's frame needs
+        needed: usize,
+    },
     /// The solution came out non-finite (NaN or infinite control points).
     #[error("side {side}, {target:?} step: the solution is not finite")]
     NonFiniteSolution {

@@ -158,6 +158,28 @@ pub(crate) fn check_links(links: &[SideLink]) -> Result<()> {
     Ok(())
 }
 
+/// Whether `slave` has the control rows every link's frame needs across its side (rows 0..=r,
+/// [`crate::rows::row_of`]): an error naming the side otherwise, so that no row index runs past
+/// the net (a 2 × 3 net under a G2 link).
+pub(crate) fn check_rows(slave: &BSplineSurface, links: &[SideLink]) -> Result<()> {
+    for l in links {
+        let rows = match l.side.cross_direction() {
+            nurbs_core::Direction::U => slave.num_u(),
+            nurbs_core::Direction::V => slave.num_v(),
+        };
+        let needed = crate::rows::row_of(l.target) + 1;
+        if rows < needed {
+            return Err(Error::TooFewRows {
+                side: l.side,
+                target: l.target,
+                rows,
+                needed,
+            });
+        }
+    }
+    Ok(())
+}
+
 /// Every link measured on `slave` (over its range), in order.
 fn measure_links(
     links: &[SideLink],

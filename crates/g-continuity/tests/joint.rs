@@ -215,3 +215,47 @@ fn bad_settings_are_errors() {
         Err(Error::DuplicateSide { side: Side::U0 })
     ));
 }
+
+/// A slave with fewer control rows across a G2 side than the curvature frame needs (a kernel's
+/// 2 × 3 net as it comes, unprepared) is an error naming the side, not an index past the net.
+#[test]
+fn too_few_rows_for_the_frame_is_an_error_naming_the_side() {
+    let (_, masters) = torus_pieces();
+    let small = masters[0].clone();
+    // the same corner points on a bilinear 2 × 2 net raised to 2 × 3 in v: 2 rows across U0/U1
+    let (nu, nv) = (small.num_u(), small.num_v());
+    let corners = [(0, 0), (0, nv - 1), (nu - 1, 0), (nu - 1, nv - 1)]
+        .map(|(i, j)| small.control_point(i, j));
+    let flat = BSplineSurface::new(
+        nurbs_core::KnotVector::bezier(1).unwrap(),
+        nurbs_core::KnotVector::bezier(2).unwrap(),
+        vec![
+            corners[0],
+            nurbs_core::Point3::from((corners[0].coords + corners[1].coords) * 0.5),
+            corners[1],
+            corners[2],
+            nurbs_core::Point3::from((corners[2].coords + corners[3].coords) * 0.5),
+            corners[3],
+        ],
+        None,
+    )
+    .unwrap();
+    assert_eq!((flat.num_u(), flat.num_v()), (2, 3));
+    let links = [SideLink {
+        side: Side::U1,
+        master: &masters[1],
+        target: Continuity::G2,
+        range: None,
+    }];
+    let err = polish_joint(&flat, &links, &ConnectParams::default(), 1.0).unwrap_err();
+    assert_eq!(
+        err,
+        Error::TooFewRows {
+            side: Side::U1,
+            target: Continuity::G2,
+            rows: 2,
+            needed: 3
+        }
+    );
+    assert!(err.to_string().contains("side u1"), "{err}");
+}

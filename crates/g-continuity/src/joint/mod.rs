@@ -554,6 +554,7 @@ pub fn polish_joint(
     max_move: f64,
 ) -> Result<(BSplineSurface, JointReport)> {
     crate::slave::check_links(links)?;
+    crate::slave::check_rows(slave, links)?;
     if !(max_move > 0.0) {
         return Err(crate::Error::InvalidParameter {
             name: "max_move",
