@@ -479,8 +479,51 @@ pub fn run_fair(
         .filter(|p| p.kind == hier_fair::ProblemKind::Failed)
         .map(|p| format!("{}: {}", p.surface, p.message))
         .collect();
-    Ok((
-        summary(&report, &format!("hier-fair fair {}", input.display())),
-        failures,
-    ))
+    let mut text = summary(&report, &format!("hier-fair fair {}", input.display()));
+    text += &verdict(&report, &model.tolerances, output);
+    Ok((text, failures))
+}
+
+/// The last line of `fair` on a model: links met against the model's tolerances, the links
+/// named as conflicts or unmet, the surfaces within their deviation, the fair ones, and the
+/// file written — what a newcomer reads to know whether the run succeeded.
+pub fn verdict(
+    report: &FairModelReport,
+    tolerances: &hier_fair::ModelTolerances,
+    output: &Path,
+) -> String {
+    let met = report.links.iter().filter(|l| l.met).count();
+    let count = |kind: hier_fair::ProblemKind| {
+        let mut links: Vec<&str> = report
+            .problems
+            .iter()
+            .filter(|p| p.kind == kind)
+            .filter_map(|p| p.link.as_deref())
+            .collect();
+        links.sort_unstable();
+        links.dedup();
+        links.len()
+    };
+    let within = report
+        .surfaces
+        .iter()
+        .filter(|s| s.max_deviation <= s.tolerance)
+        .count();
+    let fair = report
+        .surfaces
+        .iter()
+        .filter(|s| s.fairness_verdict().fair())
+        .count();
+    format!(
+        "verdict: {met} of {} links met (G0 ≤ {}, G1 ≤ {}°, G2 ≤ {} relative), {} conflicts, {} unmet; {within} of {} surfaces within their deviation; {fair} of {} fair against their input; wrote {}\n",
+        report.links.len(),
+        tolerances.g0,
+        tolerances.g1_deg,
+        tolerances.g2_rel,
+        count(hier_fair::ProblemKind::Conflict),
+        count(hier_fair::ProblemKind::Unmet),
+        report.surfaces.len(),
+        report.surfaces.len(),
+        output.display()
+    )
 }

@@ -551,3 +551,33 @@ fn check_reports_a_link_that_does_not_touch() {
     let o = run(&["check", &path, "--fail-above", "class-a"]);
     assert_eq!(o.status.code(), Some(1));
 }
+
+/// `fair` on a model ends with one verdict line: the links met against the model's tolerances,
+/// conflicts and unmet links counted, the surfaces within their deviation and the fair ones,
+/// and the file written; the fairness line names every surface that is not fair.
+#[test]
+fn fair_ends_with_a_verdict_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.json");
+    let model = model_fixture("x_node.json");
+    let o = run(&[
+        "fair",
+        model.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+        "--quiet",
+        "--no-verify",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    let last = text.lines().last().unwrap();
+    let expected = format!(
+        "verdict: 12 of 12 links met (G0 ≤ 0.001, G1 ≤ 0.01°, G2 ≤ 0.005 relative), 0 conflicts, 0 unmet; 9 of 9 surfaces within their deviation; 4 of 9 fair against their input; wrote {}",
+        out.display()
+    );
+    assert_eq!(last, expected, "{text}");
+    assert!(
+        text.contains("fairness: 4 of 9 surfaces fair against their input; not: fillet_s"),
+        "{text}"
+    );
+}
