@@ -493,6 +493,20 @@ pub fn verdict(
     output: &Path,
 ) -> String {
     let met = report.links.iter().filter(|l| l.met).count();
+    // met links whose G2 figure across the boundary (n × T, what a checker reads) is above the
+    // tolerance that the framework's parametric figure meets (g-continuity's measure module)
+    let across = report
+        .links
+        .iter()
+        .filter(|l| {
+            l.met
+                && l.target == nurbs_core::Continuity::G2
+                && l.after
+                    .as_ref()
+                    .and_then(|m| m.g2_rel_across)
+                    .is_some_and(|r| r > tolerances.g2_rel)
+        })
+        .count();
     let count = |kind: hier_fair::ProblemKind| {
         let mut links: Vec<&str> = report
             .problems
@@ -515,11 +529,16 @@ pub fn verdict(
         .filter(|s| s.fairness_verdict().fair())
         .count();
     format!(
-        "verdict: {met} of {} links met (G0 ≤ {}, G1 ≤ {}°, G2 ≤ {} relative), {} conflicts, {} unmet; {within} of {} surfaces within their deviation; {fair} of {} fair against their input; wrote {}\n",
+        "verdict: {met} of {} links met (G0 ≤ {}, G1 ≤ {}°, G2 ≤ {} relative{}), {} conflicts, {} unmet; {within} of {} surfaces within their deviation; {fair} of {} fair against their input; wrote {}\n",
         report.links.len(),
         tolerances.g0,
         tolerances.g1_deg,
         tolerances.g2_rel,
+        if across > 0 {
+            format!("; {across} of them above it across the boundary, n × T")
+        } else {
+            String::new()
+        },
         count(hier_fair::ProblemKind::Conflict),
         count(hier_fair::ProblemKind::Unmet),
         report.surfaces.len(),

@@ -193,15 +193,15 @@ fn links_section(md: &mut String, report: &FairModelReport, unit: &str) {
         let _ = writeln!(md, "## Links\n");
         let _ = writeln!(
             md,
-            "| link | target | gap before ({unit}) | gap after ({unit}) | angle before (°) | angle after (°) | curvature rel. before | curvature rel. after | met |"
+            "| link | target | gap before ({unit}) | gap after ({unit}) | angle before (°) | angle after (°) | curvature rel. before | curvature rel. after | across the boundary after | met |"
         );
-        let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|");
+        let _ = writeln!(md, "|---|---|---|---|---|---|---|---|---|---|");
         for l in &report.links {
             let b = l.before.as_ref();
             let a = l.after.as_ref();
             let _ = writeln!(
                 md,
-                "| {} | {:?} | {} | {} | {} | {} | {} | {} | {} |",
+                "| {} | {:?} | {} | {} | {} | {} | {} | {} | {} | {} |",
                 l.label,
                 l.target,
                 opt(b.map(|m| m.g0), 3),
@@ -210,6 +210,7 @@ fn links_section(md: &mut String, report: &FairModelReport, unit: &str) {
                 opt(a.and_then(|m| m.g1_deg), 3),
                 opt(b.and_then(|m| m.g2_rel), 3),
                 opt(a.and_then(|m| m.g2_rel), 3),
+                opt(a.and_then(|m| m.g2_rel_across), 3),
                 if l.met { "yes" } else { "**no**" }
             );
         }
