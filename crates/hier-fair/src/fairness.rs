@@ -202,7 +202,7 @@ impl FairnessVerdict {
             ));
         }
         if !self.net_within {
-            out.push("its net grew beyond max(2n, n + 16)".to_string());
+            out.push(format!("its net grew beyond max(2n, n + {NET_GROWTH_ROWS})"));
         }
         out
     }
