@@ -202,7 +202,9 @@ impl FairnessVerdict {
             ));
         }
         if !self.net_within {
-            out.push(format!("its net grew beyond max(2n, n + {NET_GROWTH_ROWS})"));
+            out.push(format!(
+                "its net grew beyond max(2n, n + {NET_GROWTH_ROWS})"
+            ));
         }
         out
     }
