@@ -97,11 +97,14 @@ pub fn surface_fairness(model: &Model, k: usize, surface: &BSplineSurface) -> Fa
 
 /// The largest |normal curvature| across the joins of surface `k` that its masters have there
 /// (1/model unit): the curvature a G2 result must reach at its sides, measured on the masters
-/// of `model` as they stand (`measure` gives the samples; 0 without G2 links).
+/// of `model` as they stand, each link over its part of the side (`ranges`, per link of the
+/// model, `None`: the whole side, [`crate::edges`]); `measure` gives the samples; 0 without G2
+/// links.
 pub fn joint_curvature(
     model: &Model,
     k: usize,
     surface: &BSplineSurface,
+    ranges: &[Option<(f64, f64)>],
     measure: &MeasureParams,
 ) -> f64 {
     let mut out = 0.0_f64;
@@ -111,7 +114,10 @@ pub fn joint_curvature(
             continue;
         }
         let master = &model.surfaces[link.master].surface;
-        if let Ok(m) = g_continuity::measure_link(master, surface, link.side, measure) {
+        let range = ranges.get(l).copied().flatten();
+        if let Ok(m) =
+            g_continuity::measure::measure_link_on(master, surface, link.side, range, measure)
+        {
             for s in &m.detail {
                 if let Some(km) = s.kappa_master {
                     out = out.max(km.abs());

@@ -136,13 +136,19 @@ impl Job<'_> {
             crate::fairness::surface_fairness(self.model, self.surface, original),
             crate::fairness::surface_fairness(self.model, self.surface, result),
         );
-        let joint = crate::fairness::joint_curvature(
+        (figures, self.joint_curvature(result))
+    }
+
+    /// The masters' largest curvature across this surface's G2 joins, with `result` in its
+    /// place ([`crate::fairness::joint_curvature`], each link over its part of the side).
+    pub(super) fn joint_curvature(&self, result: &BSplineSurface) -> f64 {
+        crate::fairness::joint_curvature(
             self.current,
             self.surface,
             result,
+            self.ranges,
             &self.connect.measure,
-        );
-        (figures, joint)
+        )
     }
 
     /// A result of the input's shape (knots inserted, nothing moved) is the input itself: the

@@ -442,13 +442,7 @@ impl Job<'_> {
         let before = crate::fairness::surface_fairness(self.model, self.surface, run.original);
         let verdict = |x: &BSplineSurface| {
             let after = crate::fairness::surface_fairness(self.model, self.surface, x);
-            let joint = crate::fairness::joint_curvature(
-                self.current,
-                self.surface,
-                x,
-                &self.connect.measure,
-            );
-            crate::fairness::FairnessVerdict::new(&before, &after, joint)
+            crate::fairness::FairnessVerdict::new(&before, &after, self.joint_curvature(x))
         };
         let faired = verdict(&s);
         if faired.peak_ratio <= crate::fairness::PEAK_FACTOR {
