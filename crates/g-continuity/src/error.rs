@@ -33,6 +33,12 @@ pub enum Error {
         /// the allowed range
         reason: &'static str,
     },
+    /// A surface has no fillet section to replace ([`crate::section`]).
+    #[error("no one-hump section: {reason}")]
+    NoSection {
+        /// why (the weights, a column, the profile)
+        reason: String,
+    },
     /// The least-squares system of one side could not be solved.
     #[error("side {side}, {target:?} step: the least-squares system is singular ({reason})")]
     SingularSystem {

@@ -39,6 +39,7 @@ mod memo;
 pub mod params;
 pub mod rows;
 pub mod sampling;
+pub mod section;
 pub mod slave;
 mod system;
 pub mod transfer;
@@ -48,6 +49,7 @@ pub use joint::{JointReport, polish_joint};
 pub use lead_in::{LEAD_IN_DEGREE, LeadInReport, MAX_LEAD_IN, with_lead_in};
 pub use measure::{LinkMeasure, MeasureParams, SampleMeasure, measure_link};
 pub use params::{ConnectParams, G2Method, SetParams, Tolerances};
+pub use section::{MAX_RAMP, one_hump_section};
 pub use slave::{
     C0_FOR_G1_SHARE, ConnectReport, SideLink, SideReport, StepReport, connect_slave,
     degenerate_corner_blocks, new_breakpoints, new_knots, prepare_slave, set_g0, set_g1, set_g2,

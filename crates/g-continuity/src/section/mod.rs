@@ -1,0 +1,187 @@
+//! The one-hump section of a fillet: curvature that rises once and falls once across it.
+//!
+//! A rolling-ball fillet meets a plane with curvature 1/R against the plane's 0. G2 needs 0 at
+//! the contact line, and a lead-in that moves only control row 2 ([`crate::lead_in`]) must
+//! rejoin the unchanged arc beyond it: the curvature overshoots and undershoots there, two
+//! extrema too many beside each side. The whole section has to change instead ([SV] §1:
+//! "large, monotone curvature areas"): with the contact lines and their tangent planes kept, a
+//! profile whose curvature ramps from 0 to a plateau and back turns the same angle over a
+//! slightly shorter plateau of slightly higher curvature — the railway easement between a
+//! straight and a circle, with the ends pinned. Its deviation from the arc grows linearly with
+//! the ramp: for a 90° arc of radius R and ramps of length ℓ the plateau's radius shrinks by
+//! about ℓ/2 and the middle of the section moves by about 0.2 ℓ (measured in the tests).
+//!
+//! # Construction
+//! 1. The reference section: the iso-curve across the fillet at the middle of its length, in
+//!    its plane (E0 at the origin, its start tangent along +x), with its arc length and signed
+//!    curvature κ_ref(σ) at normalized arc length σ.
+//! 2. The profile κ(σ) = ρ(σ)·(c + d(σ − ½))·κ_ref(σ), ρ a C² ramp from 0 to 1 over the
+//!    fraction f of the length at each ramped end; c, d and the length are solved (Newton) so
+//!    that the curve from E0 ends at E1 with E1's tangent. For a circle d = 0 and the profile
+//!    is symmetric; for a conic the tilt d keeps the two ends' shares.
+//! 3. A quintic B-spline fitted to it: three knots in each ramp, the rest in equal spans; the
+//!    second and third control points on the end tangent at a ramped end (curvature 0, as the
+//!    profile), so that G1 and G2 to a plane hold already and the G2 step has little left.
+//! 4. Every control column of the surface takes the fitted section through its own frame: the
+//!    points E0, M, E1 of the column (first point, the end tangents' meeting point, last point)
+//!    and the section's affine coordinates in that frame. The map is affine per column, so a
+//!    surface whose columns are affine images of one section (a cylinder fillet: translates; a
+//!    torus fillet: rotated and radially scaled copies; separable weights) becomes the same
+//!    sweep of the new section exactly, with the along-direction weights kept.
+//!
+//! The contact curves (rows 0 and n) are kept exactly, and so are the directions of the
+//! cross-boundary tangents (row 1 stays on the line from row 0 towards M).
+
+mod profile;
+
+use nalgebra::Vector3 as V3;
+use nurbs_core::{BSplineSurface, Direction, KnotVector, Point3};
+
+use crate::error::{Error, Result};
+pub use profile::{SECTION_DEGREE, SECTION_SAMPLES};
+use profile::{Section, fit_profile, frame_coordinates, from_frame, meeting};
+
+/// Widest ramp, as a fraction of the section's length at each end: a quarter. The profile
+/// turns the section's angle with a mean factor of 1 − f/2 per ramp (the ramp averages ½), so
+/// with both ends ramped its plateau is about 1/(1 − f) of the input's curvature — 1.33 at a
+/// quarter, within the 1.6× a fair result may peak at, with room for the G2 step's change at a
+/// curved master.
+pub const MAX_RAMP: f64 = 0.25;
+
+/// Steps of the profile's integration: the midpoint-heading rule is exact for curvature linear
+/// on a step, so its error is O(h²) in the curvature's second derivative — below 1e-9 of the
+/// length for a quarter ramp at 2000 steps.
+pub const PROFILE_STEPS: usize = 2000;
+
+/// Relative tolerance of the weights' separability test w_ij·w_00 = w_i0·w_0j: a few roundings of
+/// the products (the kernels write circle weights to 15–17 digits).
+const SEPARABLE_RELATIVE: f64 = 1e-9;
+
+/// `s` with its section across `cross` replaced by the one-hump profile with ramps of the
+/// fractions `ramps` (start side, end side; 0: no ramp, that end bends as the profile does) of its
+/// length, as the
+/// module docs describe. An error where the surface has no such section: weights that are not a
+/// product of an along and a cross factor, a column whose end tangents do not meet ahead of it,
+/// a straight or singular section, or a profile that cannot join its ends.
+pub fn one_hump_section(
+    s: &BSplineSurface,
+    cross: Direction,
+    ramps: (f64, f64),
+) -> Result<BSplineSurface> {
+    let f = (ramps.0.clamp(0.0, MAX_RAMP), ramps.1.clamp(0.0, MAX_RAMP));
+    let s = s.clamped()?;
+    let along_weights = separable_along(&s, cross)?;
+    let section = Section::read(&s, cross)?;
+    let points = section.profile(f, PROFILE_STEPS)?;
+    let middle = 2usize.max(section.spans + 1);
+    let (kv, ctrl) = fit_profile(&points, f, middle, section.end_tangent())?;
+    let (corner, end) = (section.corner, section.end());
+    let coords: Vec<(f64, f64)> = ctrl
+        .iter()
+        .map(|q| frame_coordinates(q, &corner, &end))
+        .collect::<Option<_>>()
+        .ok_or_else(|| bad("the section's frame is degenerate"))?;
+    let (c0, c1) = match cross {
+        Direction::V => s.domain_v(),
+        Direction::U => s.domain_u(),
+    };
+    let kv = KnotVector::new(
+        kv.degree(),
+        kv.knots().iter().map(|&x| c0 + (c1 - c0) * x).collect(),
+    )?;
+    let (na, nc) = match cross {
+        Direction::V => (s.num_u(), s.num_v()),
+        Direction::U => (s.num_v(), s.num_u()),
+    };
+    let at = |a: usize, c: usize| match cross {
+        Direction::V => s.control_point(a, c),
+        Direction::U => s.control_point(c, a),
+    };
+    let m = coords.len();
+    let mut columns = Vec::with_capacity(na);
+    for a in 0..na {
+        let (e0, e1) = (at(a, 0), at(a, nc - 1));
+        let corner = column_corner(&e0, &at(a, 1), &e1, &at(a, nc - 2))?;
+        columns.push(
+            coords
+                .iter()
+                .map(|&ab| from_frame(ab, &e0, &corner, &e1))
+                .collect::<Vec<_>>(),
+        );
+    }
+    let (mut points, mut weights) = (Vec::with_capacity(na * m), Vec::with_capacity(na * m));
+    let (ku, kvv, nu, nv) = match cross {
+        Direction::V => (s.knots_u().clone(), kv, na, m),
+        Direction::U => (kv, s.knots_v().clone(), m, na),
+    };
+    for i in 0..nu {
+        for j in 0..nv {
+            let (a, c) = match cross {
+                Direction::V => (i, j),
+                Direction::U => (j, i),
+            };
+            points.push(columns[a][c]);
+            weights.push(along_weights.as_ref().map_or(1.0, |w| w[a]));
+        }
+    }
+    let weights = along_weights.is_some().then_some(weights);
+    Ok(BSplineSurface::new(ku, kvv, points, weights)?)
+}
+
+fn bad(reason: &str) -> Error {
+    Error::NoSection {
+        reason: reason.to_string(),
+    }
+}
+
+/// The along factor a_i of weights w = a_i·b_j (`None` for a polynomial surface), or an error
+/// where the weights are not such a product.
+fn separable_along(s: &BSplineSurface, cross: Direction) -> Result<Option<Vec<f64>>> {
+    if !s.is_rational() {
+        return Ok(None);
+    }
+    let (na, nc) = match cross {
+        Direction::V => (s.num_u(), s.num_v()),
+        Direction::U => (s.num_v(), s.num_u()),
+    };
+    let w = |a: usize, c: usize| match cross {
+        Direction::V => s.weight(a, c),
+        Direction::U => s.weight(c, a),
+    };
+    let w00 = w(0, 0);
+    for a in 0..na {
+        for c in 0..nc {
+            let (lhs, rhs) = (w(a, c) * w00, w(a, 0) * w(0, c));
+            if (lhs - rhs).abs() > SEPARABLE_RELATIVE * lhs.abs().max(rhs.abs()) {
+                return Err(bad(
+                    "its weights are not a product of an along and a cross factor",
+                ));
+            }
+        }
+    }
+    Ok(Some((0..na).map(|a| w(a, 0) / w00).collect()))
+}
+
+/// The meeting point of a control column's end tangents: from `e0` towards `p1` and from `e1`
+/// towards `p_last` (both ahead of their ends).
+fn column_corner(e0: &Point3, p1: &Point3, e1: &Point3, p_last: &Point3) -> Result<Point3> {
+    let (t0, t1) = (p1 - e0, p_last - e1);
+    if t0.norm() == 0.0 || t1.norm() == 0.0 {
+        return Err(bad("a control column has no end tangent"));
+    }
+    let (t0, t1): (V3<f64>, V3<f64>) = (t0.normalize(), t1.normalize());
+    let (s, t) = meeting(&e0.coords, &t0, &e1.coords, &t1)
+        .ok_or_else(|| bad("a control column's end tangents are parallel"))?;
+    if s <= 0.0 || t <= 0.0 {
+        return Err(bad(
+            "a control column's end tangents do not meet ahead of it",
+        ));
+    }
+    // the midpoint of the closest points: the meeting point where the column is plane
+    Ok(Point3::from(
+        0.5 * ((e0.coords + t0 * s) + (e1.coords + t1 * t)),
+    ))
+}
+
+#[cfg(test)]
+mod tests;

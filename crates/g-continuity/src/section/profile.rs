@@ -1,0 +1,384 @@
+//! The plane section of a fillet and its one-hump profile: the reference section read off the
+//! surface, the curvature profile with ramps at its ends solved to join the same contact points
+//! with the same tangents, and its least-squares quintic B-spline.
+
+use nalgebra::{DMatrix, DVector, Matrix3, Vector2, Vector3 as V3};
+use nurbs_core::{BSplineSurface, Direction, KnotVector, Point3, Vector3};
+
+use crate::error::{Error, Result};
+
+/// Samples of the reference section along its parameter: enough that the trapezoidal arc length
+/// and turning angle of a quarter circle are exact to 1e-6 relative (error O(h²), h = 1/400).
+pub const SECTION_SAMPLES: usize = 401;
+
+/// Newton iterations of the profile solve; it converges quadratically from the scaled start (a
+/// circle: 3–4 iterations), so twenty only bound a section it cannot join.
+const PROFILE_ITERATIONS: usize = 20;
+
+/// Relative residual (to the section's length) at which the profile's end meets the contact
+/// point: far below any model tolerance, above the trapezoid's rounding.
+const PROFILE_RESIDUAL: f64 = 1e-11;
+
+/// Degree of the new section: quintic, the lead-in degree ([`crate::LEAD_IN_DEGREE`]).
+pub const SECTION_DEGREE: usize = 5;
+
+/// The reference section in its own plane: E0 at the origin, the start tangent along +x.
+pub(super) struct Section {
+    /// normalized arc length of each sample, 0..=1
+    sigma: Vec<f64>,
+    /// signed curvature in the plane at each sample
+    kappa: Vec<f64>,
+    /// the section's arc length
+    pub(super) length: f64,
+    /// the end point and the turning angle from the start tangent to the end tangent
+    end: Vector2<f64>,
+    turn: f64,
+    /// the end tangents' meeting point (on +x)
+    pub(super) corner: Vector2<f64>,
+    /// spans of the reference in the cross direction
+    pub(super) spans: usize,
+}
+
+/// The smooth ramp 0 → 1 on [0, 1] (x³(10 − 15x + 6x²), "smootherstep"): its first and second
+/// derivatives vanish at both ends, so a curvature multiplied by it stays C² where the ramp
+/// starts and ends — the curvature plot has no kink at the ramp's end.
+fn ramp(x: f64) -> f64 {
+    let x = x.clamp(0.0, 1.0);
+    x * x * x * (10.0 + x * (6.0 * x - 15.0))
+}
+
+/// The ramp factor at σ with ramp fractions (f0, f1) of the section's length at its start and
+/// end (0: no ramp at that end).
+fn ramps(sigma: f64, f: (f64, f64)) -> f64 {
+    let a = if f.0 > 0.0 { ramp(sigma / f.0) } else { 1.0 };
+    let b = if f.1 > 0.0 {
+        ramp((1.0 - sigma) / f.1)
+    } else {
+        1.0
+    };
+    a * b
+}
+
+/// Where the lines p0 + s·t0 and p1 + t·t1 (unit directions) come closest: (s, t), or `None`
+/// for parallel lines.
+pub(super) fn meeting(
+    p0: &V3<f64>,
+    t0: &V3<f64>,
+    p1: &V3<f64>,
+    t1: &V3<f64>,
+) -> Option<(f64, f64)> {
+    let d = p0 - p1;
+    let b = t0.dot(t1);
+    let det = 1.0 - b * b;
+    if det < 1e-12 {
+        return None;
+    }
+    let s = (b * t1.dot(&d) - t0.dot(&d)) / det;
+    let t = t1.dot(&d) + s * b;
+    Some((s, t))
+}
+
+impl Section {
+    /// The iso-curve of `s` across `cross` at the middle of the other direction, in its plane.
+    pub(super) fn read(s: &BSplineSurface, cross: Direction) -> Result<Self> {
+        let bad = |reason: &str| Error::NoSection {
+            reason: reason.to_string(),
+        };
+        let ((a0, a1), (c0, c1), kv) = match cross {
+            Direction::V => (s.domain_u(), s.domain_v(), s.knots_v()),
+            Direction::U => (s.domain_v(), s.domain_u(), s.knots_u()),
+        };
+        let mid = 0.5 * (a0 + a1);
+        let n = SECTION_SAMPLES;
+        let mut points = Vec::with_capacity(n);
+        let mut d1 = Vec::with_capacity(n);
+        let mut d2 = Vec::with_capacity(n);
+        for k in 0..n {
+            let t = c0 + (c1 - c0) * k as f64 / (n - 1) as f64;
+            let d = match cross {
+                Direction::V => s.derivatives(mid, t),
+                Direction::U => s.derivatives(t, mid),
+            };
+            let (c1d, c2d) = match cross {
+                Direction::V => (d.dv, d.dvv),
+                Direction::U => (d.du, d.duu),
+            };
+            points.push(d.point.coords);
+            d1.push(c1d);
+            d2.push(c2d);
+        }
+        let (e0, e1) = (points[0], points[n - 1]);
+        let (t0, t1) = (d1[0].normalize(), -d1[n - 1].normalize());
+        if !(t0.iter().chain(t1.iter()).all(|x| x.is_finite())) {
+            return Err(bad("a side of the section is singular"));
+        }
+        let (sm, tm) = meeting(&e0, &t0, &e1, &t1).ok_or_else(|| bad("parallel end tangents"))?;
+        if sm <= 0.0 || tm <= 0.0 {
+            return Err(bad("the end tangents do not meet ahead of the section"));
+        }
+        let ex = t0;
+        let chord = e1 - e0;
+        let ey = chord - ex * chord.dot(&ex);
+        if ey.norm() <= 1e-9 * chord.norm() {
+            return Err(bad("the section is straight"));
+        }
+        let ey = ey.normalize();
+        let plane = |v: &Vector3| Vector2::new(v.dot(&ex), v.dot(&ey));
+        let mut arc = vec![0.0; n];
+        let mut kappa = vec![0.0; n];
+        for k in 0..n {
+            let (p, q) = (plane(&d1[k]), plane(&d2[k]));
+            let speed = p.norm();
+            kappa[k] = (p.x * q.y - p.y * q.x) / (speed * speed * speed);
+            if k > 0 {
+                let h = (c1 - c0) / (n - 1) as f64;
+                arc[k] = arc[k - 1] + 0.5 * h * (speed + plane(&d1[k - 1]).norm());
+            }
+        }
+        let length = arc[n - 1];
+        if !(length > 0.0 && kappa.iter().all(|k| k.is_finite())) {
+            return Err(bad("the section has a singular point"));
+        }
+        let end_dir = plane(&d1[n - 1]);
+        Ok(Self {
+            sigma: arc.iter().map(|a| a / length).collect(),
+            kappa,
+            length,
+            end: plane(&(e1 - e0)),
+            turn: end_dir.y.atan2(end_dir.x),
+            corner: Vector2::new(sm, 0.0),
+            spans: kv.spans().count(),
+        })
+    }
+
+    /// The reference curvature at normalized arc length σ (linear between samples).
+    fn kappa_at(&self, sigma: f64) -> f64 {
+        let k = self
+            .sigma
+            .partition_point(|&x| x < sigma)
+            .clamp(1, self.sigma.len() - 1);
+        let (x0, x1) = (self.sigma[k - 1], self.sigma[k]);
+        let w = if x1 > x0 {
+            (sigma - x0) / (x1 - x0)
+        } else {
+            0.0
+        };
+        self.kappa[k - 1] + w * (self.kappa[k] - self.kappa[k - 1])
+    }
+
+    /// The curve of curvature ρ(σ)·(c + d(σ − ½))·κ_ref(σ) over length `len` from the origin
+    /// along +x, sampled at `steps` + 1 equal steps of σ: points and the end heading.
+    fn integrate(&self, f: (f64, f64), z: &V3<f64>, steps: usize) -> (Vec<Vector2<f64>>, f64) {
+        let (c, d, len) = (z.x, z.y, z.z);
+        let k = |s: f64| ramps(s, f) * (c + d * (s - 0.5)) * self.kappa_at(s);
+        let h = 1.0 / steps as f64;
+        let mut pts = Vec::with_capacity(steps + 1);
+        let (mut p, mut phi) = (Vector2::zeros(), 0.0f64);
+        pts.push(p);
+        let mut k_prev = k(0.0);
+        for i in 1..=steps {
+            let s = i as f64 * h;
+            let k_next = k(s);
+            let phi_next = phi + 0.5 * h * len * (k_prev + k_next);
+            // the heading is integrated exactly for curvature linear on the step (the chord of a
+            // circle arc): direction at the mean heading, length scaled by sinc
+            let dphi = phi_next - phi;
+            let sinc = if dphi.abs() < 1e-8 {
+                1.0
+            } else {
+                (0.5 * dphi).sin() / (0.5 * dphi)
+            };
+            let mean = 0.5 * (phi + phi_next);
+            p += h * len * sinc * Vector2::new(mean.cos(), mean.sin());
+            pts.push(p);
+            (phi, k_prev) = (phi_next, k_next);
+        }
+        (pts, phi)
+    }
+
+    /// The profile with ramps `f` that joins the section's end point with its end tangent:
+    /// (c, d, length) solved by Newton's method from (turn / ∫ρκ, 0, length).
+    pub(super) fn profile(&self, f: (f64, f64), steps: usize) -> Result<Vec<Vector2<f64>>> {
+        let h = 1.0 / steps as f64;
+        let integral: f64 = (0..=steps)
+            .map(|i| ramps(i as f64 * h, f) * self.kappa_at(i as f64 * h))
+            .sum::<f64>()
+            * h;
+        let mut z = V3::new(self.turn / (integral * self.length), 0.0, self.length);
+        let residual = |z: &V3<f64>| {
+            let (pts, phi) = self.integrate(f, z, steps);
+            let e = pts[steps] - self.end;
+            V3::new(e.x, e.y, (phi - self.turn) * self.length)
+        };
+        for _ in 0..PROFILE_ITERATIONS {
+            let r = residual(&z);
+            if r.norm() <= PROFILE_RESIDUAL * self.length {
+                return Ok(self.integrate(f, &z, steps).0);
+            }
+            let mut jac = Matrix3::zeros();
+            for col in 0..3 {
+                let step = 1e-7
+                    * z[col]
+                        .abs()
+                        .max(1e-3 * if col == 2 { self.length } else { z.x });
+                let mut zp = z;
+                zp[col] += step;
+                jac.set_column(col, &((residual(&zp) - r) / step));
+            }
+            let Some(dz) = jac.lu().solve(&(-r)) else {
+                break;
+            };
+            z += dz;
+            if !(z.z > 0.0 && z.iter().all(|x| x.is_finite())) {
+                break;
+            }
+        }
+        Err(Error::NoSection {
+            reason: format!(
+                "no curvature profile with ramps ({:.3}, {:.3}) joins the section's ends",
+                f.0, f.1
+            ),
+        })
+    }
+}
+
+/// The interior knots (fractions of the domain) of the new section: three in each ramp (at a
+/// third, two thirds and the whole of it, as in a lead-in, [`crate::lead_in`]) and the middle in
+/// `middle` equal spans.
+fn section_knots(f: (f64, f64), middle: usize) -> Vec<f64> {
+    let mut xs = Vec::new();
+    if f.0 > 0.0 {
+        xs.extend([f.0 / 3.0, 2.0 * f.0 / 3.0]);
+    }
+    let (a, b) = (f.0, 1.0 - f.1);
+    for k in 0..=middle {
+        let x = a + (b - a) * k as f64 / middle as f64;
+        if x > 0.0 && x < 1.0 {
+            xs.push(x);
+        }
+    }
+    if f.1 > 0.0 {
+        xs.extend([1.0 - 2.0 * f.1 / 3.0, 1.0 - f.1 / 3.0]);
+    }
+    xs
+}
+
+/// The quintic B-spline (knots in [0, 1]) fitted by least squares to `points` at their
+/// normalized arc length, its first and last points at the ends, its second and third on the
+/// end tangent where that end has a ramp (zero curvature there, as the profile has), else its
+/// second on the tangent (the tangent plane kept) and its third free.
+pub(super) fn fit_profile(
+    points: &[Vector2<f64>],
+    f: (f64, f64),
+    middle: usize,
+    end_tangent: Vector2<f64>,
+) -> Result<(KnotVector, Vec<Vector2<f64>>)> {
+    let p = SECTION_DEGREE;
+    let mut knots = vec![0.0; p + 1];
+    knots.extend(section_knots(f, middle));
+    knots.extend(vec![1.0; p + 1]);
+    let kv = KnotVector::new(p, knots)?;
+    let n = kv.num_basis();
+    let last = points.len() - 1;
+    let (e0, e1) = (points[0], points[last]);
+    let tx = Vector2::new(1.0, 0.0);
+    // unknowns: per control point either a scalar along a tangent or a free 2D point
+    #[derive(Clone, Copy)]
+    enum Var {
+        Fixed(Vector2<f64>),
+        Along(Vector2<f64>, Vector2<f64>, usize),
+        Free(usize),
+    }
+    let mut vars = Vec::with_capacity(n);
+    let mut m = 0;
+    for j in 0..n {
+        let v = if j == 0 {
+            Var::Fixed(e0)
+        } else if j == n - 1 {
+            Var::Fixed(e1)
+        } else if j == 1 || (j == 2 && f.0 > 0.0) {
+            m += 1;
+            Var::Along(e0, tx, m - 1)
+        } else if j == n - 2 || (j == n - 3 && f.1 > 0.0) {
+            m += 1;
+            Var::Along(e1, end_tangent, m - 1)
+        } else {
+            m += 2;
+            Var::Free(m - 2)
+        };
+        vars.push(v);
+    }
+    let rows = points.len();
+    let mut a = DMatrix::zeros(2 * rows, m);
+    let mut rhs = DVector::zeros(2 * rows);
+    for (k, q) in points.iter().enumerate() {
+        let t = k as f64 / last as f64;
+        let (span, vals) = nurbs_core::basis::basis_derivatives(&kv, t, 0);
+        let mut target = *q;
+        for (o, &b) in vals.iter().take(p + 1).enumerate() {
+            match vars[span - p + o] {
+                Var::Fixed(x) => target -= b * x,
+                Var::Along(base, dir, c) => {
+                    target -= b * base;
+                    a[(2 * k, c)] += b * dir.x;
+                    a[(2 * k + 1, c)] += b * dir.y;
+                }
+                Var::Free(c) => {
+                    a[(2 * k, c)] += b;
+                    a[(2 * k + 1, c + 1)] += b;
+                }
+            }
+        }
+        rhs[2 * k] = target.x;
+        rhs[2 * k + 1] = target.y;
+    }
+    let sol = a
+        .svd(true, true)
+        .solve(&rhs, 1e-14)
+        .map_err(|e| Error::NoSection {
+            reason: format!("the section's fit: {e}"),
+        })?;
+    let out = vars
+        .iter()
+        .map(|v| match *v {
+            Var::Fixed(x) => x,
+            Var::Along(base, dir, c) => base + sol[c] * dir,
+            Var::Free(c) => Vector2::new(sol[c], sol[c + 1]),
+        })
+        .collect();
+    Ok((kv, out))
+}
+
+/// The affine coordinates (α, β) of the plane point `q` in the frame E0 = 0, M = `corner`,
+/// E1 = `end`: q = α·M + β·(E1 − M).
+pub(super) fn frame_coordinates(
+    q: &Vector2<f64>,
+    corner: &Vector2<f64>,
+    end: &Vector2<f64>,
+) -> Option<(f64, f64)> {
+    let b = end - corner;
+    let det = corner.x * b.y - corner.y * b.x;
+    if det.abs() < 1e-300 {
+        return None;
+    }
+    let alpha = (q.x * b.y - q.y * b.x) / det;
+    let beta = (corner.x * q.y - corner.y * q.x) / det;
+    Some((alpha, beta))
+}
+
+/// The point with frame coordinates (α, β) in the frame (E0, M, E1) of a control column.
+pub(super) fn from_frame(ab: (f64, f64), e0: &Point3, m: &Point3, e1: &Point3) -> Point3 {
+    e0 + (m - e0) * ab.0 + (e1 - m) * ab.1
+}
+
+impl Section {
+    /// The section's end point in its plane.
+    pub(super) fn end(&self) -> Vector2<f64> {
+        self.end
+    }
+
+    /// The unit end tangent pointing back along the section (from E1 towards M).
+    pub(super) fn end_tangent(&self) -> Vector2<f64> {
+        (self.corner - self.end).normalize()
+    }
+}

@@ -1,0 +1,136 @@
+use super::*;
+use nurbs_core::energy::max_deviation;
+use nurbs_core::fairness::{count_extrema, cross_profile};
+use nurbs_core::shapes::{arc, cylinder, revolve_curve};
+use nurbs_core::{Point3, Vector3};
+use std::f64::consts::{FRAC_PI_2, PI};
+
+/// A torus fillet of tube radius 3 between the plane z = 0 and the cylinder ρ = 7 about z (the
+/// inner bottom quarter of the tube centred at ρ = 10, z = 3), a quarter turn about z; u runs
+/// across (the tube's arc), v around the axis.
+fn torus_fillet() -> BSplineSurface {
+    let section = arc(
+        Point3::new(10.0, 0.0, 3.0),
+        Vector3::x(),
+        Vector3::z(),
+        3.0,
+        PI,
+        1.5 * PI,
+    )
+    .unwrap();
+    revolve_curve(&section, Point3::origin(), Vector3::z(), 0.0, FRAC_PI_2).unwrap()
+}
+
+/// The cross profile's samples (normal curvature across, at the middle of the length).
+fn profile(s: &BSplineSurface, cross: Direction, at: f64) -> Vec<f64> {
+    cross_profile(s, cross, at, 201)
+        .into_iter()
+        .map(|k| k.unwrap().abs())
+        .collect()
+}
+
+#[test]
+fn a_cylinder_fillet_gets_one_hump_with_its_contact_lines_and_tangent_planes_kept() {
+    let r = 2.0;
+    let s = cylinder(r, 1.0).unwrap();
+    let f = 0.15;
+    let out = one_hump_section(&s, Direction::V, (f, f)).unwrap();
+    assert!(out.is_rational() || !s.is_rational());
+    let (v0, v1) = s.domain_v();
+    let (u0, u1) = s.domain_u();
+    for k in 0..=10 {
+        let u = u0 + (u1 - u0) * k as f64 / 10.0;
+        for v in [v0, v1] {
+            // the contact line, point for point
+            assert!((out.point(u, v) - s.point(u, v)).norm() < 1e-12);
+            // the cross tangent's direction (the tangent plane with the along tangent)
+            let (a, b) = (out.derivatives(u, v).dv, s.derivatives(u, v).dv);
+            assert!(a.normalize().cross(&b.normalize()).norm() < 1e-9, "{a} {b}");
+            // curvature 0 across at a ramped side (a plane's)
+            let k = out.derivatives(u, v).normal_curvature(&a).unwrap();
+            assert!(k.abs() < 1e-6 / r, "curvature {k} at the side");
+        }
+    }
+    // one hump, its peak a little above 1/R (about 1/(1 − f))
+    for at in [0.0, 0.5, 1.0] {
+        let p = profile(&out, Direction::V, at);
+        let peak = p.iter().cloned().fold(0.0, f64::max);
+        assert_eq!(count_extrema(&p, 0.005 * peak), 1, "{p:?}");
+        assert!(peak > 1.0 / r && peak < 1.25 / r, "peak {peak}");
+    }
+    // it moved, by about 0.2 ℓ for a 90° arc (ℓ the ramp's length)
+    let ramp = f * FRAC_PI_2 * r;
+    let d = max_deviation(&s, &out, 21);
+    assert!(
+        d > 0.1 * ramp && d < 0.3 * ramp,
+        "deviation {d}, ramp {ramp}"
+    );
+}
+
+#[test]
+fn a_torus_fillet_stays_a_surface_of_revolution() {
+    let s = torus_fillet();
+    let out = one_hump_section(&s, Direction::U, (0.2, 0.2)).unwrap();
+    let (u0, u1) = out.domain_u();
+    let (v0, v1) = out.domain_v();
+    for k in 0..=20 {
+        let u = u0 + (u1 - u0) * k as f64 / 20.0;
+        let p = out.point(u, v0);
+        let (rho, z) = (p.x.hypot(p.y), p.z);
+        for m in 1..=8 {
+            let q = out.point(u, v0 + (v1 - v0) * m as f64 / 8.0);
+            assert!((q.x.hypot(q.y) - rho).abs() < 1e-9 && (q.z - z).abs() < 1e-9);
+        }
+    }
+    // the contact circles kept: on the plane z = 0 at ρ = 10 and on the cylinder ρ = 7 at z = 3
+    let (a, b) = (out.point(u0, v0), out.point(u1, v0));
+    assert!(
+        (a - Point3::new(7.0, 0.0, 3.0)).norm() < 1e-12
+            || (a - Point3::new(10.0, 0.0, 0.0)).norm() < 1e-12
+    );
+    assert!((a - b).norm() > 1.0);
+    let p = profile(&out, Direction::U, 0.5);
+    let peak = p.iter().cloned().fold(0.0, f64::max);
+    assert_eq!(count_extrema(&p, 0.005 * peak), 1, "{p:?}");
+    assert!(peak < 1.35 / 3.0, "peak {peak}");
+}
+
+#[test]
+fn an_unramped_end_keeps_a_curvature() {
+    let r = 2.0;
+    let s = cylinder(r, 1.0).unwrap();
+    let out = one_hump_section(&s, Direction::V, (0.2, 0.0)).unwrap();
+    let (u0, _) = s.domain_u();
+    let (v0, v1) = s.domain_v();
+    let at = |v: f64| {
+        let d = out.derivatives(u0, v);
+        d.normal_curvature(&d.dv).unwrap().abs()
+    };
+    assert!(at(v0) < 1e-6);
+    // no ramp there: the end bends (the profile's tilt shares the turn between the ends)
+    assert!(at(v1) > 0.5 / r, "end curvature {}", at(v1));
+}
+
+#[test]
+fn a_wider_ramp_moves_the_section_further() {
+    let s = cylinder(2.0, 1.0).unwrap();
+    let d = |f: f64| max_deviation(&s, &one_hump_section(&s, Direction::V, (f, f)).unwrap(), 21);
+    let (a, b) = (d(0.05), d(0.2));
+    assert!(a < b && b < 5.0 * a && b > 3.0 * a, "{a} {b}");
+}
+
+#[test]
+fn weights_that_are_no_product_are_refused() {
+    let s = cylinder(2.0, 1.0).unwrap();
+    let mut w = s.weights().unwrap().to_vec();
+    w[1] *= 1.5;
+    let odd = BSplineSurface::new(
+        s.knots_u().clone(),
+        s.knots_v().clone(),
+        s.control_points().to_vec(),
+        Some(w),
+    )
+    .unwrap();
+    let e = one_hump_section(&odd, Direction::V, (0.1, 0.1)).unwrap_err();
+    assert!(e.to_string().contains("weights"), "{e}");
+}
