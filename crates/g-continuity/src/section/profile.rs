@@ -19,6 +19,9 @@ const PROFILE_ITERATIONS: usize = 20;
 /// point: far below any model tolerance, above the trapezoid's rounding.
 const PROFILE_RESIDUAL: f64 = 1e-11;
 
+/// Spans in each ramp.
+pub const RAMP_SPANS: usize = 5;
+
 /// Degree of the new section: quintic, the lead-in degree ([`crate::LEAD_IN_DEGREE`]).
 pub const SECTION_DEGREE: usize = 5;
 
@@ -248,7 +251,7 @@ impl Section {
 fn section_knots(f: (f64, f64), middle: usize) -> Vec<f64> {
     let mut xs = Vec::new();
     if f.0 > 0.0 {
-        xs.extend([f.0 / 3.0, 2.0 * f.0 / 3.0]);
+        xs.extend((1..RAMP_SPANS).map(|k| f.0 * k as f64 / RAMP_SPANS as f64));
     }
     let (a, b) = (f.0, 1.0 - f.1);
     for k in 0..=middle {
@@ -258,7 +261,11 @@ fn section_knots(f: (f64, f64), middle: usize) -> Vec<f64> {
         }
     }
     if f.1 > 0.0 {
-        xs.extend([1.0 - 2.0 * f.1 / 3.0, 1.0 - f.1 / 3.0]);
+        xs.extend(
+            (1..RAMP_SPANS)
+                .rev()
+                .map(|k| 1.0 - f.1 * k as f64 / RAMP_SPANS as f64),
+        );
     }
     xs
 }

@@ -66,6 +66,7 @@ impl Job<'_> {
                 after: Vec::new(),
                 prepared: prepared.clone(),
                 tangent_corners: false,
+                section: false,
             });
         };
         let mut s = prepared.clone();
@@ -93,6 +94,7 @@ impl Job<'_> {
             after,
             prepared: prepared.clone(),
             tangent_corners: set.tangent_corners,
+            section: false,
         })
     }
 
@@ -224,7 +226,8 @@ impl Job<'_> {
             .or_else(|| least(&|(t, _)| t.deviation() <= budget, &|(_, e)| *e))
             .or_else(|| least(&|_| true, &|(t, _)| t.deviation()))
             .unwrap_or(0);
-        Ok((trials.swap_remove(pick).0, needed))
+        let regular = trials.swap_remove(pick).0;
+        Ok((self.with_section(links, budget, regular)?, needed))
     }
 }
 

@@ -67,6 +67,7 @@ mod plan;
 mod polish;
 mod report;
 mod seams;
+mod section;
 mod slivers;
 mod stages;
 mod verify;
@@ -90,6 +91,7 @@ pub use report::{
 };
 use report::{edge_reports, found_edge_reports, link_reports, unmet_problems, worse_edge_problems};
 pub use seams::LINKED_SEAM_FRACTION;
+pub use section::{MIN_RAMP, SECTION_TRIALS};
 pub use slivers::SLIVER_MOVE_SHARE;
 pub use verify::VERIFY_FACTOR;
 
@@ -375,4 +377,8 @@ struct DryRun {
     /// whether a step met only with turned corner tangents (`SetParams::tangent_corners`);
     /// the stages then turn them too, or their C0 rows undo the corners the dry run made
     tangent_corners: bool,
+    /// whether the steps started from the one-hump section ([`section`]): the section is the
+    /// surface's G2 lead-in, so the stages fair its setting once keeping G2 — a fairing
+    /// keeping only C0 or G1 first would move the ramps the section placed
+    section: bool,
 }

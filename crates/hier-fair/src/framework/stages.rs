@@ -83,17 +83,28 @@ impl Job<'_> {
             prepared: prepared.clone(),
             connected,
         };
-        let s = self.run_levels(&plan, prepared, dry.tangent_corners, &mut run, problems)?;
+        let s = if dry.section && highest == top {
+            self.section_stages(&plan, &mut run)
+        } else {
+            self.run_levels(&plan, prepared, dry.tangent_corners, &mut run, problems)?
+        };
         let original = run.original;
         let (s, stages) = self.never_worse(&plan, s, run, problems);
         Ok(self.polished_stages(&plan, original, s, stages, problems))
     }
 
-    /// Links that do not touch their masters are bad input: the surface is left alone.
+    /// Links that do not touch their masters are bad input: the surface is left alone. Measured
+    /// against the masters as they came in — a master the framework moved (a fillet's one-hump
+    /// section, [`super::section`]) has moved within its own tolerance, and the continuity
+    /// steps fit this surface's rows to it.
     fn check_touch(&self, labelled: &[(usize, SideLink<'_>)]) -> std::result::Result<(), String> {
         let limit = TOUCH_FACTOR * self.connect.tolerances.g0;
         for (k, l) in labelled {
-            let m = l
+            let input = SideLink {
+                master: &self.model.surfaces[self.model.links[*k].master].surface,
+                ..*l
+            };
+            let m = input
                 .measure(self.start, &self.connect.measure)
                 .map_err(|e| format!("link {}: {e}", self.model.link_label(*k)))?;
             if m.g0 > limit {
@@ -432,10 +443,14 @@ impl Job<'_> {
         // a master's result is what its slaves are set against: a master changed here would
         // change their joins (a vertex blend between four fillets kept at their settings missed
         // G2 on all four sides, lofted block a), so masters keep the method's result
+        // the setting replaces the faired result only where it meets every link: a polish
+        // follows either ([`Job::polished_stages`]), and on corner3_radii by default the faired
+        // blend's polish met all four links where the setting's met none
         if !self.params.prefer_fairer
             || self.is_master()
             || plan.highest.is_none()
             || self.worse_link(plan.labelled, &plan.connected).is_some()
+            || self.met_links(plan.links, &plan.connected) < plan.links.len()
         {
             return (s, run.stages);
         }
@@ -445,7 +460,7 @@ impl Job<'_> {
             crate::fairness::FairnessVerdict::new(&before, &after, self.joint_curvature(x))
         };
         let faired = verdict(&s);
-        if faired.peak_ratio <= crate::fairness::PEAK_FACTOR {
+        if faired.fair() {
             return (s, run.stages);
         }
         let setting = verdict(&plan.connected);

@@ -1,0 +1,152 @@
+//! The one-hump section as a candidate of the dry run ([`g_continuity::section`]): a surface
+//! whose G2 sides lie across one direction (a fillet between two masters, or hanging on one)
+//! also tries its section replaced by a ramped profile, with ramps as wide as the lead-in's
+//! deviation budget allows; the candidate is taken when it meets every link the lead-in trial
+//! met within that budget and is fairer by the figures of [`crate::fairness`].
+
+use super::stages::StagePlan;
+use super::*;
+use crate::fairness::{FairnessVerdict, surface_fairness};
+
+/// Ramp trials: the first at [`g_continuity::MAX_RAMP`], each next one scaled by budget/d (the
+/// section's deviation grows linearly with its ramps, [`g_continuity::section`]) and
+/// [`LEAD_IN_MARGIN`]; the law is close to exact for a circular section, so the second trial is
+/// usually within the budget and four are a bound.
+pub const SECTION_TRIALS: usize = 4;
+
+/// Narrowest ramp tried, as a fraction of the section: [`MIN_LEAD_IN`]'s 1/64 — a ramp that short
+/// is a curvature step a fairing would not keep.
+pub const MIN_RAMP: f64 = MIN_LEAD_IN;
+
+impl Job<'_> {
+    /// The cross direction and the ramps (start, end) of a one-hump section for this surface:
+    /// every G2 side that is not collapsed lies across one direction, and each such side gets
+    /// a ramp of width `f`; `None` without one.
+    fn section_ends(&self, links: &[SideLink<'_>], f: f64) -> Option<(Direction, (f64, f64))> {
+        let g2: Vec<Side> = links
+            .iter()
+            .filter(|l| {
+                l.target >= Continuity::G2
+                    && !g_continuity::measure::is_collapsed(self.start, l.side)
+            })
+            .map(|l| l.side)
+            .collect();
+        let dir = g2.first()?.cross_direction();
+        if g2.iter().any(|s| s.cross_direction() != dir) {
+            return None;
+        }
+        // a slave hanging on this surface (a vertex blend on a fillet's end, or on a part of
+        // its side) was set against the curve it shares with it, which the section changes
+        // across the whole fillet: such a master keeps its frame instead ([`MASTER_FRAME`]).
+        // Measured: with the section on those masters box12_r5 per role kept every fillet fair
+        // but met 42 of its 48 links, corner3_radii 8 of 12
+        if self.is_master() {
+            return None;
+        }
+        let at = |start: bool| {
+            if g2.iter().any(|s| s.is_start() == start) {
+                f
+            } else {
+                0.0
+            }
+        };
+        Some((dir, (at(true), at(false))))
+    }
+
+    /// The fairness verdict of `result` against the input ([`FairnessVerdict`]).
+    fn verdict_of(&self, result: &BSplineSurface) -> FairnessVerdict {
+        let original = &self.model.surfaces[self.surface].surface;
+        let before = surface_fairness(self.model, self.surface, original);
+        let after = surface_fairness(self.model, self.surface, result);
+        FairnessVerdict::new(&before, &after, self.joint_curvature(result))
+    }
+
+    /// `regular` (the lead-in search's pick), or the one-hump section's dry run where that meets
+    /// its links within `budget` and is fairer (module docs). Any error of the section's
+    /// construction only means the surface has no such section: `regular` stays.
+    pub(super) fn with_section(
+        &self,
+        links: &[SideLink<'_>],
+        budget: f64,
+        regular: DryRun,
+    ) -> std::result::Result<DryRun, String> {
+        let Some(_) = self.section_ends(links, g_continuity::MAX_RAMP) else {
+            return Ok(regular);
+        };
+        let regular_last = regular.steps.last().map(|s| s.1.clone());
+        let regular_verdict = regular_last.as_ref().map(|s| self.verdict_of(s));
+        if regular.met && regular_verdict.as_ref().is_some_and(|v| v.fair()) {
+            return Ok(regular);
+        }
+        let original = &self.model.surfaces[self.surface].surface;
+        let mut f = g_continuity::MAX_RAMP;
+        for _ in 0..SECTION_TRIALS {
+            let Some((dir, ramps)) = self.section_ends(links, f) else {
+                break;
+            };
+            let Ok(section) = g_continuity::one_hump_section(self.start, dir, ramps) else {
+                break;
+            };
+            let d_section = max_deviation(original, &section, self.params.deviation_grid);
+            let dry = if d_section <= budget {
+                Some(self.section_dry_run(&section, links)?)
+            } else {
+                None
+            };
+            let d = dry.as_ref().map_or(d_section, |t| t.deviation());
+            if d <= budget {
+                let Some(dry) = dry.filter(|t| t.met || !regular.met) else {
+                    break;
+                };
+                let Some(last) = dry.steps.last() else { break };
+                let verdict = self.verdict_of(&last.1);
+                let better = regular_verdict.as_ref().is_none_or(|r| {
+                    (dry.met && !regular.met)
+                        || verdict.fairer_than(r, self.connect.tolerances.g2_rel)
+                });
+                return Ok(if better { dry } else { regular });
+            }
+            // the narrowest ramp is tried once where the law predicts less
+            if f <= MIN_RAMP {
+                break;
+            }
+            f = (f * budget / d * LEAD_IN_MARGIN).max(MIN_RAMP);
+        }
+        Ok(regular)
+    }
+
+    /// The continuity steps alone from the one-hump `section` (prepared without a lead-in: the
+    /// section's ramps are its lead-in).
+    fn section_dry_run(
+        &self,
+        section: &BSplineSurface,
+        links: &[SideLink<'_>],
+    ) -> std::result::Result<DryRun, String> {
+        let name = &self.model.surfaces[self.surface].name;
+        let connect = ConnectParams {
+            lead_in: None,
+            ..*self.connect
+        };
+        let (prepared, _) = prepare_slave(section, links, &connect)
+            .map_err(|e| format!("preparing {name}'s one-hump section: {e}"))?;
+        let (prepared, _) = free_rows(prepared, links, self.params.min_free_rows)
+            .map_err(|e| format!("inserting knots into {name}'s one-hump section: {e}"))?;
+        let mut dry = self.dry_run(&prepared, links)?;
+        dry.section = true;
+        Ok(dry)
+    }
+
+    /// The stages of a surface whose dry run started from its one-hump section: its setting
+    /// faired once keeping G2 ([`Job::faired_once`]), or the setting alone where that fairing
+    /// is not kept.
+    pub(super) fn section_stages(&self, plan: &StagePlan<'_>, run: &mut Run<'_>) -> BSplineSurface {
+        if let Some((faired, stages)) = self.faired_once(plan, run.original, &run.stages[0]) {
+            run.stages = stages;
+            return faired;
+        }
+        if let Some(h) = plan.highest {
+            run.record(Stage::set(h), &plan.prepared, &plan.connected);
+        }
+        plan.connected.clone()
+    }
+}
