@@ -22,6 +22,8 @@ pub(super) struct StagePlan<'a> {
     pub(super) prepared: BSplineSurface,
     /// the dry run's result at `highest`
     pub(super) connected: BSplineSurface,
+    /// whether the dry run started from the one-hump section ([`super::section`])
+    pub(super) section: bool,
 }
 
 impl StagePlan<'_> {
@@ -82,6 +84,7 @@ impl Job<'_> {
             top,
             prepared: prepared.clone(),
             connected,
+            section: dry.section,
         };
         let s = if dry.section && highest == top {
             self.section_stages(&plan, &mut run)
@@ -424,15 +427,13 @@ impl Job<'_> {
     /// The faired result `s` (no link worse, none lost, within the tolerance), or — on a surface
     /// that is no other surface's master, with [`FairParams::prefer_fairer`] — the continuity
     /// setting alone where the faired result's peak curvature is beyond
-    /// [`crate::fairness::PEAK_FACTOR`] of its input's and the setting is fairer
+    /// [`crate::fairness::PEAK_FACTOR`] of its input's (a one-hump section's result: where it is
+    /// not fair by any figure of [`crate::fairness`]), the setting meets every link and is fairer
     /// ([`crate::fairness::FairnessVerdict::fairer_than`]): a fairing stage minimizes its
     /// method's functional, which on a strongly curved connecting surface need not lower its
     /// curvature peaks (with 0.5 mm of deviation the thin-plate energy of plate_boss's torus
-    /// fillet drops 4 % while its peak curvature grows 2.6×). Below that bound the method's
-    /// own functional decides ([SV] §3.2): on near-flat surfaces (the X-node's fillets, a few
-    /// 1e-3 /mm) the comb's extrema counted at the G2 tolerance's hysteresis trade against a
-    /// lower peak and energy, and the energy method's result is kept. The choice is reported
-    /// with both figures.
+    /// fillet drops 4 % while its peak curvature grows 2.6×), nor keep the one hump of a
+    /// fillet's section ([`super::section`]). The choice is reported with both figures.
     fn fairer_of(
         &self,
         plan: &StagePlan<'_>,
@@ -460,7 +461,16 @@ impl Job<'_> {
             crate::fairness::FairnessVerdict::new(&before, &after, self.joint_curvature(x))
         };
         let faired = verdict(&s);
-        if faired.fair() {
+        // the one-hump section is judged by every figure (its fairing must keep the hump); any
+        // other result by its peak: below that bound the method's own functional decides
+        // ([SV] §3.2) — on near-flat fillets (the X-node's, a few 1e-3 /mm) the comb's extrema
+        // counted at the G2 tolerance's hysteresis trade against a lower energy
+        let judged_fair = if plan.section {
+            faired.fair()
+        } else {
+            faired.peak_ratio <= crate::fairness::PEAK_FACTOR
+        };
+        if judged_fair {
             return (s, run.stages);
         }
         let setting = verdict(&plan.connected);
