@@ -51,6 +51,7 @@ fn surface_json(s: &crate::framework::SurfaceFair) -> Value {
         "fairness_after": fairness_json(&s.fairness.1),
         "fairness": verdict_json(&s.fairness_verdict()),
         "joint_curvature": s.joint_curvature,
+        "section_ramp": s.stages.first().and_then(|st| st.section_ramp),
         "stages": s.stages.iter().map(|st| json!({
             "stage": st.stage.name(),
             "max_move": if st.max_move.is_finite() { json!(st.max_move) } else { Value::Null },
@@ -59,6 +60,7 @@ fn surface_json(s: &crate::framework::SurfaceFair) -> Value {
             "iterations": st.iterations,
             "knots_inserted": st.knots_inserted,
             "epsilon": st.epsilon,
+            "section_ramp": st.section_ramp,
         })).collect::<Vec<_>>(),
     })
 }

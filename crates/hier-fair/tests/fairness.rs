@@ -128,6 +128,12 @@ fn torus_fillets_get_one_hump_per_role() {
         let s = surface(&report, f);
         let v = s.fairness_verdict();
         assert!(v.fair(), "{f}: {v:?}");
+        // the report says the section was replaced, and how wide its ramps are
+        let ramp = s.stages[0].section_ramp.expect("section replaced");
+        assert!(
+            ramp > 0.0 && ramp <= g_continuity::MAX_RAMP,
+            "{f}: ramp {ramp}"
+        );
         let k = out.surfaces.iter().position(|x| x.name == f).unwrap();
         let surface = &out.surfaces[k].surface;
         for at in [0.1, 0.5, 0.9] {

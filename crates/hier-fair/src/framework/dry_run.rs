@@ -66,7 +66,7 @@ impl Job<'_> {
                 after: Vec::new(),
                 prepared: prepared.clone(),
                 tangent_corners: false,
-                section: false,
+                section_ramp: None,
             });
         };
         let mut s = prepared.clone();
@@ -94,7 +94,7 @@ impl Job<'_> {
             after,
             prepared: prepared.clone(),
             tangent_corners: set.tangent_corners,
-            section: false,
+            section_ramp: None,
         })
     }
 

@@ -40,6 +40,7 @@ impl Run<'_> {
             iterations: 0,
             knots_inserted: 0,
             epsilon: 0.0,
+            section_ramp: None,
         });
     }
     pub(super) fn deviation(&self) -> f64 {

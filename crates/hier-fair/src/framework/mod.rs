@@ -378,8 +378,9 @@ struct DryRun {
     /// whether a step met only with turned corner tangents (`SetParams::tangent_corners`);
     /// the stages then turn them too, or their C0 rows undo the corners the dry run made
     tangent_corners: bool,
-    /// whether the steps started from the one-hump section ([`section`]): the section is the
-    /// surface's G2 lead-in, so the stages fair its setting once keeping G2 — a fairing
-    /// keeping only C0 or G1 first would move the ramps the section placed
-    section: bool,
+    /// the ramp (fraction of the section at each G2 end) where the steps started from the
+    /// one-hump section ([`section`]): the section is the surface's G2 lead-in, so the stages
+    /// fair its setting once keeping G2 — a fairing keeping only C0 or G1 first would move the
+    /// ramps the section placed
+    section_ramp: Option<f64>,
 }

@@ -73,6 +73,9 @@ pub struct StageReport {
     pub knots_inserted: usize,
     /// the ball radius ε given to a fairing stage (0 for continuity stages)
     pub epsilon: f64,
+    /// the prepare stage of a surface whose section was replaced by the one-hump profile
+    /// ([`g_continuity::section`]): its ramp, as a fraction of the section at each G2 end
+    pub section_ramp: Option<f64>,
 }
 
 /// What happened to one surface.

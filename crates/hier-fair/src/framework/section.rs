@@ -89,7 +89,7 @@ impl Job<'_> {
             };
             let d_section = max_deviation(original, &section, self.params.deviation_grid);
             let dry = if d_section <= budget {
-                Some(self.section_dry_run(&section, links)?)
+                Some(self.section_dry_run(&section, links, f)?)
             } else {
                 None
             };
@@ -121,6 +121,7 @@ impl Job<'_> {
         &self,
         section: &BSplineSurface,
         links: &[SideLink<'_>],
+        ramp: f64,
     ) -> std::result::Result<DryRun, String> {
         let name = &self.model.surfaces[self.surface].name;
         let connect = ConnectParams {
@@ -132,7 +133,7 @@ impl Job<'_> {
         let (prepared, _) = free_rows(prepared, links, self.params.min_free_rows)
             .map_err(|e| format!("inserting knots into {name}'s one-hump section: {e}"))?;
         let mut dry = self.dry_run(&prepared, links)?;
-        dry.section = true;
+        dry.section_ramp = Some(ramp);
         Ok(dry)
     }
 

@@ -62,6 +62,7 @@ impl Job<'_> {
         let prepared = dry.prepared.clone();
         run.record(Stage::Prepare, self.start, &prepared);
         run.stages[0].knots_inserted = knots_between(self.start, &prepared);
+        run.stages[0].section_ramp = dry.section_ramp;
         let top = links.iter().map(|l| l.target).max();
         let highest = self.highest_level(&labelled, &dry, problems);
         self.report_conflicts(&labelled, &dry, highest, needed, problems);
@@ -84,9 +85,9 @@ impl Job<'_> {
             top,
             prepared: prepared.clone(),
             connected,
-            section: dry.section,
+            section: dry.section_ramp.is_some(),
         };
-        let s = if dry.section && highest == top {
+        let s = if dry.section_ramp.is_some() && highest == top {
             self.section_stages(&plan, &mut run)
         } else {
             self.run_levels(&plan, prepared, dry.tangent_corners, &mut run, problems)?
