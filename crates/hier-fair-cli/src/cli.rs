@@ -182,6 +182,7 @@ fn run(cli: Cli) -> Result<()> {
             explain,
         } => {
             files::check_outputs(&[("-o", &output)], &[&input])?;
+            crate::kind::expect_extension("-o", &output, crate::kind::JSON_OUTPUTS)?;
             println!("{}", crate::exchange::import(&input, &output, explain)?);
             Ok(())
         }
@@ -217,6 +218,14 @@ fn check_command(
     fail_above: Option<String>,
     fairness: bool,
 ) -> Result<()> {
+    crate::kind::expect(
+        "check",
+        &model,
+        &[
+            crate::kind::FileKind::Model,
+            crate::kind::FileKind::Surfaces,
+        ],
+    )?;
     let text = files::read_text(&model)?;
     let outcome = crate::check::run_with(
         &text,
@@ -245,6 +254,18 @@ fn connect_command(
     let mut outputs = vec![("-o", output.as_path())];
     outputs.extend(report.as_deref().map(|r| ("--report", r)));
     files::check_outputs(&outputs, &[&model])?;
+    crate::kind::expect(
+        "connect",
+        &model,
+        &[
+            crate::kind::FileKind::Model,
+            crate::kind::FileKind::Surfaces,
+        ],
+    )?;
+    crate::kind::expect_extension("-o", &output, crate::kind::JSON_OUTPUTS)?;
+    if let Some(r) = &report {
+        crate::kind::expect_extension("--report", r, crate::kind::JSON_OUTPUTS)?;
+    }
     let text = files::read_text(&model)?;
     let outcome = crate::connect::run(&text, &model.display().to_string(), target)?;
     files::write_atomic(&output, outcome.model_json.as_bytes())?;
@@ -290,7 +311,18 @@ fn eval_command(args: EvalArgs) -> Result<()> {
         summary,
         index,
     } = args;
-    let mut surfaces = files::read_surfaces(&surface)?;
+    use crate::kind::FileKind;
+    // a model's surfaces are evaluated as a surface file's are (chosen by --index)
+    let mut surfaces =
+        match crate::kind::expect("eval", &surface, &[FileKind::Surfaces, FileKind::Model])? {
+            FileKind::Model => hier_fair::Model::from_json(&files::read_text(&surface)?)
+                .map_err(|e| anyhow::anyhow!("{}: {e}", surface.display()))?
+                .surfaces
+                .into_iter()
+                .map(|s| s.surface)
+                .collect(),
+            _ => files::read_surfaces(&surface)?,
+        };
     let chosen = match (index, surfaces.len()) {
         (None, 1) => 0,
         (None, n) => bail!(
@@ -373,13 +405,31 @@ fn fair_command(args: FairArgs) -> Result<()> {
     for (role, mm) in tolerance_role {
         role_tolerance[role.rank()] = Some(mm);
     }
-    let iges = crate::exchange::is_iges(&input) || crate::exchange::is_step(&input);
+    use crate::kind::FileKind;
+    let kind = crate::kind::expect(
+        "fair",
+        &input,
+        &[
+            FileKind::Model,
+            FileKind::Surfaces,
+            FileKind::Step,
+            FileKind::Iges,
+        ],
+    )?;
+    let iges = matches!(kind, FileKind::Step | FileKind::Iges);
+    if let Some(r) = &report {
+        crate::kind::expect_extension("--report", r, crate::kind::JSON_OUTPUTS)?;
+    }
     let text = if iges {
         String::new()
     } else {
         files::read_text(&input)?
     };
     if iges || crate::pipeline::is_model(&text) {
+        // a model is written as JSON, or as the CAD file its extension names
+        let mut allowed = crate::kind::JSON_OUTPUTS.to_vec();
+        allowed.extend(crate::kind::CAD_OUTPUTS);
+        crate::kind::expect_extension("-o", &output, &allowed)?;
         let options = crate::pipeline::ModelOptions {
             method,
             tolerance,
@@ -409,6 +459,25 @@ fn fair_command(args: FairArgs) -> Result<()> {
             std::process::exit(1);
         }
         return Ok(());
+    }
+    // a bare surface file: the model options do not apply
+    crate::kind::expect_extension("-o", &output, crate::kind::JSON_OUTPUTS)?;
+    for (flag, given) in [
+        ("--images", images.is_some()),
+        ("--target", target.is_some()),
+        (
+            "--tolerance-role",
+            role_tolerance.iter().any(Option::is_some),
+        ),
+        ("--keep-faired", keep_faired),
+        ("--no-verify", no_verify),
+    ] {
+        if given {
+            bail!(
+                "{flag} applies to a model; {} is a surface file (each surface faired alone, its boundaries kept): leave {flag} out, or give a model",
+                input.display()
+            );
+        }
     }
     let options = crate::fair::FairOptions {
         method: method.unwrap_or(hier_fair::Method::Energy.name()),

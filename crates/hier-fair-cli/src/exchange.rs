@@ -27,12 +27,13 @@ pub fn is_step(path: &Path) -> bool {
         .is_some_and(|e| e.eq_ignore_ascii_case("step") || e.eq_ignore_ascii_case("stp"))
 }
 
-/// Reads a CAD file (STEP or IGES, by its extension) into a model with its hierarchy found.
+/// Reads a CAD file (STEP or IGES, known by its content, [`crate::kind`]) into a model with
+/// its hierarchy found.
 pub fn model_from_cad(input: &Path) -> Result<(Model, String, hier_fair::BuildLog)> {
-    if is_step(input) {
-        model_from_step(input)
-    } else {
-        model_from_iges(input)
+    use crate::kind::FileKind;
+    match crate::kind::expect("import", input, &[FileKind::Step, FileKind::Iges])? {
+        FileKind::Step => model_from_step(input),
+        _ => model_from_iges(input),
     }
 }
 
@@ -249,6 +250,15 @@ fn iges_date_now() -> String {
 /// Reads the model `input` and writes its surfaces as IGES to `output`; returns a summary line.
 pub fn export(input: &Path, output: &Path) -> Result<String> {
     refuse_overwrite(output, &[input])?;
+    crate::kind::expect(
+        "export",
+        input,
+        &[
+            crate::kind::FileKind::Model,
+            crate::kind::FileKind::Surfaces,
+        ],
+    )?;
+    crate::kind::expect_extension("-o", output, crate::kind::CAD_OUTPUTS)?;
     let model =
         Model::from_json(&read_text(input)?).map_err(|e| anyhow!("{}: {e}", input.display()))?;
     let text = cad_text(&model, output).map_err(|e| anyhow!("{}: {e}", input.display()))?;

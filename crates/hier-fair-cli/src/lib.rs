@@ -24,6 +24,7 @@ pub mod eval;
 pub mod exchange;
 pub mod fair;
 pub mod files;
+pub mod kind;
 pub mod label;
 pub mod mesh;
 pub mod pipeline;

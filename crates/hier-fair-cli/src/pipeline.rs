@@ -454,7 +454,7 @@ pub fn run_fair(
     }
     // a CAD file in, a CAD file out: STEP or IGES is imported (hierarchy found) and written
     // back in the format the output's extension names
-    let model = if crate::exchange::is_iges(input) || crate::exchange::is_step(input) {
+    let model = if crate::kind::is_cad(input)? {
         crate::exchange::model_from_cad(input)?.0
     } else {
         Model::from_json(text).with_context(|| format!("{}", input.display()))?

@@ -23,15 +23,17 @@ fn every_bad_input_gives_its_one_line() {
             panic!("expected.tsv line {}: four tab-separated fields", n + 1);
         };
         let out = tempfile::tempdir().unwrap();
-        let out_path = out.path().join("o");
+        // OUT, or OUT.ext for an output whose format its extension names
+        let out_base = out.path().join("o");
+        let mut out_path = out_base.clone();
         let args: Vec<String> = args
             .split(' ')
-            .map(|a| {
-                if a == "OUT" {
+            .map(|a| match a.strip_prefix("OUT") {
+                Some(ext) => {
+                    out_path = out_base.with_file_name(format!("o{ext}"));
                     out_path.to_string_lossy().to_string()
-                } else {
-                    a.to_string()
                 }
+                None => a.to_string(),
             })
             .collect();
         // under a memory limit: no bad input may reserve more than MEMORY_LIMIT_KB
@@ -48,7 +50,7 @@ fn every_bad_input_gives_its_one_line() {
             .lines()
             .next()
             .unwrap_or("")
-            .replace(&*out_path.to_string_lossy(), "OUT");
+            .replace(&*out_base.to_string_lossy(), "OUT");
         assert_eq!(first, expected, "{file}");
         assert_eq!(
             o.status.code(),

@@ -1,0 +1,162 @@
+//! Inputs known by their content, outputs by a known list of extensions, options that do not
+//! apply refused (cli-contract.md, "Files").
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_hier-fair"))
+}
+
+fn root(path: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../..")
+        .join(path)
+}
+
+fn run(args: &[&str]) -> Output {
+    bin().args(args).output().expect("binary runs")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).to_string()
+}
+
+/// A failed run whose one-line error contains every one of `parts`.
+fn refused(o: &Output, parts: &[&str]) {
+    assert!(
+        !o.status.success(),
+        "ran: {}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    let e = stderr(o);
+    assert_eq!(e.trim().lines().count(), 1, "{e}");
+    for p in parts {
+        assert!(e.contains(p), "{p:?} not in {e}");
+    }
+}
+
+#[test]
+fn a_step_file_renamed_is_imported_by_its_content() {
+    let dir = tempfile::tempdir().unwrap();
+    let renamed = dir.path().join("box.txt");
+    std::fs::copy(root("fixtures/occt_variants/box12_r4.step"), &renamed).unwrap();
+    let out = dir.path().join("box.json");
+    let o = run(&[
+        "import",
+        renamed.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("imported 26 faces"));
+    // the same file given to `check` is named for what it is
+    let o = run(&["check", renamed.to_str().unwrap()]);
+    refused(
+        &o,
+        &["`check` takes a model JSON", "is a STEP file", "`import`"],
+    );
+}
+
+#[test]
+fn a_model_given_to_import_is_named_as_a_model() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("x.json");
+    let model = root("fixtures/occt/occt_plate_boss.json");
+    let o = run(&[
+        "import",
+        model.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    refused(
+        &o,
+        &[
+            "`import` takes a STEP file or an IGES file",
+            "is a model JSON",
+        ],
+    );
+    assert!(!out.exists());
+}
+
+#[test]
+fn eval_reads_a_model_surface_by_index() {
+    let model = root("fixtures/occt/occt_plate_boss.json");
+    let o = run(&["eval", model.to_str().unwrap(), "--grid", "2,2"]);
+    refused(&o, &["holds 10 surfaces", "--index K"]);
+    let o = run(&[
+        "eval",
+        model.to_str().unwrap(),
+        "--grid",
+        "2,2",
+        "--index",
+        "1",
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["results"].as_array().unwrap().len(), 4);
+}
+
+#[test]
+fn outputs_are_written_only_in_a_format_their_extension_names() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = root("fixtures/occt/occt_plate_boss.json");
+    let stl = dir.path().join("out.stl");
+    let o = run(&[
+        "export",
+        model.to_str().unwrap(),
+        "-o",
+        stl.to_str().unwrap(),
+    ]);
+    refused(&o, &["out.stl", ".step, .stp, .igs, .iges"]);
+    let txt = dir.path().join("out.txt");
+    let o = run(&[
+        "fair",
+        model.to_str().unwrap(),
+        "-o",
+        txt.to_str().unwrap(),
+        "--quiet",
+    ]);
+    refused(&o, &["out.txt", ".json, .step, .stp, .igs, .iges"]);
+    assert!(!stl.exists() && !txt.exists());
+}
+
+#[test]
+fn model_options_on_a_bare_surface_are_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let surface = root("fixtures/surfaces/hood_panel.json");
+    let out = dir.path().join("out.json");
+    for extra in [
+        &["--target", "G2"][..],
+        &["--images", "pics"][..],
+        &["--keep-faired"][..],
+    ] {
+        let mut args = vec![
+            "fair",
+            surface.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+        ];
+        args.extend(extra);
+        let o = run(&args);
+        refused(&o, &[extra[0], "applies to a model", "is a surface file"]);
+    }
+    assert!(!out.exists());
+}
+
+#[test]
+fn an_unknown_file_is_named_with_what_hier_fair_reads() {
+    let dir = tempfile::tempdir().unwrap();
+    let junk = dir.path().join("notes.md");
+    std::fs::write(&junk, "# notes\nnothing here\n").unwrap();
+    let out = dir.path().join("out.json");
+    let o = run(&["fair", junk.to_str().unwrap(), "-o", out.to_str().unwrap()]);
+    refused(
+        &o,
+        &[
+            "`fair` takes",
+            "is no file kind hier-fair reads",
+            "STEP, IGES",
+        ],
+    );
+}
