@@ -83,7 +83,7 @@ pub fn run_with(
         if fairness {
             text += &fairness_table(&model);
         }
-        text
+        text + &verdict(&model, &checks)
     };
     Ok(CheckOutcome { text, exceeded })
 }
@@ -166,9 +166,20 @@ fn table(
         .max()
         .unwrap_or(4)
         .max(4);
+    let t = &model.tolerances;
+    let met = |c: &LinkCheck| c.measure.meets(c.target, t.g0, t.g1_deg, t.g2_rel);
     let mut out = format!(
-        "{:width$}  {:6}  {:>7}  {:>10}  {:>10}  {:>10}  {:>10}  {:>10}  {}\n",
-        "link", "target", "samples", "gap", "angle°", "g2 rel", "g2 abs", "g2 across", "note"
+        "{:width$}  {:6}  {:>7}  {:>10}  {:>10}  {:>10}  {:>10}  {:>10}  {:4}  {}\n",
+        "link",
+        "target",
+        "samples",
+        "gap",
+        "angle°",
+        "g2 rel",
+        "g2 abs",
+        "g2 across",
+        "met",
+        "note"
     );
     for (k, c) in checks.iter().enumerate() {
         let m = &c.measure;
@@ -192,7 +203,7 @@ fn table(
             });
         }
         out += &format!(
-            "{:width$}  {:6}  {:>7}  {:>10.3e}  {:>10}  {:>10}  {:>10}  {:>10}  {}\n",
+            "{:width$}  {:6}  {:>7}  {:>10.3e}  {:>10}  {:>10}  {:>10}  {:>10}  {:4}  {}\n",
             c.label,
             continuity_name(c.target),
             m.samples,
@@ -201,18 +212,38 @@ fn table(
             fmt_opt(m.g2_rel, 3),
             fmt_opt(m.g2_abs, 3),
             fmt_opt(m.g2_rel_across, 3),
+            if met(c) { "yes" } else { "no" },
             note.join("; ")
         );
     }
     if checks.is_empty() {
         out += "(the model has no links)\n";
     }
-    let t = &model.tolerances;
     out += &format!(
         "model tolerances: g0 {} · g1 {}° · g2 {}\n",
         t.g0, t.g1_deg, t.g2_rel
     );
     out
+}
+
+/// The last line of `check`'s table: how many links meet the model's tolerances.
+fn verdict(model: &Model, checks: &[LinkCheck]) -> String {
+    let t = &model.tolerances;
+    let met = |c: &LinkCheck| c.measure.meets(c.target, t.g0, t.g1_deg, t.g2_rel);
+    let untouched = checks.iter().filter(|c| !c.touches(model)).count();
+    format!(
+        "verdict: {} of {} links met (G0 ≤ {}, G1 ≤ {}°, G2 ≤ {} relative, each up to its target){}\n",
+        checks.iter().filter(|c| met(c)).count(),
+        checks.len(),
+        t.g0,
+        t.g1_deg,
+        t.g2_rel,
+        if untouched > 0 {
+            format!("; {untouched} do not touch their masters")
+        } else {
+            String::new()
+        }
+    )
 }
 
 fn joins_json(joins: &[SurfaceJoins], flags: Option<&[bool]>) -> Value {

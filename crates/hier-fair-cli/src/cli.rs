@@ -276,6 +276,7 @@ fn connect_command(
         )?;
     }
     print!("{}", outcome.summary);
+    println!("{}; wrote {}", outcome.verdict, output.display());
     Ok(())
 }
 

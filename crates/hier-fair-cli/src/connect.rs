@@ -17,6 +17,8 @@ pub struct ConnectOutcome {
     pub report: Value,
     /// a readable summary for stdout
     pub summary: String,
+    /// the verdict line without its ending "; wrote OUT" (the caller knows what it wrote)
+    pub verdict: String,
 }
 
 /// Runs `connect` on the text of a model (or bare surface) file; `source` names it in errors.
@@ -28,6 +30,19 @@ pub fn run(model_text: &str, source: &str, target: Option<Continuity>) -> Result
     };
     let (out, report) = connect(&model, &options).map_err(|e| anyhow!("{source}: {e}"))?;
     let mut text = summary(&report);
+    let t = &model.tolerances;
+    let met = report
+        .links
+        .iter()
+        .filter(|l| l.after.meets(l.target, t.g0, t.g1_deg, t.g2_rel))
+        .count();
+    let verdict = format!(
+        "verdict: {met} of {} links met (G0 ≤ {}, G1 ≤ {}°, G2 ≤ {} relative, each up to its target)",
+        report.links.len(),
+        t.g0,
+        t.g1_deg,
+        t.g2_rel
+    );
     // `--target` caps each link's own continuity; say so where it asks for more than any link
     if let (Some(t), Some(top)) = (target, model.links.iter().map(|l| l.continuity).max())
         && t > top
@@ -40,6 +55,7 @@ pub fn run(model_text: &str, source: &str, target: Option<Continuity>) -> Result
         model_json: out.to_json(),
         report: report_json(&model, &report),
         summary: text,
+        verdict,
     })
 }
 

@@ -160,3 +160,45 @@ fn an_unknown_file_is_named_with_what_hier_fair_reads() {
         ],
     );
 }
+
+/// `check` and `connect` end with a verdict line; `check`'s table has a met column.
+#[test]
+fn check_and_connect_end_with_a_verdict() {
+    let model = root("fixtures/occt/occt_plate_boss.json");
+    let o = run(&["check", model.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    // the kernel's torus fillets are G1 to their planes and cylinder: no G2 link is met
+    assert_eq!(
+        text.lines().last().unwrap(),
+        "verdict: 0 of 4 links met (G0 ≤ 0.001, G1 ≤ 0.01°, G2 ≤ 0.005 relative, each up to its target)"
+    );
+    assert!(text.lines().next().unwrap().contains("met"));
+    assert_eq!(
+        text.lines().filter(|l| l.contains("  no  ")).count(),
+        4,
+        "{text}"
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("set.json");
+    let o = run(&[
+        "connect",
+        model.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(
+        text.lines().last().unwrap(),
+        format!(
+            "verdict: 4 of 4 links met (G0 ≤ 0.001, G1 ≤ 0.01°, G2 ≤ 0.005 relative, each up to its target); wrote {}",
+            out.display()
+        )
+    );
+    // and the model it wrote checks as met
+    let o = run(&["check", out.to_str().unwrap()]);
+    assert!(String::from_utf8_lossy(&o.stdout).ends_with(
+        "4 of 4 links met (G0 ≤ 0.001, G1 ≤ 0.01°, G2 ≤ 0.005 relative, each up to its target)\n"
+    ));
+}
