@@ -63,9 +63,14 @@ pub fn model_from_step(input: &Path) -> Result<(Model, String, hier_fair::BuildL
     }
     let log = hier_fair::build_hierarchy(&mut model);
     let summary = format!(
-        "imported {} faces, each over its parameter box with its bounds kept as trim loops; faces of surfaces not read: {}; {}",
+        "imported {} faces, each over its parameter box with its bounds kept as trim loops; faces of surfaces not read: {}; faces and surfaces skipped: {}; {}",
         file.faces.len(),
         counts_text(&file.skipped),
+        if file.warnings.is_empty() {
+            "none".to_string()
+        } else {
+            file.warnings.join("; ")
+        },
         hierarchy_summary(&model, &log),
     );
     Ok((model, summary, log))
