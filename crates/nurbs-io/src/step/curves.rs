@@ -39,7 +39,8 @@ pub(super) fn angle_unit(m: &Model, ids: &[u64]) -> f64 {
             }),
             _ => None,
         };
-        let named_degree = matches!(p.first(), Some(Value::Text(t)) if t.eq_ignore_ascii_case("degree"));
+        let named_degree =
+            matches!(p.first(), Some(Value::Text(t)) if t.eq_ignore_ascii_case("degree"));
         return match measured {
             Some(f) if f > 0.0 => f,
             _ if named_degree => std::f64::consts::PI / 180.0,

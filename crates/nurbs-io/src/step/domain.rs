@@ -76,7 +76,10 @@ impl Surface {
             Surface::Spline(s) => {
                 let (u, v) = (s.domain_u(), s.domain_v());
                 let closed = spline_closed(s);
-                let period = [closed[0].then_some(u.1 - u.0), closed[1].then_some(v.1 - v.0)];
+                let period = [
+                    closed[0].then_some(u.1 - u.0),
+                    closed[1].then_some(v.1 - v.0),
+                ];
                 return Carrier {
                     period,
                     natural: [Some(u), Some(v)],
@@ -163,7 +166,10 @@ pub(super) fn face_box(
             .unwrap_or(0)
     });
     // every point, the vertex loops' too (a cone's apex)
-    let all: Vec<(f64, f64)> = bounds.iter().flat_map(|b| b.params.iter().copied()).collect();
+    let all: Vec<(f64, f64)> = bounds
+        .iter()
+        .flat_map(|b| b.params.iter().copied())
+        .collect();
     let mut range = [(0.0, 0.0); 2];
     for (d, r) in range.iter_mut().enumerate() {
         *r = match c.period[d] {
@@ -303,7 +309,11 @@ fn periodic_range(c: &Carrier, loops: &[Oriented], outer: usize, d: usize, p: f6
     let snap = SEAM_SNAP * p;
     let k = ((a - snap - lo) / p).ceil();
     let (lo, hi) = (lo + k * p, hi + k * p);
-    if hi > b + snap { (a, b) } else { (lo.max(a), hi.min(b)) }
+    if hi > b + snap {
+        (a, b)
+    } else {
+        (lo.max(a), hi.min(b))
+    }
 }
 
 /// The range of a non-periodic direction `d` over every bound point, extended to the pole or
@@ -316,9 +326,12 @@ fn linear_range(
     d: usize,
 ) -> (f64, f64) {
     let pick = |q: &(f64, f64)| if d == 0 { q.0 } else { q.1 };
-    let (mut lo, mut hi) = all.iter().map(pick).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-        (a.min(x), b.max(x))
-    });
+    let (mut lo, mut hi) = all
+        .iter()
+        .map(pick)
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+            (a.min(x), b.max(x))
+        });
     let o = 1 - d;
     let side = if d == 1 { 1 } else { -1 };
     let net: i64 = loops.iter().map(|l| l.winding[o]).sum::<i64>() * side;
@@ -328,11 +341,21 @@ fn linear_range(
     }
     let wound = loops.iter().any(|l| l.winding[o] != 0);
     if net > 0 {
-        if let Some(t) = targets.iter().copied().filter(|&t| t >= hi).reduce(f64::min) {
+        if let Some(t) = targets
+            .iter()
+            .copied()
+            .filter(|&t| t >= hi)
+            .reduce(f64::min)
+        {
             hi = t;
         }
     } else if net < 0 {
-        if let Some(t) = targets.iter().copied().filter(|&t| t <= lo).reduce(f64::max) {
+        if let Some(t) = targets
+            .iter()
+            .copied()
+            .filter(|&t| t <= lo)
+            .reduce(f64::max)
+        {
             lo = t;
         }
     } else if !wound && c.period[o].is_some() && signed_area(&loops[outer].uv) < 0.0 {
@@ -351,7 +374,9 @@ fn linear_range(
 fn span(values: &[f64]) -> (f64, f64) {
     values
         .iter()
-        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| (a.min(x), b.max(x)))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
+            (a.min(x), b.max(x))
+        })
 }
 
 /// (min, max) of coordinate `d` of `uv`.

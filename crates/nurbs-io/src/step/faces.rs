@@ -4,10 +4,10 @@
 
 use nurbs_core::{BSplineCurve, Point3, ProjectionParams};
 
-use super::entities::{Model, R};
-use super::lexer::Value;
 use super::curves::surface_curve_3d;
+use super::entities::{Model, R};
 use super::knots::is_spline;
+use super::lexer::Value;
 use super::surfaces::{Surface, spline_curve};
 use super::{ARC_STEP, EDGE_SAMPLES, ON_SURFACE_RELATIVE, SPLINE_EDGE_SAMPLES};
 
@@ -227,7 +227,13 @@ fn edge_points(m: &Model, eid: u64) -> R<Vec<Point3>> {
         "LINE" | "POLYLINE" => {}
         _ if is_spline(m.get(cid)?, false) => {
             let closed_edge = p.get(1) == p.get(2) || a == b;
-            out.extend(spline_edge_points(&spline_curve(m, cid)?, &a, &b, same, closed_edge));
+            out.extend(spline_edge_points(
+                &spline_curve(m, cid)?,
+                &a,
+                &b,
+                same,
+                closed_edge,
+            ));
         }
         _ => {}
     }

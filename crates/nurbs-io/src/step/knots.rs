@@ -22,7 +22,11 @@ pub(super) enum ImpliedKnots {
 /// instance lists its knots (`…_WITH_KNOTS`) or is no B-spline.
 pub(super) fn implied_form(inst: &Instance, surface: bool) -> Option<ImpliedKnots> {
     let kind = if surface { "SURFACE" } else { "CURVE" };
-    let has = |prefix: &str| inst.parts.iter().any(|(n, _)| *n == format!("{prefix}_{kind}"));
+    let has = |prefix: &str| {
+        inst.parts
+            .iter()
+            .any(|(n, _)| *n == format!("{prefix}_{kind}"))
+    };
     if has("UNIFORM") {
         Some(ImpliedKnots::Uniform)
     } else if has("QUASI_UNIFORM") {

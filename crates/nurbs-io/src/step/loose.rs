@@ -114,11 +114,15 @@ fn loose_surface(
     }
     let Some(s) = surface(m, basis)? else {
         let bkind = m.kind(basis)?;
-        let is_surface = bkind.ends_with("SURFACE") || inst.parts.iter().any(|(k, _)| k == "SURFACE");
+        let is_surface =
+            bkind.ends_with("SURFACE") || inst.parts.iter().any(|(k, _)| k == "SURFACE");
         return Ok(is_surface.then(|| Err(bkind.to_string())));
     };
     let ((u, v), trim) = match bounds {
-        Bounds::Natural => (face_box(&s, &[], true).map_err(|e| m.bad(id, e))?, Vec::new()),
+        Bounds::Natural => (
+            face_box(&s, &[], true).map_err(|e| m.bad(id, e))?,
+            Vec::new(),
+        ),
         Bounds::Box(u, v) => (rectangular_box(&s, u, v, angle), Vec::new()),
         Bounds::Curves(curves, implicit) => {
             let loops = boundary_loops(m, id, &curves, &s, angle)?;
@@ -167,7 +171,11 @@ fn rectangular_box(s: &Surface, u: [f64; 2], v: [f64; 2], angle: f64) -> ((f64, 
         _ => ((false, false), (false, false)),
     };
     let range = |[a, b]: [f64; 2], (angular, wraps): (bool, bool)| {
-        let (a, b) = if angular { (a * angle, b * angle) } else { (a, b) };
+        let (a, b) = if angular {
+            (a * angle, b * angle)
+        } else {
+            (a, b)
+        };
         if wraps {
             let b = if b <= a { b + std::f64::consts::TAU } else { b };
             (a, b.min(a + std::f64::consts::TAU))

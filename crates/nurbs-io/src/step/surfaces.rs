@@ -6,10 +6,10 @@
 
 use nurbs_core::{BSplineCurve, BSplineSurface, KnotVector, Point3, ProjectionParams, Vector3};
 
+use super::StepError;
 use super::entities::{Model, R};
 use super::knots::{implied_form, implied_knots, is_spline};
 use super::lexer::Value;
-use super::StepError;
 
 /// An elementary or B-spline surface with its closed-form parametrization.
 pub(super) enum Surface {
@@ -306,7 +306,10 @@ pub(super) fn spline_surface(m: &Model, sid: u64) -> R<BSplineSurface> {
 fn degree(m: &Model, id: u64, v: Option<&Value>) -> R<usize> {
     let d = m.num(id, v)?;
     if d.fract() != 0.0 || !(1.0..=MAX_DEGREE as f64).contains(&d) {
-        return Err(m.bad(id, format!("degree {d}, expected a whole number from 1 to {MAX_DEGREE}")));
+        return Err(m.bad(
+            id,
+            format!("degree {d}, expected a whole number from 1 to {MAX_DEGREE}"),
+        ));
     }
     Ok(d as usize)
 }
@@ -346,9 +349,7 @@ pub(super) fn spline_curve(m: &Model, cid: u64) -> R<BSplineCurve> {
         .collect::<R<Vec<_>>>()?;
     let kv = match (knots, implied) {
         (Some(k), _) => expand_knots(&m.numbers(cid, k.first())?, &m.numbers(cid, k.get(1))?),
-        (None, Some(form)) => {
-            implied_knots(form, d, points.len()).map_err(|e| m.bad(cid, e))?
-        }
+        (None, Some(form)) => implied_knots(form, d, points.len()).map_err(|e| m.bad(cid, e))?,
         (None, None) => return Err(m.bad(cid, "expected B_SPLINE_CURVE_WITH_KNOTS")),
     };
     let weights = match inst
