@@ -49,6 +49,11 @@ struct Carrier {
     shiftable: bool,
     /// values of v where u degenerates (a sphere's poles, a cone's apex)
     poles: Vec<f64>,
+    /// a B-spline's boundary curves that collapse to a point, with the direction whose
+    /// parameter is undefined there (v at a collapsed u = const boundary, u at a v = const one)
+    collapsed: Vec<(nurbs_core::Point3, usize)>,
+    /// distance within which a point is at a collapsed boundary
+    collapsed_tol: f64,
 }
 
 impl Surface {
@@ -85,6 +90,8 @@ impl Surface {
                     natural: [Some(u), Some(v)],
                     shiftable: false,
                     poles: vec![],
+                    collapsed: spline_collapsed(s),
+                    collapsed_tol: POLE_RELATIVE * s.size(),
                 };
             }
         };
@@ -93,7 +100,19 @@ impl Surface {
             natural,
             shiftable: true,
             poles,
+            collapsed: vec![],
+            collapsed_tol: 0.0,
         }
+    }
+
+    /// Per direction, whether its parameter is undefined at `p`: u on the axis of a sphere,
+    /// cone or surface of revolution; either at a B-spline's collapsed boundary.
+    fn pole_flags(&self, c: &Carrier, p: &nurbs_core::Point3) -> [bool; 2] {
+        let mut flags = [self.on_axis(p), false];
+        for (q, d) in &c.collapsed {
+            flags[*d] |= (p - q).norm() <= c.collapsed_tol;
+        }
+        flags
     }
 
     /// Whether `p` lies on the axis of a sphere, cone or surface of revolution.
@@ -129,13 +148,35 @@ fn spline_closed(s: &nurbs_core::BSplineSurface) -> [bool; 2] {
     ]
 }
 
+/// The boundary curves of `s` that collapse to a point (9 points each within the kernel's
+/// tolerance of the first): the point, and the direction whose parameter is undefined there.
+fn spline_collapsed(s: &nurbs_core::BSplineSurface) -> Vec<(nurbs_core::Point3, usize)> {
+    let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
+    let tol = POLE_RELATIVE * s.size();
+    let at = |k: usize, a: f64, b: f64| a + (b - a) * k as f64 / 8.0;
+    let mut out = Vec::new();
+    for u in [u0, u1] {
+        let q = s.point(u, v0);
+        if (0..=8).all(|k| (s.point(u, at(k, v0, v1)) - q).norm() <= tol) {
+            out.push((q, 1));
+        }
+    }
+    for v in [v0, v1] {
+        let q = s.point(u0, v);
+        if (0..=8).all(|k| (s.point(at(k, u0, u1), v) - q).norm() <= tol) {
+            out.push((q, 0));
+        }
+    }
+    out
+}
+
 /// A loop in the surface's frame: its parameters (unwrapped in periodic directions) and, per
 /// direction, how often it winds round.
 struct Oriented {
     uv: Vec<[f64; 2]>,
     winding: [i64; 2],
-    /// it spans no parameter range in u but passes through a pole (a sphere's seam meridian
-    /// alone: the whole sphere)
+    /// it spans no range in a periodic direction but passes through a pole there (a sphere's
+    /// seam meridian alone: the whole sphere)
     seam_only: bool,
     outer: bool,
 }
@@ -189,7 +230,7 @@ pub(super) fn face_box(
 /// Bound `b` in the surface's frame, unwrapped in the periodic directions.
 fn orient(surface: &Surface, c: &Carrier, b: &BoundLoop, same_sense: bool) -> Oriented {
     let mut uv: Vec<[f64; 2]> = b.params.iter().map(|&(u, v)| [u, v]).collect();
-    let mut pole: Vec<bool> = b.points.iter().map(|p| surface.on_axis(p)).collect();
+    let mut pole: Vec<[bool; 2]> = b.points.iter().map(|p| surface.pole_flags(c, p)).collect();
     if b.forward != same_sense {
         uv.reverse();
         pole.reverse();
@@ -198,12 +239,10 @@ fn orient(surface: &Surface, c: &Carrier, b: &BoundLoop, same_sense: bool) -> Or
     let mut seam_only = false;
     for d in 0..2 {
         let Some(period) = c.period[d] else { continue };
-        // poles degenerate u only
-        let none = vec![false; pole.len()];
-        let poles = if d == 0 { &pole } else { &none };
-        if let Some((values, w)) = unwrap(&uv, d, poles, period) {
+        let poles: Vec<bool> = pole.iter().map(|f| f[d]).collect();
+        if let Some((values, w)) = unwrap(&uv, d, &poles, period) {
             let (lo, hi) = span(&values);
-            seam_only |= d == 0 && hi - lo <= SEAM_SNAP * period && poles.iter().any(|&p| p);
+            seam_only |= hi - lo <= SEAM_SNAP * period && poles.iter().any(|&p| p);
             for (q, x) in uv.iter_mut().zip(values) {
                 q[d] = x;
             }
@@ -237,16 +276,13 @@ fn unwrap(uv: &[[f64; 2]], d: usize, pole: &[bool], period: f64) -> Option<(Vec<
         }
         let m = (uv[i][d] - prev).rem_euclid(period);
         let delta = match pending.take() {
-            // along the lower bound (the loop goes on above the pole): +u; along the upper: −u
-            Some(p) if uv[i][1 - d] > uv[p][1 - d] => {
-                if m > period - snap {
-                    m - period
-                } else {
-                    m
-                }
-            }
-            Some(_) => {
-                if m < snap {
+            // along the pole with the face on the left: at the lower bound of v (the loop goes
+            // on above the pole) +u, at the upper −u; at the lower bound of u −v, at the upper +v
+            Some(p) => {
+                let lower = uv[i][1 - d] > uv[p][1 - d];
+                if lower == (d == 0) {
+                    if m > period - snap { m - period } else { m }
+                } else if m < snap {
                     m
                 } else {
                     m - period
@@ -269,9 +305,7 @@ fn periodic_range(c: &Carrier, loops: &[Oriented], outer: usize, d: usize, p: f6
     // the face lies on the +d side of a loop winding +1 in the other direction when d is v
     // (left of +u is +v), on its −d side when d is u (left of +v is −u)
     let side = if d == 1 { 1 } else { -1 };
-    let wraps = loops
-        .iter()
-        .position(|l| l.winding[d] != 0 || (d == 0 && l.seam_only));
+    let wraps = loops.iter().position(|l| l.winding[d] != 0 || l.seam_only);
     let bottoms: Vec<&Oriented> = loops.iter().filter(|l| l.winding[o] * side > 0).collect();
     let tops: Vec<&Oriented> = loops.iter().filter(|l| l.winding[o] * side < 0).collect();
     let full_from = |lo: f64| {
