@@ -325,7 +325,8 @@ fn periodic_range(c: &Carrier, loops: &[Oriented], outer: usize, d: usize, p: f6
             (Some(lo), Some(hi)) => (lo, hi - ((hi - lo) / p).ceil() * p + p),
             (Some(lo), None) => full_from(lo),
             (None, Some(hi)) => full_from(hi - p),
-            (None, None) => unreachable!("a loop winds one way or the other"),
+            // (no loop winds round the other direction: not reached)
+            (None, None) => span_of(&loops[outer].uv, d),
         }
     } else if signed_area(&loops[outer].uv) < 0.0 {
         // the face is the surface outside its outer loop

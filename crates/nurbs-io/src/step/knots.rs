@@ -72,7 +72,7 @@ pub(super) fn implied_knots(
             k
         }
         ImpliedKnots::Bezier => {
-            if n % degree != 0 {
+            if !n.is_multiple_of(degree) {
                 return Err(format!(
                     "a Bézier form of degree {degree} needs a multiple of {degree} plus one control points, not {count}"
                 ));
