@@ -335,13 +335,17 @@ fn periodic_range(c: &Carrier, loops: &[Oriented], outer: usize, d: usize, p: f6
         span_of(&loops[outer].uv, d)
     };
     let hi = hi.min(lo + p);
+    let snap = SEAM_SNAP * p;
     if c.shiftable {
-        return (lo, hi);
+        // the angle from [0, 2π) on: the one range of the elementary surfaces' parameters
+        // (ISO 10303-42 §4.4), so the same face gets the same parametrization however its
+        // loop is listed
+        let k = ((lo + snap) / p).floor();
+        return (lo - k * p, hi - k * p);
     }
     // a closed B-spline: the range moved by whole periods into the domain, the whole domain
     // where it crosses the seam
     let (a, b) = c.natural[d].unwrap_or((lo, hi));
-    let snap = SEAM_SNAP * p;
     let k = ((a - snap - lo) / p).ceil();
     let (lo, hi) = (lo + k * p, hi + k * p);
     if hi > b + snap {
