@@ -14,8 +14,14 @@
 //!   left: +u along the lower bound of v, −u along the upper (a half sphere bounded by a great
 //!   circle through the poles is the half on the loop's left);
 //! - a seam edge used twice leaves the loop spanning exactly the period;
-//! - otherwise the face spans its outer loop's unwrapped range, or the whole period where the
-//!   outer loop turns clockwise (the face is the surface outside it).
+//! - otherwise the face spans its outer loop's unwrapped range.
+//!
+//! # Deviation from the standard
+//! A loop that winds round nothing is taken to bound the face from outside whichever way it
+//! runs: writers get the sense of such loops wrong (a seamed torus fillet in a file Open
+//! CASCADE wrote, and 6 of the 46 faces of a EUCLID file, run clockwise about the face normal),
+//! and a face that is a closed surface outside one contractible loop (a sphere with one hole)
+//! is rare. Such a face comes in over that loop's box.
 //!
 //! A face bounded by no edge loop (no bounds, or VERTEX_LOOPs only: a whole sphere or torus) is
 //! the surface's natural parameter box.
@@ -215,7 +221,7 @@ pub(super) fn face_box(
     for (d, r) in range.iter_mut().enumerate() {
         *r = match c.period[d] {
             Some(p) => periodic_range(&c, &loops, outer, d, p),
-            None => linear_range(&c, &loops, outer, &all, d),
+            None => linear_range(&c, &loops, &all, d),
         };
         if !(r.1 > r.0) {
             return Err(format!(
@@ -328,9 +334,6 @@ fn periodic_range(c: &Carrier, loops: &[Oriented], outer: usize, d: usize, p: f6
             // (no loop winds round the other direction: not reached)
             (None, None) => span_of(&loops[outer].uv, d),
         }
-    } else if signed_area(&loops[outer].uv) < 0.0 {
-        // the face is the surface outside its outer loop
-        full_from(c.natural[d].map_or(0.0, |n| n.0))
     } else {
         span_of(&loops[outer].uv, d)
     };
@@ -357,13 +360,7 @@ fn periodic_range(c: &Carrier, loops: &[Oriented], outer: usize, d: usize, p: f6
 
 /// The range of a non-periodic direction `d` over every bound point, extended to the pole or
 /// bound on the face's side of a loop that winds round the other direction.
-fn linear_range(
-    c: &Carrier,
-    loops: &[Oriented],
-    outer: usize,
-    all: &[(f64, f64)],
-    d: usize,
-) -> (f64, f64) {
+fn linear_range(c: &Carrier, loops: &[Oriented], all: &[(f64, f64)], d: usize) -> (f64, f64) {
     let pick = |q: &(f64, f64)| if d == 0 { q.0 } else { q.1 };
     let (mut lo, mut hi) = all
         .iter()
@@ -378,7 +375,6 @@ fn linear_range(
     if let Some((a, b)) = c.natural[d] {
         targets.extend([a, b]);
     }
-    let wound = loops.iter().any(|l| l.winding[o] != 0);
     if net > 0 {
         if let Some(t) = targets
             .iter()
@@ -396,11 +392,6 @@ fn linear_range(
             .reduce(f64::max)
         {
             lo = t;
-        }
-    } else if !wound && c.period[o].is_some() && signed_area(&loops[outer].uv) < 0.0 {
-        // the face is the surface outside its outer loop
-        if let Some(n) = c.natural[d] {
-            return n;
         }
     }
     match c.natural[d] {
@@ -427,15 +418,4 @@ fn span_of(uv: &[[f64; 2]], d: usize) -> (f64, f64) {
 fn box_area(uv: &[[f64; 2]]) -> f64 {
     let ((a, b), (c, d)) = (span_of(uv, 0), span_of(uv, 1));
     (b - a).max(0.0) * (d - c).max(0.0)
-}
-
-/// Twice the signed area of the closed polygon `uv` (positive counterclockwise).
-fn signed_area(uv: &[[f64; 2]]) -> f64 {
-    let n = uv.len();
-    (0..n)
-        .map(|i| {
-            let (p, q) = (uv[i], uv[(i + 1) % n]);
-            p[0] * q[1] - q[0] * p[1]
-        })
-        .sum()
 }
