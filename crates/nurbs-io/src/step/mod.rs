@@ -1,18 +1,25 @@
 //! A STEP reader (ISO 10303-21 exchange structure, the AP203/AP214/AP242 geometry of
 //! ISO 10303-42): each ADVANCED_FACE (or FACE_SURFACE) becomes an exact NURBS surface over the
-//! parameter box of its bounds.
+//! parameter box of its bounds, and each surface outside a face (a GEOMETRIC_SET's) one over
+//! its own bounds.
 //!
 //! Surfaces: PLANE, CYLINDRICAL_SURFACE, CONICAL_SURFACE, SPHERICAL_SURFACE, TOROIDAL_SURFACE
 //! (rational quadratic arcs in the angular directions, [NB] A7.1 / A8.1), SURFACE_OF_LINEAR_EXTRUSION
 //! of a B-spline curve (exact, [`nurbs_core::shapes::extrude_curve`]), SURFACE_OF_REVOLUTION
-//! of a B-spline curve, and B_SPLINE_SURFACE_WITH_KNOTS, plain or in the complex instance with
-//! RATIONAL_B_SPLINE_SURFACE.
-//! The parameter box of a face is that of its edges: the vertices and points along every edge
-//! curve (LINE between its vertices, CIRCLE along the arc the edge runs, B-spline curves
-//! sampled) are inverted on the surface — in closed form on the elementary surfaces, by
-//! projection on a B-spline — and an angular range that wraps is taken as the complement of the
-//! largest gap. Length unit: the SI_UNIT of the LENGTH_UNIT (METRE with its prefix) or a
-//! CONVERSION_BASED_UNIT named INCH / FOOT; coordinates stay in that unit.
+//! of a B-spline curve, and B-spline surfaces — B_SPLINE_SURFACE_WITH_KNOTS, or the
+//! QUASI_UNIFORM_, UNIFORM_ and BEZIER_SURFACE forms with their knots implied — plain or in the
+//! complex instance with RATIONAL_B_SPLINE_SURFACE.
+//! The parameter box of a face is that of its bounds: the vertices and points along every edge
+//! curve (LINE between its vertices, CIRCLE along the arc the edge runs — a whole circle for an
+//! edge from a vertex to itself —, B-spline curves sampled) are inverted on the surface — in
+//! closed form on the elementary surfaces, by projection on a B-spline — and, on a periodic
+//! surface, unwrapped along each loop (module `domain`: loops that wind round, poles, seams). A
+//! face with no edge loop is its surface's natural box. Length unit: the SI_UNIT of the
+//! LENGTH_UNIT (METRE with its prefix) or a CONVERSION_BASED_UNIT named INCH / FOOT;
+//! coordinates stay in that unit.
+//!
+//! A face or surface that cannot be read is skipped and named in [`StepFile::warnings`]; the
+//! rest of the file is read.
 //!
 //! # Deviation from the standard
 //! Only what a face's geometry needs is read; topology beyond the face bounds, colours,
@@ -20,8 +27,10 @@
 //! solids reads each solid in its own coordinates).
 //!
 //! Modules: `lexer` (the Part 21 instances), `entities` (access to them by number, the length
-//! unit), `surfaces` (a face's surface and its inversion), `faces` (a face's bound loops and
-//! their parameters), `writer` (the AP214 writer).
+//! unit), `knots` (the implied-knot B-spline forms), `surfaces` (a face's surface and its
+//! inversion), `curves` (points along the curves that bound a surface, the plane-angle unit),
+//! `faces` (a face's bound loops and their parameters), `domain` (a face's parameter box),
+//! `loose` (surfaces outside faces), `writer` (the AP214 writer).
 
 mod curves;
 mod domain;
