@@ -162,9 +162,9 @@ impl Conic {
         let d = q - self.o;
         (d.dot(&self.y) / self.r.1).atan2(d.dot(&self.x) / self.r.0) / self.angle
     }
-    /// Points from parameter `t0` to `t1`, at most [`ARC_STEP`] apart.
+    /// Points from parameter `t0` to `t1` (at most a turn apart), at most [`ARC_STEP`] apart.
     fn points(&self, t0: f64, t1: f64) -> Vec<Point3> {
-        let sweep = ((t1 - t0) * self.angle).abs();
+        let sweep = ((t1 - t0) * self.angle).abs().min(std::f64::consts::TAU);
         let n = EDGE_SAMPLES.max((sweep / ARC_STEP).ceil() as usize + 1);
         (0..n)
             .map(|k| self.at(t0 + (t1 - t0) * k as f64 / (n - 1) as f64))
@@ -213,18 +213,19 @@ fn trimmed(m: &Model, cid: u64, p: &[Value], angle: f64) -> R<Vec<Point3>> {
                 (None, Some(q)) => Ok(c.param(&q)),
                 _ => Err(m.bad(cid, "a trim with neither parameter nor point")),
             };
-            let (a, mut b) = (param(t1)?, param(t2)?);
-            let period = std::f64::consts::TAU / angle;
-            // the conic runs counterclockwise; against it the parameter decreases
-            if forward {
-                while b <= a {
-                    b += period;
-                }
-            } else {
-                while b >= a {
-                    b -= period;
-                }
+            let (a, b) = (param(t1)?, param(t2)?);
+            if !(a.is_finite() && b.is_finite()) {
+                return Err(m.bad(cid, "a trim parameter is not finite"));
             }
+            let period = std::f64::consts::TAU / angle;
+            // the conic runs counterclockwise; against it the parameter decreases; at most
+            // one turn either way (equal trims: the whole conic)
+            let ahead = (b - a).rem_euclid(period);
+            let b = if forward {
+                a + if ahead > 0.0 { ahead } else { period }
+            } else {
+                a - if ahead > 0.0 { period - ahead } else { period }
+            };
             Ok(c.points(a, b))
         }
         _ if is_spline(m.get(basis)?, false) => {
@@ -235,7 +236,9 @@ fn trimmed(m: &Model, cid: u64, p: &[Value], angle: f64) -> R<Vec<Point3>> {
                 (None, Some(q)) => Ok(nurbs_core::project_to_curve(&c, &q, &params).t),
                 _ => Err(m.bad(cid, "a trim with neither parameter nor point")),
             };
-            let (a, b) = (param(t1)?, param(t2)?);
+            // trims beyond the curve's domain are held at its ends
+            let (t0, t1d) = c.domain();
+            let (a, b) = (param(t1)?.clamp(t0, t1d), param(t2)?.clamp(t0, t1d));
             let k = SPLINE_EDGE_SAMPLES;
             Ok((0..k)
                 .map(|i| c.point(a + (b - a) * i as f64 / (k - 1) as f64))

@@ -218,13 +218,28 @@ fn extrusion(m: &Model, sid: u64, kind: &str) -> R<Option<Surface>> {
     Ok(Some(Surface::Extrusion(curve, vector, flat)))
 }
 
-/// The knot vector of STEP's distinct knots and their multiplicities.
-pub(super) fn expand_knots(mults: &[f64], values: &[f64]) -> Vec<f64> {
-    values
-        .iter()
-        .zip(mults)
-        .flat_map(|(&k, &n)| std::iter::repeat_n(k, n.max(0.0) as usize))
-        .collect()
+/// The knot vector of STEP's distinct knots and their multiplicities (instance `id`): each
+/// multiplicity a whole number from 1 to [`MAX_DEGREE`] + 1 (ISO 10303-42 §4.3.4.2: at most the
+/// degree + 1), one per knot.
+pub(super) fn expand_knots(m: &Model, id: u64, mults: &[f64], values: &[f64]) -> R<Vec<f64>> {
+    if mults.len() != values.len() {
+        return Err(m.bad(
+            id,
+            format!(
+                "{} knot multiplicities for {} knots",
+                mults.len(),
+                values.len()
+            ),
+        ));
+    }
+    let mut out = Vec::new();
+    for (&k, &n) in values.iter().zip(mults) {
+        if n.fract() != 0.0 || !(1.0..=(MAX_DEGREE + 1) as f64).contains(&n) {
+            return Err(m.bad(id, format!("knot multiplicity {n}")));
+        }
+        out.extend(std::iter::repeat_n(k, n as usize));
+    }
+    Ok(out)
 }
 
 /// A B-spline surface in any of its forms (ISO 10303-42 §4.3.4): B_SPLINE_SURFACE_WITH_KNOTS,
@@ -269,8 +284,18 @@ pub(super) fn spline_surface(m: &Model, sid: u64) -> R<BSplineSurface> {
     }
     let (ku, kv) = match (knots, implied) {
         (Some(k), _) => (
-            expand_knots(&m.numbers(sid, k.first())?, &m.numbers(sid, k.get(2))?),
-            expand_knots(&m.numbers(sid, k.get(1))?, &m.numbers(sid, k.get(3))?),
+            expand_knots(
+                m,
+                sid,
+                &m.numbers(sid, k.first())?,
+                &m.numbers(sid, k.get(2))?,
+            )?,
+            expand_knots(
+                m,
+                sid,
+                &m.numbers(sid, k.get(1))?,
+                &m.numbers(sid, k.get(3))?,
+            )?,
         ),
         (None, Some(form)) => (
             implied_knots(form, du, rows.len()).map_err(|e| m.bad(sid, format!("u: {e}")))?,
@@ -348,7 +373,12 @@ pub(super) fn spline_curve(m: &Model, cid: u64) -> R<BSplineCurve> {
         .map(|x| m.point(m.reference(cid, Some(x))?))
         .collect::<R<Vec<_>>>()?;
     let kv = match (knots, implied) {
-        (Some(k), _) => expand_knots(&m.numbers(cid, k.first())?, &m.numbers(cid, k.get(1))?),
+        (Some(k), _) => expand_knots(
+            m,
+            cid,
+            &m.numbers(cid, k.first())?,
+            &m.numbers(cid, k.get(1))?,
+        )?,
         (None, Some(form)) => implied_knots(form, d, points.len()).map_err(|e| m.bad(cid, e))?,
         (None, None) => return Err(m.bad(cid, "expected B_SPLINE_CURVE_WITH_KNOTS")),
     };
