@@ -206,3 +206,40 @@ fn a_face_that_cannot_be_read_is_named_and_the_rest_read() {
     let e = read_step(&step(bad)).unwrap_err().to_string();
     assert!(e.contains("#90") && !e.contains('\n'), "{e}");
 }
+
+/// A CURVE_BOUNDED_SURFACE whose boundary is a pcurve alone (a curve in the surface's
+/// parameters, not read): a B-spline surface comes in over its whole domain, untrimmed, and
+/// that is said; a plane, which has no such box, is skipped and named.
+#[test]
+fn a_boundary_that_is_not_read_leaves_the_surface_whole_or_skipped() {
+    let body = format!(
+        "{NET}#24 = B_SPLINE_SURFACE_WITH_KNOTS('bare',3,1,((#11,#12),(#13,#14),(#15,#16),(#17,#18)),.UNSPECIFIED.,.F.,.F.,.U.,(4,4),(2,2),(0.,2.),(0.,1.),.UNSPECIFIED.);
+#30 = CARTESIAN_POINT('',(0.,0.));
+#31 = DIRECTION('',(1.,0.));
+#32 = VECTOR('',#31,1.);
+#33 = LINE('',#30,#32);
+#34 = DEFINITIONAL_REPRESENTATION('',(#33),#35);
+#35 = ( GEOMETRIC_REPRESENTATION_CONTEXT(2) PARAMETRIC_REPRESENTATION_CONTEXT() REPRESENTATION_CONTEXT('','') );
+#36 = PCURVE('',#24,#34);
+#37 = COMPOSITE_CURVE_SEGMENT(.CONTINUOUS.,.T.,#36);
+#38 = OUTER_BOUNDARY_CURVE('',(#37),.F.);
+#39 = CURVE_BOUNDED_SURFACE('spline',#24,(#38),.F.);
+#40 = CARTESIAN_POINT('',(0.,0.,0.));
+#41 = AXIS2_PLACEMENT_3D('',#40,$,$);
+#42 = PLANE('',#41);
+#43 = PCURVE('',#42,#34);
+#44 = COMPOSITE_CURVE_SEGMENT(.CONTINUOUS.,.T.,#43);
+#45 = OUTER_BOUNDARY_CURVE('',(#44),.F.);
+#46 = CURVE_BOUNDED_SURFACE('plane',#42,(#45),.F.);
+#50 = GEOMETRIC_SET('',(#39,#46));
+"
+    );
+    let f = read_step(&step(&body)).unwrap();
+    assert_eq!(f.faces.len(), 1);
+    let s = &f.faces[0].surface;
+    assert_eq!((s.domain_u(), s.domain_v()), ((0.0, 2.0), (0.0, 1.0)));
+    assert!(f.faces[0].trim.is_empty());
+    assert_eq!(f.warnings.len(), 2, "{:?}", f.warnings);
+    assert!(f.warnings[0].contains("#39") && f.warnings[0].contains("untrimmed"));
+    assert!(f.warnings[1].contains("#46") && f.warnings[1].contains("unbounded"));
+}

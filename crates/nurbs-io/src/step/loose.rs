@@ -8,7 +8,7 @@
 use std::collections::BTreeSet;
 
 use super::curves::{angle_unit, curve_points};
-use super::domain::face_box;
+use super::domain::{ParamBox, face_box};
 use super::entities::{Model, R};
 use super::faces::{BoundLoop, Inverter};
 use super::lexer::Value;
@@ -61,7 +61,7 @@ pub(super) fn read_loose(
         if used.contains(&id) {
             continue;
         }
-        match loose_surface(m, id, angle, &used) {
+        match loose_surface(m, id, angle, &used, &mut file.warnings) {
             Ok(Some(Ok(face))) => file.faces.push(face),
             Ok(Some(Err(kind))) => *file.skipped.entry(kind).or_default() += 1,
             Ok(None) => {}
@@ -75,12 +75,14 @@ pub(super) fn read_loose(
 }
 
 /// Set element `id` as a face over its box: `None` when it is no surface (a curve, a point) or
-/// lies under a face, `Some(Err(kind))` for a surface type that is not read.
+/// lies under a face, `Some(Err(kind))` for a surface type that is not read; a boundary that is
+/// not read is said in `warnings`.
 fn loose_surface(
     m: &Model,
     id: u64,
     angle: f64,
     used: &BTreeSet<u64>,
+    warnings: &mut Vec<String>,
 ) -> R<Option<Result<StepFace, String>>> {
     let inst = m.get(id)?;
     let kind = m.kind(id)?.to_string();
@@ -118,24 +120,7 @@ fn loose_surface(
             bkind.ends_with("SURFACE") || inst.parts.iter().any(|(k, _)| k == "SURFACE");
         return Ok(is_surface.then(|| Err(bkind.to_string())));
     };
-    let ((u, v), trim) = match bounds {
-        Bounds::Natural => (
-            face_box(&s, &[], true).map_err(|e| m.bad(id, e))?,
-            Vec::new(),
-        ),
-        Bounds::Box(u, v) => (rectangular_box(&s, u, v, angle), Vec::new()),
-        Bounds::Curves(curves, implicit) => {
-            let loops = boundary_loops(m, id, &curves, &s, angle)?;
-            let outer: &[BoundLoop] = if implicit { &[] } else { &loops };
-            let uv = face_box(&s, outer, true).map_err(|e| m.bad(id, e))?;
-            let trim = loops
-                .into_iter()
-                .map(|l| l.points)
-                .filter(|l| l.len() >= 3)
-                .collect();
-            (uv, trim)
-        }
-    };
+    let ((u, v), trim) = bounded_box(m, id, &kind, bounds, &s, angle, warnings)?;
     let built = s
         .build(u, v)
         .map_err(|source| StepError::Geometry { id, source })?;
@@ -146,6 +131,48 @@ fn loose_surface(
         kind: m.kind(basis)?.to_string(),
         trim,
     })))
+}
+
+/// The parameter box of set element `id` (`kind`) on its surface `s` from its `bounds`, with
+/// its boundary as trim loops; a boundary that is not read is said in `warnings`.
+fn bounded_box(
+    m: &Model,
+    id: u64,
+    kind: &str,
+    bounds: Bounds,
+    s: &Surface,
+    angle: f64,
+    warnings: &mut Vec<String>,
+) -> R<(ParamBox, Vec<Vec<nurbs_core::Point3>>)> {
+    Ok(match bounds {
+        Bounds::Natural => (
+            face_box(s, &[], true).map_err(|e| m.bad(id, e))?,
+            Vec::new(),
+        ),
+        Bounds::Box(u, v) => (rectangular_box(s, u, v, angle), Vec::new()),
+        Bounds::Curves(curves, implicit) => match boundary_loops(m, id, &curves, s, angle) {
+            Ok(loops) => {
+                let outer: &[BoundLoop] = if implicit { &[] } else { &loops };
+                let uv = face_box(s, outer, true).map_err(|e| m.bad(id, e))?;
+                let trim = loops
+                    .into_iter()
+                    .map(|l| l.points)
+                    .filter(|l| l.len() >= 3)
+                    .collect();
+                (uv, trim)
+            }
+            // a boundary of curves that are not read (a pcurve alone): the surface over its
+            // natural box where it has one, and said so
+            Err(e) => {
+                let uv = face_box(s, &[], true)
+                    .map_err(|d| m.bad(id, format!("{d}, and its boundary is not read: {e}")))?;
+                warnings.push(format!(
+                    "{kind} #{id}: its boundary is not read ({e}); read over its surface's whole parameter box, untrimmed"
+                ));
+                (uv, Vec::new())
+            }
+        },
+    })
 }
 
 /// How a loose surface is bounded.
