@@ -375,24 +375,21 @@ fn linear_range(c: &Carrier, loops: &[Oriented], all: &[(f64, f64)], d: usize) -
     if let Some((a, b)) = c.natural[d] {
         targets.extend([a, b]);
     }
-    if net > 0 {
-        if let Some(t) = targets
-            .iter()
-            .copied()
-            .filter(|&t| t >= hi)
-            .reduce(f64::min)
-        {
-            hi = t;
-        }
-    } else if net < 0 {
-        if let Some(t) = targets
-            .iter()
-            .copied()
-            .filter(|&t| t <= lo)
-            .reduce(f64::max)
-        {
-            lo = t;
-        }
+    // the nearest pole or bound beyond the face's extreme point on the side it lies on
+    let above = targets
+        .iter()
+        .copied()
+        .filter(|&t| t >= hi)
+        .reduce(f64::min);
+    let below = targets
+        .iter()
+        .copied()
+        .filter(|&t| t <= lo)
+        .reduce(f64::max);
+    match (net.signum(), above, below) {
+        (1, Some(t), _) => hi = t,
+        (-1, _, Some(t)) => lo = t,
+        _ => {}
     }
     match c.natural[d] {
         Some((a, b)) => (lo.max(a), hi.min(b)),
