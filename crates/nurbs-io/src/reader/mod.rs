@@ -150,7 +150,7 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
         .map(|r| String::from_utf8_lossy(r.data).trim_end().to_string())
         .collect::<Vec<_>>()
         .join("\n");
-    // a Terminate record whose counts disagree with the sections (IGES 5.3 §2.6) is named and
+    // a Terminate record whose counts disagree with the sections ([IGES] §2.2.5) is named and
     // the sections read as they are, as Open CASCADE does: the counts are redundant
     let warnings = match check_terminate(&sec) {
         Ok(()) => Vec::new(),

@@ -1,4 +1,4 @@
-//! A face's parameter box on its surface, from its bound loops (ISO 10303-42 §5.4: `face_bound`,
+//! A face's parameter box on its surface, from its bound loops ([ISO42] topology_schema: `face_bound`,
 //! `advanced_face`). Each loop is put in the surface's own frame — it runs with the face on its
 //! left when the bound's orientation and the face's sense agree, and is reversed otherwise
 //! (the normal of every surface here is σ_u × σ_v, so "left" is the side of +v for a loop
@@ -63,7 +63,7 @@ struct Carrier {
 }
 
 impl Surface {
-    /// Its periods, natural ranges and poles (ISO 10303-42 §4.4: the angle u of an elementary
+    /// Its periods, natural ranges and poles ([ISO42] geometry_schema: the angle u of an elementary
     /// surface in [0, 2π), a sphere's latitude in [−π/2, π/2], a torus's v an angle).
     fn carrier(&self) -> Carrier {
         let angle = Some((0.0, TAU));
@@ -341,7 +341,7 @@ fn periodic_range(c: &Carrier, loops: &[Oriented], outer: usize, d: usize, p: f6
     let snap = SEAM_SNAP * p;
     if c.shiftable {
         // the angle from [0, 2π) on: the one range of the elementary surfaces' parameters
-        // (ISO 10303-42 §4.4), so the same face gets the same parametrization however its
+        // ([ISO42] geometry_schema), so the same face gets the same parametrization however its
         // loop is listed
         let k = ((lo + snap) / p).floor();
         return (lo - k * p, hi - k * p);
