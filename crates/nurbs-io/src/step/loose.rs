@@ -1,9 +1,9 @@
-//! Surfaces that are not faces of a shell ([ISO42] geometry_schema and geometric_model_schema: geometric
-//! sets): the elements of a GEOMETRIC_SET and the items of a shape representation that are
-//! surfaces — a B-spline surface in any form, an elementary surface, a
-//! RECTANGULAR_TRIMMED_SURFACE (its parameter box) or a CURVE_BOUNDED_SURFACE (the box of its
-//! boundary curves, kept as trim loops). A surface that a face lies on is read once, as that
-//! face. Faces of a SHELL_BASED_SURFACE_MODEL's OPEN_SHELL or CLOSED_SHELL are read as faces.
+//! Surfaces that are not faces of a shell ([ISO42] geometry_schema and geometric_model_schema):
+//! the elements of a GEOMETRIC_SET and the items of a shape representation that are surfaces —
+//! a B-spline surface in any form, an elementary surface, a RECTANGULAR_TRIMMED_SURFACE (its
+//! parameter box) or a CURVE_BOUNDED_SURFACE (the box of its boundary curves, kept as trim
+//! loops). A surface that a face lies on is read once, as that face. Faces of a
+//! SHELL_BASED_SURFACE_MODEL's OPEN_SHELL or CLOSED_SHELL are read as faces.
 
 use std::collections::BTreeSet;
 
