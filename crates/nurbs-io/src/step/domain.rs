@@ -1,5 +1,5 @@
-//! A face's parameter box on its surface, from its bound loops ([ISO42] topology_schema: `face_bound`,
-//! `advanced_face`). Each loop is put in the surface's own frame — it runs with the face on its
+//! A face's parameter box on its surface, from its bound loops ([ISO42] topology_schema:
+//! `face_bound`, `advanced_face`). Each loop is put in the surface's own frame — it runs with the face on its
 //! left when the bound's orientation and the face's sense agree, and is reversed otherwise
 //! (the normal of every surface here is σ_u × σ_v, so "left" is the side of +v for a loop
 //! running in +u). In a periodic direction (an angle; a B-spline closed in that direction) the

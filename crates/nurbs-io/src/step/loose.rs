@@ -186,8 +186,8 @@ enum Bounds {
 }
 
 /// The box of a RECTANGULAR_TRIMMED_SURFACE: u1 … u2 and v1 … v2 in increasing order, an angle
-/// in radians ([ISO42] `rectangular_trimmed_surface`: the trim values of an angular parameter are in the
-/// plane-angle unit); an angular range that runs backwards goes the other way round.
+/// in radians ([ISO42] `rectangular_trimmed_surface`: the trim values of an angular parameter
+/// are in the plane-angle unit); an angular range that runs backwards goes the other way round.
 fn rectangular_box(s: &Surface, u: [f64; 2], v: [f64; 2], angle: f64) -> ((f64, f64), (f64, f64)) {
     // per direction: whether it is an angle, and whether that angle wraps round (a sphere's
     // latitude does not)

@@ -219,8 +219,8 @@ fn extrusion(m: &Model, sid: u64, kind: &str) -> R<Option<Surface>> {
 }
 
 /// The knot vector of STEP's distinct knots and their multiplicities (instance `id`): each
-/// multiplicity a whole number from 1 to [`MAX_DEGREE`] + 1 ([ISO42] `b_spline_curve_with_knots`: at most the
-/// degree + 1), one per knot.
+/// multiplicity a whole number from 1 to [`MAX_DEGREE`] + 1 ([ISO42]
+/// `b_spline_curve_with_knots`: at most the degree + 1), one per knot.
 pub(super) fn expand_knots(m: &Model, id: u64, mults: &[f64], values: &[f64]) -> R<Vec<f64>> {
     if mults.len() != values.len() {
         return Err(m.bad(
