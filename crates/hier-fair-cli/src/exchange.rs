@@ -64,9 +64,14 @@ pub fn model_from_step(input: &Path) -> Result<(Model, String, hier_fair::BuildL
     }
     let log = hier_fair::build_hierarchy(&mut model);
     let summary = format!(
-        "imported {} faces, each over its parameter box with its bounds kept as trim loops; faces of surfaces not read: {}; {}",
+        "imported {} faces, each over its parameter box with its bounds kept as trim loops; faces of surfaces not read: {}; faces and surfaces skipped: {}; {}",
         file.faces.len(),
         counts_text(&file.skipped),
+        if file.warnings.is_empty() {
+            "none".to_string()
+        } else {
+            file.warnings.join("; ")
+        },
         hierarchy_summary(&model, &log),
     );
     Ok((model, summary, log))
@@ -138,7 +143,7 @@ pub fn model_from_iges(input: &Path) -> Result<(Model, String, hier_fair::BuildL
     let log = hier_fair::build_hierarchy(&mut model);
     let trimmed = file.surfaces.iter().filter(|s| s.trimmed).count();
     let summary = format!(
-        "imported {} surfaces ({} trimmed by entity 144: each kept over its face's box with its outer and inner boundaries kept as trim loops); {} curves (126) not imported; other entities skipped: {}; surfaces with no exact form, not imported: {}; {}",
+        "imported {} surfaces ({} trimmed by entity 144: each kept over its face's box with its outer and inner boundaries kept as trim loops); {} curves (126) not imported; other entities skipped: {}; surfaces with no exact form, not imported: {}; {}{}",
         file.surfaces.len(),
         trimmed,
         file.curves.len(),
@@ -149,6 +154,10 @@ pub fn model_from_iges(input: &Path) -> Result<(Model, String, hier_fair::BuildL
             file.refused.join("; ")
         },
         hierarchy_summary(&model, &log),
+        file.warnings
+            .iter()
+            .map(|w| format!("; warning: {w}"))
+            .collect::<String>(),
     );
     Ok((model, summary, log))
 }

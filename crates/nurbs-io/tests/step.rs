@@ -34,6 +34,14 @@ fn bad_step_files_are_one_line_errors() {
             "expected 13",
         ),
         ("#1 = ADVANCED_FACE();\nENDSEC;\n", "expected"),
+        (
+            "#4 = CARTESIAN_POINT('',(0.,0.,0.));\n#3 = B_SPLINE_SURFACE_WITH_KNOTS('',1,1,((#4,#4),(#4,#4)),.U.,.F.,.F.,.U.,(1.E300,2),(2,2),(0.,1.),(0.,1.),.U.);\n#1 = ADVANCED_FACE('',(),#3,.T.);\nENDSEC;\n",
+            "#3 B_SPLINE_SURFACE_WITH_KNOTS: knot multiplicity",
+        ),
+        (
+            "#4 = CARTESIAN_POINT('',(0.,0.,0.));\n#3 = QUASI_UNIFORM_SURFACE('',1000,1,((#4,#4),(#4,#4)),.U.,.F.,.F.,.U.);\n#1 = ADVANCED_FACE('',(),#3,.T.);\nENDSEC;\n",
+            "degree 1000",
+        ),
     ] {
         let text = format!("{head}{body}");
         let e = read_step(&text).expect_err(body).to_string();

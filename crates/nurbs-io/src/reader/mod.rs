@@ -36,7 +36,8 @@ use planes::grow_planes;
 use records::{DirEntry, Global};
 pub use records::{RECORD_COLUMNS, unit_name};
 pub(crate) use records::{
-    check_terminate, entity_params, parse_directory, parse_global, split_sections,
+    check_terminate, entity_params, parse_directory, parse_global, reconcile_line_counts,
+    split_sections,
 };
 pub use surfaces::RULED_ARC_LENGTH_RELATIVE;
 
@@ -134,6 +135,8 @@ pub struct IgesFile {
     /// a ruled surface (118) between rational curves of different weight functions, or of
     /// form 0 between curves of unlike speed; never approximated without a word
     pub refused: Vec<String>,
+    /// what the reader tolerated, one line each (a Terminate record that miscounts)
+    pub warnings: Vec<String>,
 }
 
 /// Reads an IGES file (CRLF or LF line endings).
@@ -147,8 +150,15 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
         .map(|r| String::from_utf8_lossy(r.data).trim_end().to_string())
         .collect::<Vec<_>>()
         .join("\n");
-    check_terminate(&sec)?;
-    let dir = parse_directory(&sec.d)?;
+    // a Terminate record whose counts disagree with the sections ([IGES] §2.2.5) is named and
+    // the sections read as they are, as Open CASCADE does: the counts are redundant
+    let warnings = match check_terminate(&sec) {
+        Ok(()) => Vec::new(),
+        Err(e) => vec![format!("{e}; the sections are read as they are")],
+    };
+    let mut dir = parse_directory(&sec.d)?;
+    let mut warnings = warnings;
+    warnings.extend(reconcile_line_counts(&mut dir, &sec.p));
     let reader = Reader {
         dir,
         p: sec.p,
@@ -164,6 +174,7 @@ pub fn read_iges(bytes: &[u8]) -> Result<IgesFile, IgesError> {
         trimmed_entities: 0,
         skipped: BTreeMap::new(),
         refused: Vec::new(),
+        warnings,
     };
     let mut pending = Pending::default();
     for e in &reader.dir {

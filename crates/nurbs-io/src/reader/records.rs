@@ -51,9 +51,11 @@ pub(crate) fn split_sections(bytes: &[u8]) -> Result<Sections<'_>, IgesError> {
     };
     let mut current = 0usize;
     let mut lines: Vec<&[u8]> = bytes.split(|&b| b == b'\n').collect();
-    if lines
+    // blank lines after the last record (an empty line after the Terminate record, as some
+    // writers leave and Open CASCADE reads) are no records
+    while lines
         .last()
-        .is_some_and(|l| l.is_empty() || l.iter().all(|&b| b == b'\r' || b == b' '))
+        .is_some_and(|l| l.iter().all(|&b| b == b'\r' || b == b' '))
     {
         lines.pop();
     }
@@ -278,6 +280,47 @@ pub(crate) fn parse_directory(records: &[Record<'_>]) -> Result<Vec<DirEntry>, I
         });
     }
     Ok(out)
+}
+
+/// Sets each directory entry's parameter line count ([IGES] §2.2.3, field 14) to the run of
+/// P records from its pointer that point back to it (columns 65–72), where the two disagree: the
+/// back-pointers say which lines are the entity's, and Open CASCADE reads what is there. Returns
+/// one warning for all the entries changed, naming the first.
+pub(crate) fn reconcile_line_counts(dir: &mut [DirEntry], p: &[Record<'_>]) -> Option<String> {
+    let back = |r: &Record<'_>| {
+        std::str::from_utf8(&r.data[64..72])
+            .unwrap_or("")
+            .trim()
+            .parse::<usize>()
+            .ok()
+    };
+    let (mut changed, mut first) = (0, None);
+    for e in dir.iter_mut() {
+        let Some(start) = usize::try_from(e.pointer)
+            .ok()
+            .and_then(|k| k.checked_sub(1))
+            .filter(|&k| k < p.len())
+        else {
+            continue;
+        };
+        let run = p[start..]
+            .iter()
+            .take_while(|r| back(r) == Some(e.seq))
+            .count();
+        if run > 0 && run as i64 != e.line_count {
+            changed += 1;
+            first.get_or_insert(format!(
+                "entity {} at directory line {} gives {} where {run} point back to it",
+                e.entity_type, e.seq, e.line_count
+            ));
+            e.line_count = run as i64;
+        }
+    }
+    first.map(|f| {
+        format!(
+            "{changed} directory entries give a parameter line count other than the lines that point back to them (the first: {f}); the lines that point back are read"
+        )
+    })
 }
 
 /// Reads the parameters of one entity.

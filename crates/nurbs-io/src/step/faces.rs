@@ -2,84 +2,117 @@
 //! lines, circles, ellipses and B-spline curves; POLY_LOOP; VERTEX_LOOP), the outer bound first,
 //! and the parameters of all the points on the face's surface, whose box the face is read over.
 
-use nurbs_core::{Point3, ProjectionParams};
+use nurbs_core::{BSplineCurve, Point3, ProjectionParams};
 
+use super::curves::surface_curve_3d;
 use super::entities::{Model, R};
+use super::knots::is_spline;
 use super::lexer::Value;
 use super::surfaces::{Surface, spline_curve};
 use super::{ARC_STEP, EDGE_SAMPLES, ON_SURFACE_RELATIVE, SPLINE_EDGE_SAMPLES};
 
-/// A face's bound loops (points in order) and the parameters of their points on its surface.
-type Bounds = (Vec<Vec<Point3>>, Vec<(f64, f64)>);
+/// One bound of a face: its loop's points in order and their parameters on the face's surface.
+pub(super) struct BoundLoop {
+    /// the points in order along the loop (one for a VERTEX_LOOP)
+    pub(super) points: Vec<Point3>,
+    /// their (u, v) on the surface
+    pub(super) params: Vec<(f64, f64)>,
+    /// named FACE_OUTER_BOUND in the file
+    pub(super) outer: bool,
+    /// the bound's orientation flag: the loop runs as listed (`.T.`) or against it
+    pub(super) forward: bool,
+}
 
-/// The bounds of face `id` (its `bounds` list) as loops of points in order, the outer bound
-/// first (a loop of fewer than three points, a vertex loop at a pole, is no trim loop), and the
-/// parameters of all those points on `surface`: a B-spline's projector builds its grid of start
+/// The bounds of face `id` (its `bounds` list) in the file's order, each loop's points in
+/// order with their parameters on `surface`: a B-spline's projector builds its grid of start
 /// points once per face, not once per point.
-pub(super) fn boundary_params(
+pub(super) fn bound_loops(
     m: &Model,
     id: u64,
     bounds: Option<&Value>,
     surface: &Surface,
-) -> R<Bounds> {
-    // the face's boundary points, inverted on the surface (a B-spline's projector builds its
-    // grid of start points once per face, not once per point)
-    let mut params = Vec::new();
-    let mut projector = match surface {
-        Surface::Spline(s) => Some(nurbs_core::SurfaceProjector::new(
-            s,
-            ProjectionParams::default(),
-        )),
-        _ => None,
-    };
-    // consecutive boundary points are close: Newton from the previous foot first, the full
-    // search from the grid only where that does not land on the surface
-    let on_surface = match surface {
-        Surface::Spline(s) => ON_SURFACE_RELATIVE * s.size(),
-        _ => 0.0,
-    };
-    let mut previous: Option<(f64, f64)> = None;
-    let mut loops: Vec<Vec<Point3>> = Vec::new();
-    let mut named_outer = false;
-    // per loop in `loops` order: the area of its parameter box
-    let mut boxes: Vec<f64> = Vec::new();
+) -> R<Vec<BoundLoop>> {
+    let mut inverter = Inverter::new(surface);
+    let mut out = Vec::new();
     for b in m.list(id, bounds)? {
         let Value::Ref(bid) = b else { continue };
         let bound = m.get(*bid)?;
-        let fb = &bound.parts[0].1;
+        let (kind, fb) = &bound.parts[0];
         let loop_id = m.reference(*bid, fb.get(1))?;
         let points = loop_points(m, loop_id)?;
-        let outer = bound.parts[0].0 == "FACE_OUTER_BOUND";
-        named_outer |= outer;
-        let slot = if outer { 0 } else { loops.len() };
-        loops.insert(slot, points.clone());
-        let first = params.len();
-        for pt in points {
-            params.push(match projector.as_mut() {
-                Some(pr) => {
-                    let warm = previous
-                        .map(|start| pr.project_from(&pt, start))
-                        .filter(|f| f.converged && f.distance <= on_surface);
-                    let f = warm.unwrap_or_else(|| pr.project(&pt));
-                    previous = Some((f.u, f.v));
-                    (f.u, f.v)
-                }
-                None => surface.invert(&pt),
-            });
-        }
-        boxes.insert(slot, box_area(&params[first..]));
+        let params = points.iter().map(|pt| inverter.invert(pt)).collect();
+        out.push(BoundLoop {
+            points,
+            params,
+            outer: kind == "FACE_OUTER_BOUND",
+            forward: !matches!(fb.get(2), Some(Value::Enum(e)) if e == "F"),
+        });
     }
-    // a file that names no FACE_OUTER_BOUND (OCCT writes FACE_BOUNDs only): the outer loop is
-    // the one whose parameter box holds the others', the largest
-    if !named_outer && loops.len() > 1 {
-        let outer = (0..loops.len())
-            .max_by(|&a, &b| boxes[a].total_cmp(&boxes[b]))
-            .unwrap_or(0);
+    Ok(out)
+}
+
+/// Inverts points on a surface: in closed form, or on a B-spline by projection — its grid of
+/// start points built once, and Newton from the previous point's foot first (consecutive
+/// boundary points are close), the full search only where that does not land on the surface.
+pub(super) struct Inverter<'s> {
+    surface: &'s Surface,
+    projector: Option<nurbs_core::SurfaceProjector<'s>>,
+    on_surface: f64,
+    previous: Option<(f64, f64)>,
+}
+
+impl<'s> Inverter<'s> {
+    /// An inverter for `surface`.
+    pub(super) fn new(surface: &'s Surface) -> Self {
+        let (projector, on_surface) = match surface {
+            Surface::Spline(s) => (
+                Some(nurbs_core::SurfaceProjector::new(
+                    s,
+                    ProjectionParams::default(),
+                )),
+                ON_SURFACE_RELATIVE * s.size(),
+            ),
+            _ => (None, 0.0),
+        };
+        Inverter {
+            surface,
+            projector,
+            on_surface,
+            previous: None,
+        }
+    }
+    /// The parameters of `pt`.
+    pub(super) fn invert(&mut self, pt: &Point3) -> (f64, f64) {
+        let Some(pr) = self.projector.as_mut() else {
+            return self.surface.invert(pt);
+        };
+        let warm = self
+            .previous
+            .map(|start| pr.project_from(pt, start))
+            .filter(|f| f.converged && f.distance <= self.on_surface);
+        let f = warm.unwrap_or_else(|| pr.project(pt));
+        self.previous = Some((f.u, f.v));
+        (f.u, f.v)
+    }
+}
+
+/// The trim loops of a face's bounds: each loop's points, the outer bound first (a file that
+/// names no FACE_OUTER_BOUND — OCCT writes FACE_BOUNDs only — has as outer loop the one whose
+/// parameter box holds the others', the largest); a loop of fewer than three points (a vertex
+/// loop at a pole) is no trim loop.
+pub(super) fn trim_loops(bounds: &[BoundLoop]) -> Vec<Vec<Point3>> {
+    let outer = bounds.iter().position(|b| b.outer).unwrap_or_else(|| {
+        (0..bounds.len())
+            .max_by(|&a, &b| box_area(&bounds[a].params).total_cmp(&box_area(&bounds[b].params)))
+            .unwrap_or(0)
+    });
+    let mut loops: Vec<Vec<Point3>> = bounds.iter().map(|b| b.points.clone()).collect();
+    if outer < loops.len() {
         let l = loops.remove(outer);
         loops.insert(0, l);
     }
     loops.retain(|l| l.len() >= 3);
-    Ok((loops, params))
+    loops
 }
 
 /// Area of the parameter box of `params` (0 for none).
@@ -150,11 +183,9 @@ fn edge_points(m: &Model, eid: u64) -> R<Vec<Point3>> {
     let mut cid = m.reference(eid, p.get(3))?;
     // a SURFACE_CURVE / SEAM_CURVE carries its 3D curve first
     for _ in 0..4 {
-        let k = m.kind(cid)?;
-        if k == "SURFACE_CURVE" || k == "SEAM_CURVE" || k == "INTERSECTION_CURVE" {
-            cid = m.reference(cid, m.part(cid, k)?.get(1))?;
-        } else {
-            break;
+        match surface_curve_3d(m, cid)? {
+            Some(c3) => cid = c3,
+            None => break,
         }
     }
     let mut out = vec![a];
@@ -194,24 +225,74 @@ fn edge_points(m: &Model, eid: u64) -> R<Vec<Point3>> {
             out.extend(between);
         }
         "LINE" | "POLYLINE" => {}
-        _ if m
-            .get(cid)?
-            .parts
-            .iter()
-            .any(|(k, _)| k == "B_SPLINE_CURVE_WITH_KNOTS") =>
-        {
-            let c = spline_curve(m, cid)?;
-            // the points of the curve between the vertices, found on it by projection: an edge
-            // uses part of its curve, and a sample past a vertex widens the face's box (the
-            // nearest of 69 samples put a fillet's box 0.3 mm past its end)
-            let params = ProjectionParams::default();
-            let ta = nurbs_core::project_to_curve(&c, &a, &params).t;
-            let tb = nurbs_core::project_to_curve(&c, &b, &params).t;
-            let k = SPLINE_EDGE_SAMPLES;
-            out.extend((1..k - 1).map(|i| c.point(ta + (tb - ta) * i as f64 / (k - 1) as f64)));
+        _ if is_spline(m.get(cid)?, false) => {
+            let closed_edge = p.get(1) == p.get(2) || a == b;
+            out.extend(spline_edge_points(
+                &spline_curve(m, cid)?,
+                &a,
+                &b,
+                same,
+                closed_edge,
+            ));
         }
         _ => {}
     }
     out.push(b);
     Ok(out)
+}
+
+/// The points of B-spline curve `c` strictly between the edge's vertices `a` and `b`, found on
+/// it by projection: an edge uses part of its curve, and a sample past a vertex widens the
+/// face's box (the nearest of 69 samples put a fillet's box 0.3 mm past its end). A closed edge
+/// (one vertex at both ends: a full circle as a rational B-spline) runs once around the whole
+/// curve from its vertex; on a closed curve an edge whose vertex sits at the curve's seam
+/// starts or ends at whichever end of the domain puts it along the edge's sense (`same`: with
+/// the curve's direction).
+fn spline_edge_points(
+    c: &BSplineCurve,
+    a: &Point3,
+    b: &Point3,
+    same: bool,
+    closed_edge: bool,
+) -> Vec<Point3> {
+    let params = ProjectionParams::default();
+    let (t0, t1) = c.domain();
+    let period = t1 - t0;
+    let mut ta = nurbs_core::project_to_curve(c, a, &params).t;
+    let mut tb = nurbs_core::project_to_curve(c, b, &params).t;
+    let size = c
+        .control_points()
+        .iter()
+        .fold(0.0_f64, |d, q| d.max((q - c.control_points()[0]).norm()));
+    let closed_curve = (c.point(t0) - c.point(t1)).norm() <= ON_SURFACE_RELATIVE * size;
+    let k = SPLINE_EDGE_SAMPLES;
+    if closed_edge {
+        // once around, with the curve's direction or against it
+        let turn = if same { period } else { -period };
+        return (1..k - 1)
+            .map(|i| {
+                let t = ta + turn * i as f64 / (k - 1) as f64;
+                c.point(t0 + (t - t0).rem_euclid(period))
+            })
+            .collect();
+    }
+    if closed_curve {
+        let near = |t: f64, end: f64| (t - end).abs() <= ON_SURFACE_RELATIVE * period;
+        if same && ta > tb {
+            if near(ta, t1) {
+                ta = t0;
+            } else if near(tb, t0) {
+                tb = t1;
+            }
+        } else if !same && ta < tb {
+            if near(ta, t0) {
+                ta = t1;
+            } else if near(tb, t1) {
+                tb = t0;
+            }
+        }
+    }
+    (1..k - 1)
+        .map(|i| c.point(ta + (tb - ta) * i as f64 / (k - 1) as f64))
+        .collect()
 }

@@ -1,18 +1,25 @@
 //! A STEP reader (ISO 10303-21 exchange structure, the AP203/AP214/AP242 geometry of
 //! ISO 10303-42): each ADVANCED_FACE (or FACE_SURFACE) becomes an exact NURBS surface over the
-//! parameter box of its bounds.
+//! parameter box of its bounds, and each surface outside a face (a GEOMETRIC_SET's) one over
+//! its own bounds.
 //!
 //! Surfaces: PLANE, CYLINDRICAL_SURFACE, CONICAL_SURFACE, SPHERICAL_SURFACE, TOROIDAL_SURFACE
 //! (rational quadratic arcs in the angular directions, [NB] A7.1 / A8.1), SURFACE_OF_LINEAR_EXTRUSION
 //! of a B-spline curve (exact, [`nurbs_core::shapes::extrude_curve`]), SURFACE_OF_REVOLUTION
-//! of a B-spline curve, and B_SPLINE_SURFACE_WITH_KNOTS, plain or in the complex instance with
-//! RATIONAL_B_SPLINE_SURFACE.
-//! The parameter box of a face is that of its edges: the vertices and points along every edge
-//! curve (LINE between its vertices, CIRCLE along the arc the edge runs, B-spline curves
-//! sampled) are inverted on the surface — in closed form on the elementary surfaces, by
-//! projection on a B-spline — and an angular range that wraps is taken as the complement of the
-//! largest gap. Length unit: the SI_UNIT of the LENGTH_UNIT (METRE with its prefix) or a
-//! CONVERSION_BASED_UNIT named INCH / FOOT; coordinates stay in that unit.
+//! of a B-spline curve, and B-spline surfaces — B_SPLINE_SURFACE_WITH_KNOTS, or the
+//! QUASI_UNIFORM_, UNIFORM_ and BEZIER_SURFACE forms with their knots implied — plain or in the
+//! complex instance with RATIONAL_B_SPLINE_SURFACE.
+//! The parameter box of a face is that of its bounds: the vertices and points along every edge
+//! curve (LINE between its vertices, CIRCLE along the arc the edge runs — a whole circle for an
+//! edge from a vertex to itself —, B-spline curves sampled) are inverted on the surface — in
+//! closed form on the elementary surfaces, by projection on a B-spline — and, on a periodic
+//! surface, unwrapped along each loop (module `domain`: loops that wind round, poles, seams). A
+//! face with no edge loop is its surface's natural box. Length unit: the SI_UNIT of the
+//! LENGTH_UNIT (METRE with its prefix) or a CONVERSION_BASED_UNIT named INCH / FOOT;
+//! coordinates stay in that unit.
+//!
+//! A face or surface that cannot be read is skipped and named in [`StepFile::warnings`]; the
+//! rest of the file is read.
 //!
 //! # Deviation from the standard
 //! Only what a face's geometry needs is read; topology beyond the face bounds, colours,
@@ -20,12 +27,18 @@
 //! solids reads each solid in its own coordinates).
 //!
 //! Modules: `lexer` (the Part 21 instances), `entities` (access to them by number, the length
-//! unit), `surfaces` (a face's surface and its inversion), `faces` (a face's bound loops and
-//! their parameters), `writer` (the AP214 writer).
+//! unit), `knots` (the implied-knot B-spline forms), `surfaces` (a face's surface and its
+//! inversion), `curves` (points along the curves that bound a surface, the plane-angle unit),
+//! `faces` (a face's bound loops and their parameters), `domain` (a face's parameter box),
+//! `loose` (surfaces outside faces), `writer` (the AP214 writer).
 
+mod curves;
+mod domain;
 mod entities;
 mod faces;
+mod knots;
 mod lexer;
+mod loose;
 mod surfaces;
 mod writer;
 
@@ -34,9 +47,10 @@ pub use writer::{write_step, write_step_faces};
 
 use nurbs_core::{BSplineSurface, Point3};
 
+use domain::face_box;
 use entities::{Model, units};
-use faces::boundary_params;
-use surfaces::{angle_range, surface};
+use faces::{bound_loops, trim_loops};
+use surfaces::surface;
 
 /// A boundary point whose Newton foot from the previous point's lies within this fraction of
 /// the surface size is on the surface there (a face's edges lie on it to the kernel's
@@ -53,9 +67,9 @@ pub const EDGE_SAMPLES: usize = 17;
 /// domain in Open CASCADE's IGES of the same model: a 2 µm gap along its fillet).
 pub const SPLINE_EDGE_SAMPLES: usize = 257;
 
-/// Largest angle (radians) between the samples of a circular edge: 2°. An angular range whose
-/// largest gap between boundary samples is at most two steps is a full turn (a face closed
-/// around its axis: a ring fillet, a pipe); a face open by more than 4° keeps its opening.
+/// Largest angle (radians) between the samples of a circular edge: 2°, so that consecutive
+/// boundary points of a face on a periodic surface are far less than half a turn apart and its
+/// loops unwrap unambiguously (module `domain`).
 pub const ARC_STEP: f64 = std::f64::consts::TAU / 180.0;
 
 /// What is wrong with a STEP file, with the entity it concerns.
@@ -114,9 +128,14 @@ pub struct StepFile {
     pub units: String,
     /// faces whose surface type is not read, by type
     pub skipped: std::collections::BTreeMap<String, usize>,
+    /// what was not read and why, one line each naming the entity (a face whose bounds or
+    /// geometry cannot be read is skipped, the rest of the file read)
+    pub warnings: Vec<String>,
 }
 
-/// Reads the faces of a STEP file.
+/// Reads the faces of a STEP file, and the surfaces it holds outside faces (module `loose`).
+/// A face that cannot be read is skipped and named in [`StepFile::warnings`]; when nothing at
+/// all is read, the first such reason is the error.
 pub fn read_step(text: &str) -> Result<StepFile, StepError> {
     let all = parse_instances(text)?;
     let m = Model { all: &all };
@@ -126,49 +145,53 @@ pub fn read_step(text: &str) -> Result<StepFile, StepError> {
         units: units(&m, &ids),
         ..StepFile::default()
     };
+    let mut first_error = None;
     for &id in &ids {
         let kind = m.kind(id)?;
         if kind != "ADVANCED_FACE" && kind != "FACE_SURFACE" {
             continue;
         }
-        let p = m.part(id, kind)?;
-        let name = match p.first() {
-            Some(Value::Text(t)) if !t.is_empty() => t.clone(),
-            _ => format!("step{id}"),
-        };
-        let sid = m.reference(id, p.get(2))?;
-        let skind = m.kind(sid)?.to_string();
-        let Some(surface) = surface(&m, sid)? else {
-            *file.skipped.entry(skind).or_default() += 1;
-            continue;
-        };
-        let (trim, params) = boundary_params(&m, id, p.get(1), &surface)?;
-        if params.is_empty() {
-            return Err(m.bad(id, "the face has no bounds"));
-        }
-        let (ua, va) = surface.angular();
-        let range = |xs: Vec<f64>, angular: bool| {
-            if angular {
-                angle_range(&xs)
-            } else {
-                xs.iter()
-                    .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), &x| {
-                        (a.min(x), b.max(x))
-                    })
+        match read_face(&m, id, kind) {
+            Ok(Ok(face)) => file.faces.push(face),
+            Ok(Err(skind)) => *file.skipped.entry(skind).or_default() += 1,
+            Err(e) => {
+                file.warnings.push(format!("{kind} #{id} not read: {e}"));
+                first_error.get_or_insert(e);
             }
-        };
-        let u = range(params.iter().map(|p| p.0).collect(), ua);
-        let v = range(params.iter().map(|p| p.1).collect(), va);
-        let built = surface
-            .build(u, v)
-            .map_err(|source| StepError::Geometry { id, source })?;
-        file.faces.push(StepFace {
-            id,
-            name,
-            surface: built,
-            kind: skind,
-            trim,
-        });
+        }
     }
-    Ok(file)
+    loose::read_loose(&m, &ids, &mut file, &mut first_error);
+    match first_error {
+        Some(e) if file.faces.is_empty() => Err(e),
+        _ => Ok(file),
+    }
+}
+
+/// Face `id` (an ADVANCED_FACE or FACE_SURFACE, `kind`) over its parameter box, or the type of
+/// its surface where that is not read.
+fn read_face(m: &Model, id: u64, kind: &str) -> Result<Result<StepFace, String>, StepError> {
+    let p = m.part(id, kind)?;
+    let name = match p.first() {
+        Some(Value::Text(t)) if !t.is_empty() => t.clone(),
+        _ => format!("step{id}"),
+    };
+    let sid = m.reference(id, p.get(2))?;
+    let skind = m.kind(sid)?.to_string();
+    let Some(surface) = surface(m, sid)? else {
+        return Ok(Err(skind));
+    };
+    let bounds = bound_loops(m, id, p.get(1), &surface)?;
+    let same_sense = !matches!(p.get(3), Some(Value::Enum(e)) if e == "F");
+    let (u, v) = face_box(&surface, &bounds, same_sense)
+        .map_err(|detail| m.bad(id, format!("{detail} (surface #{sid} {skind})")))?;
+    let built = surface
+        .build(u, v)
+        .map_err(|source| StepError::Geometry { id, source })?;
+    Ok(Ok(StepFace {
+        id,
+        name,
+        surface: built,
+        kind: skind,
+        trim: trim_loops(&bounds),
+    }))
 }

@@ -6,9 +6,10 @@
 
 use nurbs_core::{BSplineCurve, BSplineSurface, KnotVector, Point3, ProjectionParams, Vector3};
 
+use super::StepError;
 use super::entities::{Model, R};
+use super::knots::{implied_form, implied_knots, is_spline};
 use super::lexer::Value;
-use super::{ARC_STEP, StepError};
 
 /// An elementary or B-spline surface with its closed-form parametrization.
 pub(super) enum Surface {
@@ -74,17 +75,6 @@ impl Surface {
             }
         }
     }
-    /// Whether u and v are angles whose range may wrap around.
-    pub(super) fn angular(&self) -> (bool, bool) {
-        match self {
-            Surface::Plane(..) | Surface::Spline(_) | Surface::Extrusion(..) => (false, false),
-            Surface::Revolution(..) => (true, false),
-            Surface::Cone(..) => (true, false),
-            // a sphere's latitude never wraps (−π/2 … π/2)
-            Surface::Sphere(..) => (true, false),
-            Surface::Torus(..) => (true, true),
-        }
-    }
     /// The NURBS surface over [u0, u1] × [v0, v1].
     pub(super) fn build(&self, u: (f64, f64), v: (f64, f64)) -> nurbs_core::Result<BSplineSurface> {
         use nurbs_core::shapes::{arc, revolve_curve};
@@ -124,36 +114,6 @@ impl Surface {
     }
 }
 
-/// The range of angles `a` (radians) as an interval: the complement of the largest gap on the
-/// circle, from its end to its start + 2π; a full turn where the points are all around.
-pub(super) fn angle_range(a: &[f64]) -> (f64, f64) {
-    let mut s: Vec<f64> = a
-        .iter()
-        .map(|x| x.rem_euclid(std::f64::consts::TAU))
-        .collect();
-    s.sort_by(f64::total_cmp);
-    let n = s.len();
-    let mut best = (s[0] + std::f64::consts::TAU - s[n - 1], n - 1);
-    for k in 0..n - 1 {
-        let gap = s[k + 1] - s[k];
-        if gap > best.0 {
-            best = (gap, k);
-        }
-    }
-    // no gap wider than two arc samples: the face goes all around
-    if best.0 <= 2.0 * ARC_STEP {
-        return (0.0, std::f64::consts::TAU);
-    }
-    let start = s[(best.1 + 1) % n];
-    let end = s[best.1];
-    let end = if end <= start {
-        end + std::f64::consts::TAU
-    } else {
-        end
-    };
-    (start, end)
-}
-
 /// The surface of instance `sid`, `None` for a type that is not read.
 pub(super) fn surface(m: &Model, sid: u64) -> R<Option<Surface>> {
     let kind = m.kind(sid)?;
@@ -174,13 +134,7 @@ pub(super) fn surface(m: &Model, sid: u64) -> R<Option<Surface>> {
             Some(s) => s,
             None => return Ok(None),
         },
-        _ if inst
-            .parts
-            .iter()
-            .any(|(n, _)| n == "B_SPLINE_SURFACE_WITH_KNOTS") =>
-        {
-            Surface::Spline(spline_surface(m, sid)?)
-        }
+        _ if is_spline(inst, true) => Surface::Spline(spline_surface(m, sid)?),
         _ => return Ok(None),
     }))
 }
@@ -214,14 +168,7 @@ fn revolution(m: &Model, sid: u64, kind: &str) -> R<Option<Surface>> {
     let p = m.part(sid, kind)?;
     let cid = m.reference(sid, p.get(1))?;
     let curve = match m.kind(cid)? {
-        _ if m
-            .get(cid)?
-            .parts
-            .iter()
-            .any(|(k, _)| k == "B_SPLINE_CURVE_WITH_KNOTS") =>
-        {
-            spline_curve(m, cid)?
-        }
+        _ if is_spline(m.get(cid)?, false) => spline_curve(m, cid)?,
         _ => return Ok(None),
     };
     let aid = m.reference(sid, p.get(2))?;
@@ -245,12 +192,7 @@ fn extrusion(m: &Model, sid: u64, kind: &str) -> R<Option<Surface>> {
     // (name, swept curve, extrusion axis: a VECTOR of a direction and a magnitude)
     let p = m.part(sid, kind)?;
     let cid = m.reference(sid, p.get(1))?;
-    if !m
-        .get(cid)?
-        .parts
-        .iter()
-        .any(|(k, _)| k == "B_SPLINE_CURVE_WITH_KNOTS")
-    {
+    if !is_spline(m.get(cid)?, false) {
         return Ok(None);
     }
     let curve = spline_curve(m, cid)?;
@@ -276,39 +218,57 @@ fn extrusion(m: &Model, sid: u64, kind: &str) -> R<Option<Surface>> {
     Ok(Some(Surface::Extrusion(curve, vector, flat)))
 }
 
-/// The knot vector of STEP's distinct knots and their multiplicities.
-pub(super) fn expand_knots(mults: &[f64], values: &[f64]) -> Vec<f64> {
-    values
-        .iter()
-        .zip(mults)
-        .flat_map(|(&k, &n)| std::iter::repeat_n(k, n.max(0.0) as usize))
-        .collect()
+/// The knot vector of STEP's distinct knots and their multiplicities (instance `id`): each
+/// multiplicity a whole number from 1 to [`MAX_DEGREE`] + 1 ([ISO42]
+/// `b_spline_curve_with_knots`: at most the degree + 1), one per knot.
+pub(super) fn expand_knots(m: &Model, id: u64, mults: &[f64], values: &[f64]) -> R<Vec<f64>> {
+    if mults.len() != values.len() {
+        return Err(m.bad(
+            id,
+            format!(
+                "{} knot multiplicities for {} knots",
+                mults.len(),
+                values.len()
+            ),
+        ));
+    }
+    let mut out = Vec::new();
+    for (&k, &n) in values.iter().zip(mults) {
+        if n.fract() != 0.0 || !(1.0..=(MAX_DEGREE + 1) as f64).contains(&n) {
+            return Err(m.bad(id, format!("knot multiplicity {n}")));
+        }
+        out.extend(std::iter::repeat_n(k, n as usize));
+    }
+    Ok(out)
 }
 
-/// B_SPLINE_SURFACE_WITH_KNOTS, simple or in a complex instance with B_SPLINE_SURFACE and
-/// RATIONAL_B_SPLINE_SURFACE. Control points are listed row by row, u the outer index, as the
-/// crate's flat net P[i · n_v + j].
+/// A B-spline surface in any of its forms ([ISO42] geometry_schema): B_SPLINE_SURFACE_WITH_KNOTS,
+/// or UNIFORM_, QUASI_UNIFORM_ or BEZIER_SURFACE with their knots implied ([`implied_knots`]);
+/// simple, or in a complex instance with B_SPLINE_SURFACE and RATIONAL_B_SPLINE_SURFACE.
+/// Control points are listed row by row, u the outer index, as the crate's flat net
+/// P[i · n_v + j].
 pub(super) fn spline_surface(m: &Model, sid: u64) -> R<BSplineSurface> {
     let inst = m.get(sid)?;
-    let (base, knots) = if inst.parts.len() == 1 {
+    let implied = implied_form(inst, true);
+    let (base, knots): (&[Value], Option<&[Value]>) = if inst.parts.len() == 1 {
         // simple instance: name, du, dv, points, form, closed u, closed v, self-intersect,
-        // mults u, mults v, knots u, knots v, spec
+        // then (with knots) mults u, mults v, knots u, knots v, spec
         let p = &inst.parts[0].1;
-        if p.len() < 13 {
-            return Err(m.bad(sid, format!("{} parameters, expected 13", p.len())));
+        let need = if implied.is_some() { 8 } else { 13 };
+        if p.len() < need {
+            return Err(m.bad(sid, format!("{} parameters, expected {need}", p.len())));
         }
-        // name, du, dv, points, form, u closed, v closed, self-intersect, then the knots
-        (&p[1..], &p[8..])
+        (&p[1..], implied.is_none().then(|| &p[8..]))
     } else {
         (
             m.part(sid, "B_SPLINE_SURFACE")?,
-            m.part(sid, "B_SPLINE_SURFACE_WITH_KNOTS")?,
+            match implied {
+                Some(_) => None,
+                None => Some(m.part(sid, "B_SPLINE_SURFACE_WITH_KNOTS")?),
+            },
         )
     };
-    let (du, dv) = (
-        m.num(sid, base.first())? as usize,
-        m.num(sid, base.get(1))? as usize,
-    );
+    let (du, dv) = (degree(m, sid, base.first())?, degree(m, sid, base.get(1))?);
     let rows = m.list(sid, base.get(2))?;
     let mut points = Vec::new();
     let mut nv = 0;
@@ -319,11 +279,30 @@ pub(super) fn spline_surface(m: &Model, sid: u64) -> R<BSplineSurface> {
             points.push(m.point(m.reference(sid, Some(x))?)?);
         }
     }
-    let (mu, mv) = (
-        m.numbers(sid, knots.first())?,
-        m.numbers(sid, knots.get(1))?,
-    );
-    let (ku, kv) = (m.numbers(sid, knots.get(2))?, m.numbers(sid, knots.get(3))?);
+    if nv == 0 || points.len() != rows.len() * nv {
+        return Err(m.bad(sid, "the control point rows differ in length"));
+    }
+    let (ku, kv) = match (knots, implied) {
+        (Some(k), _) => (
+            expand_knots(
+                m,
+                sid,
+                &m.numbers(sid, k.first())?,
+                &m.numbers(sid, k.get(2))?,
+            )?,
+            expand_knots(
+                m,
+                sid,
+                &m.numbers(sid, k.get(1))?,
+                &m.numbers(sid, k.get(3))?,
+            )?,
+        ),
+        (None, Some(form)) => (
+            implied_knots(form, du, rows.len()).map_err(|e| m.bad(sid, format!("u: {e}")))?,
+            implied_knots(form, dv, nv).map_err(|e| m.bad(sid, format!("v: {e}")))?,
+        ),
+        (None, None) => return Err(m.bad(sid, "expected B_SPLINE_SURFACE_WITH_KNOTS")),
+    };
     let weights = match inst
         .parts
         .iter()
@@ -339,45 +318,70 @@ pub(super) fn spline_surface(m: &Model, sid: u64) -> R<BSplineSurface> {
         None => None,
     };
     let g = |source| StepError::Geometry { id: sid, source };
-    if nv == 0 || points.len() != rows.len() * nv {
-        return Err(m.bad(sid, "the control point rows differ in length"));
-    }
     BSplineSurface::new(
-        KnotVector::new(du, expand_knots(&mu, &ku)).map_err(g)?,
-        KnotVector::new(dv, expand_knots(&mv, &kv)).map_err(g)?,
+        KnotVector::new(du, ku).map_err(g)?,
+        KnotVector::new(dv, kv).map_err(g)?,
         points,
         weights,
     )
     .map_err(g)
 }
 
-/// B_SPLINE_CURVE_WITH_KNOTS, simple or in a complex instance with RATIONAL_B_SPLINE_CURVE.
+/// A degree parameter: a whole number from 1 to [`MAX_DEGREE`].
+fn degree(m: &Model, id: u64, v: Option<&Value>) -> R<usize> {
+    let d = m.num(id, v)?;
+    if d.fract() != 0.0 || !(1.0..=MAX_DEGREE as f64).contains(&d) {
+        return Err(m.bad(
+            id,
+            format!("degree {d}, expected a whole number from 1 to {MAX_DEGREE}"),
+        ));
+    }
+    Ok(d as usize)
+}
+
+/// The largest degree read: far above what CAD systems write (degree 25 in CATIA V5, 14 in
+/// Parasolid), low enough that a garbled number cannot ask for an absurd basis.
+pub(super) const MAX_DEGREE: usize = 64;
+
+/// A B-spline curve in any of its forms (B_SPLINE_CURVE_WITH_KNOTS, or UNIFORM_,
+/// QUASI_UNIFORM_ or BEZIER_CURVE with implied knots), simple or in a complex instance with
+/// RATIONAL_B_SPLINE_CURVE.
 pub(super) fn spline_curve(m: &Model, cid: u64) -> R<BSplineCurve> {
     let inst = m.get(cid)?;
-    let (base, knots) = if inst.parts.len() == 1 {
+    let implied = implied_form(inst, false);
+    let (base, knots): (&[Value], Option<&[Value]>) = if inst.parts.len() == 1 {
+        // name, degree, points, form, closed, self-intersect, then (with knots) the knots
         let p = &inst.parts[0].1;
-        if p.len() < 9 {
-            return Err(m.bad(cid, format!("{} parameters, expected 9", p.len())));
+        let need = if implied.is_some() { 6 } else { 9 };
+        if p.len() < need {
+            return Err(m.bad(cid, format!("{} parameters, expected {need}", p.len())));
         }
-        // name, degree, points, form, closed, self-intersect, then the knots
-        (&p[1..], &p[6..])
+        (&p[1..], implied.is_none().then(|| &p[6..]))
     } else {
         (
             m.part(cid, "B_SPLINE_CURVE")?,
-            m.part(cid, "B_SPLINE_CURVE_WITH_KNOTS")?,
+            match implied {
+                Some(_) => None,
+                None => Some(m.part(cid, "B_SPLINE_CURVE_WITH_KNOTS")?),
+            },
         )
     };
-    let d = m.num(cid, base.first())? as usize;
+    let d = degree(m, cid, base.first())?;
     let points = m
         .list(cid, base.get(1))?
         .iter()
         .map(|x| m.point(m.reference(cid, Some(x))?))
         .collect::<R<Vec<_>>>()?;
-    let (mults, values) = (
-        m.numbers(cid, knots.first())?,
-        m.numbers(cid, knots.get(1))?,
-    );
-    let kv = expand_knots(&mults, &values);
+    let kv = match (knots, implied) {
+        (Some(k), _) => expand_knots(
+            m,
+            cid,
+            &m.numbers(cid, k.first())?,
+            &m.numbers(cid, k.get(1))?,
+        )?,
+        (None, Some(form)) => implied_knots(form, d, points.len()).map_err(|e| m.bad(cid, e))?,
+        (None, None) => return Err(m.bad(cid, "expected B_SPLINE_CURVE_WITH_KNOTS")),
+    };
     let weights = match inst
         .parts
         .iter()

@@ -1,0 +1,90 @@
+//! Files written by other CAD systems (`fixtures/foreign/`, from the Open CASCADE test data):
+//! each imports, its closed faces whole, checked against the closed-form surfaces the files
+//! define.
+
+use std::path::PathBuf;
+
+use nurbs_core::{BSplineSurface, Point3};
+use nurbs_io::{read_iges, read_step};
+
+/// The bytes of `fixtures/foreign/NAME`.
+fn fixture(name: &str) -> Vec<u8> {
+    let path = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fixtures/foreign")
+        .join(name);
+    std::fs::read(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// The largest distance from `centre` of the points of `s` on a 17 × 17 grid, minus `radius`,
+/// in absolute value; and whether the domain is a full turn by a half turn (a whole sphere).
+fn off_sphere(s: &BSplineSurface, centre: Point3, radius: f64) -> (f64, bool) {
+    let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
+    let mut worst: f64 = 0.0;
+    for a in 0..=16 {
+        for b in 0..=16 {
+            let p = s.point(
+                u0 + (u1 - u0) * a as f64 / 16.0,
+                v0 + (v1 - v0) * b as f64 / 16.0,
+            );
+            worst = worst.max(((p - centre).norm() - radius).abs());
+        }
+    }
+    let whole = (u1 - u0 - std::f64::consts::TAU).abs() < 1e-12
+        && (v1 - v0 - std::f64::consts::PI).abs() < 1e-12;
+    (worst, whole)
+}
+
+/// SolidWorks' sphere whose face has no bounds: the whole sphere of radius 1 about the origin
+/// (the file writes 1.0000000000000009, four ulps above 1).
+#[test]
+fn a_sphere_face_with_no_bounds_is_the_whole_sphere() {
+    let f = read_step(&String::from_utf8(fixture("bug24283_spheres.stp")).unwrap()).unwrap();
+    assert!(f.warnings.is_empty(), "{:?}", f.warnings);
+    assert_eq!(f.faces.len(), 1);
+    let (off, whole) = off_sphere(&f.faces[0].surface, Point3::origin(), 1.000_000_000_000_001);
+    assert!(off < 1e-9 && whole, "{off}");
+}
+
+/// SYRKO's primitives: eleven faces; the sphere (radius 100 about (200, 50, 50)) bounded by a
+/// vertex loop is whole, so is the torus (both directions a full turn), and the cone between
+/// two closed circle edges goes all round.
+#[test]
+fn vertex_loop_faces_and_closed_circle_edges_are_whole() {
+    let f = read_step(&String::from_utf8(fixture("pr1sy.stp")).unwrap()).unwrap();
+    assert!(f.warnings.is_empty(), "{:?}", f.warnings);
+    assert_eq!(f.faces.len(), 11);
+    let face = |id: u64| &f.faces.iter().find(|x| x.id == id).unwrap().surface;
+    let (off, whole) = off_sphere(face(186), Point3::new(200.0, 50.0, 50.0), 100.0);
+    assert!(off < 1e-9 && whole, "{off}");
+    let torus = face(206);
+    let turn = |(a, b): (f64, f64)| (b - a - std::f64::consts::TAU).abs() < 1e-12;
+    assert!(turn(torus.domain_u()) && turn(torus.domain_v()));
+    assert!(turn(face(256).domain_u()));
+}
+
+/// Alias's lone bicubic surface in a GEOMETRIC_SET: read, under its REPRESENTATION_ITEM name.
+#[test]
+fn a_bare_surface_in_a_geometric_set_is_read() {
+    let f = read_step(&String::from_utf8(fixture("trj7_c2-al-214.stp")).unwrap()).unwrap();
+    assert_eq!(f.faces.len(), 1);
+    let s = &f.faces[0].surface;
+    assert_eq!((s.degree_u(), s.degree_v()), (3, 3));
+    assert_eq!(s.control_points().len(), 16);
+    assert_eq!(f.faces[0].name, "plane");
+}
+
+/// Rhino's IGES with a Terminate record that miscounts, and HarmonyWare's with an empty line
+/// after it: each reads its one surface, the first with the miscount named.
+#[test]
+fn iges_with_wrong_counts_or_a_blank_last_line_reads() {
+    let bad = read_iges(&fixture("bad_header.igs")).unwrap();
+    assert_eq!(bad.surfaces.len(), 1);
+    assert!(
+        bad.warnings
+            .iter()
+            .any(|w| w.contains("Terminate record says"))
+    );
+    let torus = read_iges(&fixture("OCC26138_Torus.igs")).unwrap();
+    assert_eq!(torus.surfaces.len(), 1);
+    assert!(torus.warnings.is_empty(), "{:?}", torus.warnings);
+}
