@@ -406,31 +406,14 @@ fn fair_command(args: FairArgs) -> Result<()> {
     for (role, mm) in tolerance_role {
         role_tolerance[role.rank()] = Some(mm);
     }
-    use crate::kind::FileKind;
-    let kind = crate::kind::expect(
-        "fair",
-        &input,
-        &[
-            FileKind::Model,
-            FileKind::Surfaces,
-            FileKind::Step,
-            FileKind::Iges,
-        ],
-    )?;
-    let iges = matches!(kind, FileKind::Step | FileKind::Iges);
-    if let Some(r) = &report {
-        crate::kind::expect_extension("--report", r, crate::kind::JSON_OUTPUTS)?;
-    }
+    let iges = crate::kind::fair_input_is_cad(&input, report.as_deref())?;
     let text = if iges {
         String::new()
     } else {
         files::read_text(&input)?
     };
     if iges || crate::pipeline::is_model(&text) {
-        // a model is written as JSON, or as the CAD file its extension names
-        let mut allowed = crate::kind::JSON_OUTPUTS.to_vec();
-        allowed.extend(crate::kind::CAD_OUTPUTS);
-        crate::kind::expect_extension("-o", &output, &allowed)?;
+        crate::kind::expect_extension("-o", &output, crate::kind::MODEL_OUTPUTS)?;
         let options = crate::pipeline::ModelOptions {
             method,
             tolerance,
@@ -450,20 +433,10 @@ fn fair_command(args: FairArgs) -> Result<()> {
             &options,
         )?;
         print!("{}", outcome.0);
-        if let Some(first) = outcome.1.first() {
-            use std::io::Write;
-            let _ = std::io::stdout().flush();
-            eprintln!(
-                "error: {} surface(s) could not be faired, the first {first}; the partial result and report were written",
-                outcome.1.len()
-            );
-            std::process::exit(1);
-        }
+        exit_if_failed(&outcome.1);
         return Ok(());
     }
-    // a bare surface file: the model options do not apply
-    crate::kind::expect_extension("-o", &output, crate::kind::JSON_OUTPUTS)?;
-    for (flag, given) in [
+    let model_options = [
         ("--images", images.is_some()),
         ("--target", target.is_some()),
         (
@@ -472,25 +445,43 @@ fn fair_command(args: FairArgs) -> Result<()> {
         ),
         ("--keep-faired", keep_faired),
         ("--no-verify", no_verify),
-    ] {
-        if given {
-            bail!(
-                "{flag} applies to a model; {} is a surface file (each surface faired alone, its boundaries kept): leave {flag} out, or give a model",
-                input.display()
-            );
-        }
-    }
+    ];
     let options = crate::fair::FairOptions {
         method: method.unwrap_or(hier_fair::Method::Energy.name()),
         tolerance: tolerance.unwrap_or(0.02),
         iterations,
         keep,
     };
-    print!(
-        "{}",
-        crate::fair::run(&input, &output, report.as_deref(), &options)?
-    );
+    fair_surfaces(&input, &output, report.as_deref(), &options, &model_options)
+}
+
+/// `fair` on a bare surface file: each surface faired alone, boundaries kept; the model options
+/// (`model_options`, each with whether it was given) do not apply and are refused.
+fn fair_surfaces(
+    input: &std::path::Path,
+    output: &std::path::Path,
+    report: Option<&std::path::Path>,
+    options: &crate::fair::FairOptions,
+    model_options: &[(&str, bool)],
+) -> Result<()> {
+    crate::kind::expect_extension("-o", output, crate::kind::JSON_OUTPUTS)?;
+    crate::kind::refuse_model_options(input, model_options)?;
+    print!("{}", crate::fair::run(input, output, report, options)?);
     Ok(())
+}
+
+/// Exits with 1 after naming the first surface that could not be faired (the partial result
+/// and report are written already).
+fn exit_if_failed(failed: &[String]) {
+    if let Some(first) = failed.first() {
+        use std::io::Write;
+        let _ = std::io::stdout().flush();
+        eprintln!(
+            "error: {} surface(s) could not be faired, the first {first}; the partial result and report were written",
+            failed.len()
+        );
+        std::process::exit(1);
+    }
 }
 
 /// The registered method named `name` ([`crate::methods`]), checked against `--iterations`

@@ -164,9 +164,44 @@ pub const CAD_OUTPUTS: &[&str] = &["step", "stp", "igs", "iges"];
 /// Extensions a model or report is written to.
 pub const JSON_OUTPUTS: &[&str] = &["json"];
 
+/// Extensions `fair` writes a model to: JSON, or the CAD file the extension names.
+pub const MODEL_OUTPUTS: &[&str] = &["json", "step", "stp", "igs", "iges"];
+
 /// Whether `path` holds a CAD file (STEP or IGES) by its content.
 pub fn is_cad(path: &Path) -> Result<bool> {
     Ok(matches!(sniff(path)?, FileKind::Step | FileKind::Iges))
+}
+
+/// Whether `fair`'s input is a CAD file (STEP, IGES) rather than JSON, known by its content;
+/// an input of another kind, or a report not named `.json`, is refused.
+pub fn fair_input_is_cad(input: &Path, report: Option<&Path>) -> Result<bool> {
+    use crate::kind::FileKind;
+    let kind = crate::kind::expect(
+        "fair",
+        input,
+        &[
+            FileKind::Model,
+            FileKind::Surfaces,
+            FileKind::Step,
+            FileKind::Iges,
+        ],
+    )?;
+    if let Some(r) = report {
+        crate::kind::expect_extension("--report", r, crate::kind::JSON_OUTPUTS)?;
+    }
+    Ok(matches!(kind, FileKind::Step | FileKind::Iges))
+}
+
+/// Refuses the first of the model options `given` on the bare surface file `input`: an option
+/// that does not apply is an error, never silently ignored.
+pub fn refuse_model_options(input: &Path, given: &[(&str, bool)]) -> Result<()> {
+    if let Some((flag, _)) = given.iter().find(|(_, g)| *g) {
+        bail!(
+            "{flag} applies to a model; {} is a surface file (each surface faired alone, its boundaries kept): leave {flag} out, or give a model",
+            input.display()
+        );
+    }
+    Ok(())
 }
 
 /// Refuses an output whose extension is not one of `allowed` (lower case, without the dot),

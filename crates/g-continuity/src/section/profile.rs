@@ -270,32 +270,23 @@ fn section_knots(f: (f64, f64), middle: usize) -> Vec<f64> {
     xs
 }
 
-/// The quintic B-spline (knots in [0, 1]) fitted by least squares to `points` at their
-/// normalized arc length, its first and last points at the ends, its second and third on the
-/// end tangent where that end has a ramp (zero curvature there, as the profile has), else its
-/// second on the tangent (the tangent plane kept) and its third free.
-pub(super) fn fit_profile(
-    points: &[Vector2<f64>],
+/// One control point of the fitted section: fixed, a scalar (unknown `usize`) along a line
+/// (point, direction), or a free 2D point (unknowns `usize`, `usize + 1`).
+#[derive(Clone, Copy)]
+enum Var {
+    Fixed(Vector2<f64>),
+    Along(Vector2<f64>, Vector2<f64>, usize),
+    Free(usize),
+}
+
+/// The unknowns of the section's `n` control points (see [`fit_profile`]) and their count.
+fn unknowns(
+    n: usize,
     f: (f64, f64),
-    middle: usize,
+    (e0, e1): (Vector2<f64>, Vector2<f64>),
     end_tangent: Vector2<f64>,
-) -> Result<(KnotVector, Vec<Vector2<f64>>)> {
-    let p = SECTION_DEGREE;
-    let mut knots = vec![0.0; p + 1];
-    knots.extend(section_knots(f, middle));
-    knots.extend(vec![1.0; p + 1]);
-    let kv = KnotVector::new(p, knots)?;
-    let n = kv.num_basis();
-    let last = points.len() - 1;
-    let (e0, e1) = (points[0], points[last]);
+) -> (Vec<Var>, usize) {
     let tx = Vector2::new(1.0, 0.0);
-    // unknowns: per control point either a scalar along a tangent or a free 2D point
-    #[derive(Clone, Copy)]
-    enum Var {
-        Fixed(Vector2<f64>),
-        Along(Vector2<f64>, Vector2<f64>, usize),
-        Free(usize),
-    }
     let mut vars = Vec::with_capacity(n);
     let mut m = 0;
     for j in 0..n {
@@ -315,6 +306,28 @@ pub(super) fn fit_profile(
         };
         vars.push(v);
     }
+    (vars, m)
+}
+
+/// The quintic B-spline (knots in [0, 1]) fitted by least squares to `points` at their
+/// normalized arc length, its first and last points at the ends, its second and third on the
+/// end tangent where that end has a ramp (zero curvature there, as the profile has), else its
+/// second on the tangent (the tangent plane kept) and its third free.
+pub(super) fn fit_profile(
+    points: &[Vector2<f64>],
+    f: (f64, f64),
+    middle: usize,
+    end_tangent: Vector2<f64>,
+) -> Result<(KnotVector, Vec<Vector2<f64>>)> {
+    let p = SECTION_DEGREE;
+    let mut knots = vec![0.0; p + 1];
+    knots.extend(section_knots(f, middle));
+    knots.extend(vec![1.0; p + 1]);
+    let kv = KnotVector::new(p, knots)?;
+    let n = kv.num_basis();
+    let last = points.len() - 1;
+    let (e0, e1) = (points[0], points[last]);
+    let (vars, m) = unknowns(n, f, (e0, e1), end_tangent);
     let rows = points.len();
     let mut a = DMatrix::zeros(2 * rows, m);
     let mut rhs = DVector::zeros(2 * rows);

@@ -1,3 +1,5 @@
+//! Unit tests of the one-hump section: contact lines, tangent planes, one hump, exact sweeps.
+
 use super::*;
 use nurbs_core::energy::max_deviation;
 use nurbs_core::fairness::{count_extrema, cross_profile};
