@@ -226,18 +226,23 @@ fn table(
     out
 }
 
+/// "N of M links met (G0 ≤ …, G1 ≤ …°, G2 ≤ … relative" — the start of every verdict line
+/// (`check`, `connect`, `fair`), the parenthesis left open for what follows.
+pub fn links_met(met: usize, total: usize, t: &hier_fair::ModelTolerances) -> String {
+    format!(
+        "{met} of {total} links met (G0 ≤ {}, G1 ≤ {}°, G2 ≤ {} relative",
+        t.g0, t.g1_deg, t.g2_rel
+    )
+}
+
 /// The last line of `check`'s table: how many links meet the model's tolerances.
 fn verdict(model: &Model, checks: &[LinkCheck]) -> String {
     let t = &model.tolerances;
     let met = |c: &LinkCheck| c.measure.meets(c.target, t.g0, t.g1_deg, t.g2_rel);
     let untouched = checks.iter().filter(|c| !c.touches(model)).count();
     format!(
-        "verdict: {} of {} links met (G0 ≤ {}, G1 ≤ {}°, G2 ≤ {} relative, each up to its target){}\n",
-        checks.iter().filter(|c| met(c)).count(),
-        checks.len(),
-        t.g0,
-        t.g1_deg,
-        t.g2_rel,
+        "verdict: {}, each up to its target){}\n",
+        links_met(checks.iter().filter(|c| met(c)).count(), checks.len(), t),
         if untouched > 0 {
             format!("; {untouched} do not touch their masters")
         } else {

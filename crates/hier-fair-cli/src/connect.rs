@@ -37,11 +37,8 @@ pub fn run(model_text: &str, source: &str, target: Option<Continuity>) -> Result
         .filter(|l| l.after.meets(l.target, t.g0, t.g1_deg, t.g2_rel))
         .count();
     let verdict = format!(
-        "verdict: {met} of {} links met (G0 ≤ {}, G1 ≤ {}°, G2 ≤ {} relative, each up to its target)",
-        report.links.len(),
-        t.g0,
-        t.g1_deg,
-        t.g2_rel
+        "verdict: {}, each up to its target)",
+        crate::check::links_met(met, report.links.len(), t)
     );
     // `--target` caps each link's own continuity; say so where it asks for more than any link
     if let (Some(t), Some(top)) = (target, model.links.iter().map(|l| l.continuity).max())

@@ -529,11 +529,8 @@ pub fn verdict(
         .filter(|s| s.fairness_verdict().fair())
         .count();
     format!(
-        "verdict: {met} of {} links met (G0 ≤ {}, G1 ≤ {}°, G2 ≤ {} relative{}), {} conflicts, {} unmet; {within} of {} surfaces within their deviation; {fair} of {} fair against their input; wrote {}\n",
-        report.links.len(),
-        tolerances.g0,
-        tolerances.g1_deg,
-        tolerances.g2_rel,
+        "verdict: {}{}), {} conflicts, {} unmet; {within} of {} surfaces within their deviation; {fair} of {} fair against their input; wrote {}\n",
+        crate::check::links_met(met, report.links.len(), tolerances),
         if across > 0 {
             format!("; {across} of them above it across the boundary, n × T")
         } else {

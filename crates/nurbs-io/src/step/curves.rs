@@ -99,20 +99,11 @@ fn nested_points(m: &Model, cid: u64, angle: f64, depth: usize) -> R<Vec<Point3>
             for seg in m.list(cid, p.get(1))? {
                 let sid = m.reference(cid, Some(seg))?;
                 let sp = m.part(sid, "COMPOSITE_CURVE_SEGMENT")?;
-                let mut path = nested_points(m, m.reference(sid, sp.get(2))?, angle, depth + 1)?;
-                if matches!(sp.get(1), Some(Value::Enum(e)) if e == "F") {
-                    path.reverse();
-                }
-                // the joint of two segments once
-                for q in path {
-                    if out.last() != Some(&q) {
-                        out.push(q);
-                    }
-                }
+                let path = nested_points(m, m.reference(sid, sp.get(2))?, angle, depth + 1)?;
+                let reversed = matches!(sp.get(1), Some(Value::Enum(e)) if e == "F");
+                append_path(&mut out, path, reversed);
             }
-            if out.len() > 1 && out.first() == out.last() {
-                out.pop();
-            }
+            close_path(&mut out);
             Ok(out)
         }
         "TRIMMED_CURVE" => trimmed(m, cid, p, angle),
@@ -245,5 +236,26 @@ fn trimmed(m: &Model, cid: u64, p: &[Value], angle: f64) -> R<Vec<Point3>> {
                 .collect())
         }
         _ => Err(m.bad(basis, "a trimmed curve of this type is not read")),
+    }
+}
+
+/// Appends `path` (reversed where its sense is false) to the polyline `out`, the joint of two
+/// pieces once.
+pub(super) fn append_path(out: &mut Vec<Point3>, mut path: Vec<Point3>, reversed: bool) {
+    if reversed {
+        path.reverse();
+    }
+    for q in path {
+        if out.last() != Some(&q) {
+            out.push(q);
+        }
+    }
+}
+
+/// Drops the last point of a closed polyline that repeats its first (a loop lists each point
+/// once).
+pub(super) fn close_path(out: &mut Vec<Point3>) {
+    if out.len() > 1 && out.first() == out.last() {
+        out.pop();
     }
 }

@@ -141,20 +141,11 @@ fn loop_points(m: &Model, lid: u64) -> R<Vec<Point3>> {
                 let oe = m.reference(lid, Some(oe))?;
                 let o = m.part(oe, "ORIENTED_EDGE")?;
                 let edge = m.reference(oe, o.get(3))?;
-                let mut path = edge_points(m, edge)?;
-                if matches!(o.get(4), Some(Value::Enum(e)) if e == "F") {
-                    path.reverse();
-                }
-                // the joint of two edges once
-                for q in path {
-                    if out.last() != Some(&q) {
-                        out.push(q);
-                    }
-                }
+                let path = edge_points(m, edge)?;
+                let reversed = matches!(o.get(4), Some(Value::Enum(e)) if e == "F");
+                super::curves::append_path(&mut out, path, reversed);
             }
-            if out.len() > 1 && out.first() == out.last() {
-                out.pop();
-            }
+            super::curves::close_path(&mut out);
         }
         "POLY_LOOP" => {
             for x in m.list(lid, p.get(1))? {
