@@ -9,7 +9,7 @@ use anyhow::{Result, bail};
 
 /// Bytes read to tell a file's kind: the STEP header's first keyword, an IGES record (80
 /// columns) and the first keys of a JSON object all lie well within them.
-const SNIFF_BYTES: usize = 64 * 1024;
+pub const SNIFF_BYTES: usize = 64 * 1024;
 
 /// What an input file holds.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
