@@ -25,6 +25,83 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
+    /// Reads a STEP file (faces, and surfaces outside faces) or IGES file (surfaces 128, 120, 122, 118, 140 and planes 108, trimmed by 144), known by its content, into a model and finds its hierarchy (links, targets, roles) from the geometry
+    Import {
+        /// STEP or IGES file
+        input: PathBuf,
+        /// Model JSON to write
+        #[arg(short = 'o', long = "output")]
+        output: PathBuf,
+        /// Prints every decision of the hierarchy (which side lies on which surface, at what distance and angle, why each role)
+        #[arg(long)]
+        explain: bool,
+    },
+    /// Finds the links and roles of a model from its geometry, keeping the links it has and its roles when it gives any
+    Build {
+        /// Model JSON
+        input: PathBuf,
+        /// Model JSON to write (never the input)
+        #[arg(short = 'o', long = "output")]
+        output: PathBuf,
+        /// Prints every decision (which side lies on which surface, at what distance and angle, why each role)
+        #[arg(long)]
+        explain: bool,
+    },
+    /// Measures the continuity of every link of a model (gap, normal angle, curvature).
+    Check {
+        /// Model file (or a bare surface file: then there are no links).
+        model: PathBuf,
+        /// Samples per link, both ends included.
+        #[arg(long, default_value_t = 101)]
+        samples: usize,
+        /// Prints JSON (cli-contract.md) instead of a table.
+        #[arg(long)]
+        json: bool,
+        /// Exits with code 1 when a link exceeds the preset (up to its target continuity).
+        #[arg(long, value_parser = ["class-a", "standard", "exchange"])]
+        fail_above: Option<String>,
+        /// Also measures every surface's fairness: peak curvature, mean-curvature spread, the
+        /// curvature extrema across its linked sides, thin-plate energy, net and degree.
+        #[arg(long)]
+        fairness: bool,
+    },
+    /// Sets continuity only (no fairing), slave by slave in hierarchy order.
+    Connect {
+        /// Model file.
+        model: PathBuf,
+        /// Output model file (written atomically; never the input).
+        #[arg(short = 'o', long = "output")]
+        output: PathBuf,
+        /// Highest continuity set (G0, G1 or G2; default: each link's own).
+        #[arg(long, value_parser = parse_keep)]
+        target: Option<nurbs_core::Continuity>,
+        /// Report JSON with before/after continuity per link.
+        #[arg(long)]
+        report: Option<PathBuf>,
+    },
+    /// Hierarchical fairing of a model (masters first, continuity set then kept, [SV] §3.2), or
+    /// fairing of a bare surface file (boundaries and shared edges kept).
+    Fair(FairArgs),
+    /// Writes the surfaces of a model as STEP (AP214 B-spline faces) or IGES 5.3 (entity 128, trimmed by 144), as the output's extension names.
+    Export {
+        /// Model JSON (or a bare surface file)
+        input: PathBuf,
+        /// STEP (.step, .stp) or IGES (.igs, .iges) file to write
+        #[arg(short = 'o', long = "output")]
+        output: PathBuf,
+    },
+    /// Runs the main job on the bundled X-node model: fairs it, writes the faired model, the
+    /// report and the pictures into a folder and prints a readable summary.
+    Demo {
+        /// Folder of the results (made if missing; its parent must exist)
+        #[arg(long, default_value = "hier-fair-demo")]
+        out: PathBuf,
+        /// no progress bar
+        #[arg(long)]
+        quiet: bool,
+    },
+    /// Evaluates a surface: point, derivatives, normal and curvatures, as JSON on stdout.
+    Eval(EvalArgs),
     /// Discrete thin-plate fairing of a triangle mesh region (boundary and K rings fixed).
     FairMesh {
         /// OBJ mesh (polygons are split into triangles)
@@ -59,83 +136,6 @@ enum Command {
         #[arg(long)]
         fit: Option<PathBuf>,
     },
-    /// Reads a STEP (.step, .stp: elementary and B-spline faces) or IGES file (surfaces 128, 120 and planes 108, trimmed by 144) into a model and finds its hierarchy (links, targets, roles) from the geometry
-    Import {
-        /// STEP or IGES file
-        input: PathBuf,
-        /// Model JSON to write
-        #[arg(short = 'o', long = "output")]
-        output: PathBuf,
-        /// Prints every decision of the hierarchy (which side lies on which surface, at what distance and angle, why each role)
-        #[arg(long)]
-        explain: bool,
-    },
-    /// Finds the links and roles of a model from its geometry, keeping the links it has and its roles when it gives any
-    Build {
-        /// Model JSON
-        input: PathBuf,
-        /// Model JSON to write (never the input)
-        #[arg(short = 'o', long = "output")]
-        output: PathBuf,
-        /// Prints every decision (which side lies on which surface, at what distance and angle, why each role)
-        #[arg(long)]
-        explain: bool,
-    },
-    /// Writes the surfaces of a model as IGES 5.3 (entity 128).
-    Export {
-        /// Model JSON (or a bare surface file)
-        input: PathBuf,
-        /// IGES file to write
-        #[arg(short = 'o', long = "output")]
-        output: PathBuf,
-    },
-    /// Measures the continuity of every link of a model (gap, normal angle, curvature).
-    Check {
-        /// Model file (or a bare surface file: then there are no links).
-        model: PathBuf,
-        /// Samples per link, both ends included.
-        #[arg(long, default_value_t = 101)]
-        samples: usize,
-        /// Prints JSON (cli-contract.md) instead of a table.
-        #[arg(long)]
-        json: bool,
-        /// Exits with code 1 when a link exceeds the preset (up to its target continuity).
-        #[arg(long, value_parser = ["class-a", "standard", "exchange"])]
-        fail_above: Option<String>,
-        /// Also measures every surface's fairness: peak curvature, mean-curvature spread, the
-        /// curvature extrema across its linked sides, thin-plate energy, net and degree.
-        #[arg(long)]
-        fairness: bool,
-    },
-    /// Sets continuity only (no fairing), slave by slave in hierarchy order.
-    Connect {
-        /// Model file.
-        model: PathBuf,
-        /// Output model file (written atomically; never the input).
-        #[arg(short = 'o', long = "output")]
-        output: PathBuf,
-        /// Highest continuity set (G0, G1 or G2; default: each link's own).
-        #[arg(long, value_parser = parse_keep)]
-        target: Option<nurbs_core::Continuity>,
-        /// Report JSON with before/after continuity per link.
-        #[arg(long)]
-        report: Option<PathBuf>,
-    },
-    /// Runs the main job on the bundled X-node model: fairs it, writes the faired model, the
-    /// report and the pictures into a folder and prints a readable summary.
-    Demo {
-        /// Folder of the results (made if missing; its parent must exist)
-        #[arg(long, default_value = "hier-fair-demo")]
-        out: PathBuf,
-        /// no progress bar
-        #[arg(long)]
-        quiet: bool,
-    },
-    /// Evaluates a surface: point, derivatives, normal and curvatures, as JSON on stdout.
-    Eval(EvalArgs),
-    /// Hierarchical fairing of a model (masters first, continuity set then kept, [SV] §3.2), or
-    /// fairing of a bare surface file (boundaries and shared edges kept).
-    Fair(FairArgs),
 }
 
 fn run(cli: Cli) -> Result<()> {
@@ -534,9 +534,9 @@ struct EvalArgs {
 /// Arguments of `hier-fair fair`.
 #[derive(clap::Args)]
 struct FairArgs {
-    /// Model or bare surface file (JSON, model-format.md)
+    /// Model or bare surface file (JSON, model-format.md), or a STEP or IGES file (imported as by `import`)
     input: PathBuf,
-    /// Output file (written atomically; never the input or another output)
+    /// Output file (written atomically; never the input or another output): .json, or for a model .step, .stp, .igs, .iges
     #[arg(short = 'o', long = "output")]
     output: PathBuf,
     /// the method for every surface: energy (default), energy-global, energy-bezier, krr,
@@ -554,10 +554,10 @@ struct FairArgs {
     /// energy-bezier, krr); default: each method's own
     #[arg(long)]
     iterations: Option<usize>,
-    /// bare surfaces: the frame kept on all four sides
+    /// bare surfaces: the frame kept on all four sides (G0, G1 or G2)
     #[arg(long, value_parser = parse_keep, default_value = "G0")]
     keep: nurbs_core::Continuity,
-    /// models: the highest continuity set on any link (a cap on each link's own)
+    /// models: the highest continuity set on any link, G0, G1 or G2 (a cap on each link's own)
     #[arg(long, value_parser = parse_keep)]
     target: Option<nurbs_core::Continuity>,
     /// report JSON (per surface, per link, problems; cli-contract.md)

@@ -202,3 +202,37 @@ fn check_and_connect_end_with_a_verdict() {
         "4 of 4 links met (G0 ≤ 0.001, G1 ≤ 0.01°, G2 ≤ 0.005 relative, each up to its target)\n"
     ));
 }
+
+/// `--help` lists the subcommands in the order of the workflow, and the continuity options
+/// their values.
+#[test]
+fn help_follows_the_workflow_and_lists_values() {
+    let o = run(&["--help"]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    let order = [
+        "import",
+        "build",
+        "check",
+        "connect",
+        "fair",
+        "export",
+        "demo",
+        "eval",
+        "fair-mesh",
+        "label",
+    ];
+    let at: Vec<usize> = order
+        .iter()
+        .map(|c| {
+            text.find(&format!("\n  {c} "))
+                .unwrap_or_else(|| panic!("{c} not in {text}"))
+        })
+        .collect();
+    assert!(at.windows(2).all(|w| w[0] < w[1]), "{text}");
+    let o = run(&["fair", "--help"]);
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert!(text.contains("G0, G1 or G2"), "{text}");
+    assert!(text.contains("STEP or IGES"), "{text}");
+    let o = run(&["export", "--help"]);
+    assert!(String::from_utf8_lossy(&o.stdout).contains("STEP (AP214"));
+}

@@ -1,6 +1,6 @@
 //! The one-hump section as a candidate of the dry run ([`g_continuity::section`]): a surface
-//! whose G2 sides lie across one direction (a fillet between two masters, or hanging on one)
-//! also tries its section replaced by a ramped profile, with ramps as wide as the lead-in's
+//! that is no other surface's master and whose G2 sides lie across one direction (a fillet
+//! between two masters, or hanging on one) also tries its section replaced by a ramped profile, with ramps as wide as the lead-in's
 //! deviation budget allows; the candidate is taken when it meets every link the lead-in trial
 //! met within that budget and is fairer by the figures of [`crate::fairness`].
 
