@@ -63,7 +63,8 @@ impl Job<'_> {
 
     /// `regular` (the lead-in search's pick), or the one-hump section's dry run where that meets
     /// its links within `budget` and is fairer (module docs). Any error of the section's
-    /// construction only means the surface has no such section: `regular` stays.
+    /// construction or of its continuity steps only means the surface has no such candidate:
+    /// `regular` stays.
     pub(super) fn with_section(
         &self,
         links: &[SideLink<'_>],
@@ -88,8 +89,10 @@ impl Job<'_> {
                 break;
             };
             let d_section = max_deviation(original, &section, self.params.deviation_grid);
+            // a section whose continuity steps fail (a singular system, a master it cannot
+            // follow) is no candidate: the lead-in's result stays, the surface is not lost
             let dry = if d_section <= budget {
-                Some(self.section_dry_run(&section, links, f)?)
+                self.section_dry_run(&section, links, f).ok()
             } else {
                 None
             };
