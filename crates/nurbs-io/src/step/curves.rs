@@ -116,7 +116,7 @@ fn nested_points(m: &Model, cid: u64, angle: f64, depth: usize) -> R<Vec<Point3>
 }
 
 /// A circle or ellipse: centre, axes, radii, radians per parameter unit.
-struct Conic {
+pub(super) struct Conic {
     o: Point3,
     x: nurbs_core::Vector3,
     y: nurbs_core::Vector3,
@@ -126,7 +126,7 @@ struct Conic {
 
 impl Conic {
     /// CIRCLE or ELLIPSE `cid` (`kind`).
-    fn read(m: &Model, cid: u64, kind: &str, angle: f64) -> R<Conic> {
+    pub(super) fn read(m: &Model, cid: u64, kind: &str, angle: f64) -> R<Conic> {
         let c = m.part(cid, kind)?;
         let (o, x, y, _) = m.placement(m.reference(cid, c.get(1))?)?;
         let r1 = m.num(cid, c.get(2))?;
@@ -144,12 +144,12 @@ impl Conic {
         })
     }
     /// The point at parameter `t`.
-    fn at(&self, t: f64) -> Point3 {
+    pub(super) fn at(&self, t: f64) -> Point3 {
         let a = t * self.angle;
         self.o + self.x * (self.r.0 * a.cos()) + self.y * (self.r.1 * a.sin())
     }
     /// The parameter of a point on it.
-    fn param(&self, q: &Point3) -> f64 {
+    pub(super) fn param(&self, q: &Point3) -> f64 {
         let d = q - self.o;
         (d.dot(&self.y) / self.r.1).atan2(d.dot(&self.x) / self.r.0) / self.angle
     }

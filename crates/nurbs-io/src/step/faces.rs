@@ -184,31 +184,18 @@ fn edge_points(m: &Model, eid: u64) -> R<Vec<Point3>> {
     let n = EDGE_SAMPLES;
     match kind {
         "CIRCLE" | "ELLIPSE" => {
-            let c = m.part(cid, kind)?;
-            let (o, x, y, _) = m.placement(m.reference(cid, c.get(1))?)?;
-            let r1 = m.num(cid, c.get(2))?;
-            let r2 = if kind == "ELLIPSE" {
-                m.num(cid, c.get(3))?
-            } else {
-                r1
-            };
-            let angle = |p: &Point3| {
-                let d = p - o;
-                (d.dot(&y) / r2).atan2(d.dot(&x) / r1)
-            };
+            // parameters in radians (angle unit 1): the edge's points, not the curve's unit
+            let conic = super::curves::Conic::read(m, cid, kind, 1.0)?;
             // the curve runs counterclockwise; the edge from a to b along it, or against it
             let (s, e) = if same { (a, b) } else { (b, a) };
-            let t0 = angle(&s);
-            let mut t1 = angle(&e);
+            let t0 = conic.param(&s);
+            let mut t1 = conic.param(&e);
             while t1 <= t0 + 1e-12 {
                 t1 += std::f64::consts::TAU;
             }
             let n = n.max(((t1 - t0) / ARC_STEP).ceil() as usize + 1);
             let mut between: Vec<Point3> = (1..n - 1)
-                .map(|k| {
-                    let t = t0 + (t1 - t0) * k as f64 / (n - 1) as f64;
-                    o + x * (r1 * t.cos()) + y * (r2 * t.sin())
-                })
+                .map(|k| conic.at(t0 + (t1 - t0) * k as f64 / (n - 1) as f64))
                 .collect();
             if !same {
                 between.reverse();
