@@ -44,6 +44,7 @@ use crate::measure::{LinkMeasure, MeasureParams};
 pub use crate::params::MAX_CONTROL_POINTS;
 
 mod connect;
+mod pole;
 mod prepare;
 mod refine;
 mod set;

@@ -159,3 +159,53 @@ fn torus_fillets_get_one_hump_per_role() {
         }
     }
 }
+
+/// box12_r5's sphere corners are vertex blends with a pole (a side collapsed to a point) where
+/// two fillets meet. The fillets reach the plane with G2, so they are flat at that point, and
+/// the corner's sides are set to their (zero) curvature across; the pole step sets the pole's
+/// own ring to the same curvature, so that every ray through the pole has it. Before, the ring
+/// kept the sphere's 1/R = 0.2 /mm between the sides set to 0, and the corner peaked 8.5× its
+/// input's next to the pole (now 6×; the rest is the sides' lead-ins, squeezed by the pole).
+#[test]
+fn sphere_corner_poles_take_their_masters_curvature() {
+    let (_, out, report) = per_role("occt_box12_r5");
+    assert!(report.links.iter().all(|l| l.met));
+    let mut poles = 0;
+    for ms in out.surfaces.iter().filter(|s| s.name.ends_with("_sphere")) {
+        let s = &ms.surface;
+        let Some(side) = nurbs_core::Side::ALL
+            .into_iter()
+            .find(|&side| g_continuity::measure::is_collapsed(s, side))
+        else {
+            continue;
+        };
+        poles += 1;
+        // the pole's normal from its tangent row (the fan of row 1 around the pole point)
+        let (nu, nv) = (s.num_u(), s.num_v());
+        let at = |(i, j): (usize, usize)| s.control_points()[s.index(i, j)];
+        let p = at(side.row(0, nu, nv)[0]);
+        let ring: Vec<_> = side
+            .row(1, nu, nv)
+            .into_iter()
+            .map(|ij| at(ij) - p)
+            .collect();
+        let fan: nurbs_core::Vector3 = ring.windows(2).map(|w| w[0].cross(&w[1])).sum();
+        let n = fan.normalize();
+        let (t0, t1) = side.along_domain(s);
+        for k in 0..=20 {
+            let (u, v) = side.params(s, t0 + (t1 - t0) * k as f64 / 20.0);
+            let d = s.derivatives(u, v);
+            let (a, b) = match side.cross_direction() {
+                nurbs_core::Direction::U => (d.du, d.duu),
+                nurbs_core::Direction::V => (d.dv, d.dvv),
+            };
+            let kappa = n.dot(&b) / a.norm_squared();
+            assert!(
+                kappa.abs() < 0.01 * 0.2,
+                "{}: ray {k} through the pole has curvature {kappa}",
+                ms.name
+            );
+        }
+    }
+    assert_eq!(poles, 8, "box12_r5 has eight sphere corners with a pole");
+}

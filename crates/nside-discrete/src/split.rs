@@ -416,11 +416,19 @@ fn set_last(c: &mut BSplineCurve, p: Point3) {
     pts[last] = p;
 }
 
-/// Interior knots (with multiplicity) of the union of two cubic knot vectors on [0, 1].
+/// Two knots on [0, 1] closer than this are one knot in [`merge_interior`]: the halves of
+/// two sides are mapped to [0, 1] affinely, and a knot both carry (a side's midpoint knot, one
+/// reversed) comes out of the two maps a rounding apart (0.4 and 0.3999999999999999); kept
+/// apart they would make a span of 1e-16, a double knot in effect, which a later knot removal
+/// cannot take out.
+const SAME_KNOT: f64 = 1e-10;
+
+/// Interior knots (with multiplicity) of the union of two cubic knot vectors on [0, 1]; knots
+/// within [`SAME_KNOT`] of one another count as one (the first vector's value is kept).
 fn merge_interior(a: &KnotVector, b: &KnotVector) -> Vec<f64> {
     let mut all: Vec<(f64, usize)> = a.interior_knots();
     for (t, m) in b.interior_knots() {
-        match all.iter_mut().find(|(s, _)| *s == t) {
+        match all.iter_mut().find(|(s, _)| (*s - t).abs() <= SAME_KNOT) {
             Some(entry) => entry.1 = entry.1.max(m),
             None => all.push((t, m)),
         }
@@ -652,6 +660,18 @@ mod tests {
         let a = KnotVector::new(3, vec![0., 0., 0., 0., 0.5, 0.5, 1., 1., 1., 1.]).unwrap();
         let b = KnotVector::new(3, vec![0., 0., 0., 0., 0.25, 0.5, 1., 1., 1., 1.]).unwrap();
         assert_eq!(merge_interior(&a, &b), vec![0.25, 0.5, 0.5]);
+    }
+
+    /// A knot that two side halves carry a rounding apart is one knot, not a 1e-16 span.
+    #[test]
+    fn merge_takes_knots_a_rounding_apart_as_one() {
+        let a = KnotVector::new(3, vec![0., 0., 0., 0., 0.4, 0.8, 1., 1., 1., 1.]).unwrap();
+        let b = KnotVector::new(
+            3,
+            vec![0., 0., 0., 0., 0.3999999999999999, 0.8, 1., 1., 1., 1.],
+        )
+        .unwrap();
+        assert_eq!(merge_interior(&a, &b), vec![0.4, 0.8]);
     }
 
     #[test]

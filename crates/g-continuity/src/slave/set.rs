@@ -229,6 +229,9 @@ fn solve_round(
             // the C0 rows solved again inside a G2 step carry the corner curvatures the G2
             // sides ask of them ([`crate::rows::solve_row_with`])
             let corners = step == Continuity::G2 && level == Continuity::G0;
+            if level == Continuity::G2 {
+                moved = moved.max(super::pole::set_pole_curvature(s, links, params));
+            }
             let o = step_all_with(s, links, level, params, corners)?;
             report.twists_averaged = report.twists_averaged.max(o.twists);
             report.g2_slack = report.g2_slack.min(o.g2_slack);

@@ -55,9 +55,19 @@ pub fn stage_mask(surface: &BSplineSurface, links: &[SideLink], level: Continuit
         mask.fix_frame(side, frame);
         // a pole: its point and the row next to it (the tangent plane there) stay, as in the
         // continuity steps — a fairing that moves them splits the pole or turns its normal, and
-        // the set steps, which keep them, cannot bring the sides that end there back
+        // the set steps, which keep them, cannot bring the sides that end there back. Where a
+        // side kept at G2 ends there, row 2 (the curvature at the pole, which the G2 step sets
+        // to the masters') stays too: next to a pole a micrometre of it is a curvature of
+        // tenths per millimetre
         if g_continuity::measure::is_collapsed(surface, side) {
-            mask.fix_frame(side, frame.max(nurbs_core::Frame::Tangential));
+            let (a, b) = side.neighbours();
+            let g2 = fixed_rows(links, a, level).max(fixed_rows(links, b, level)) >= 3;
+            let pole = if g2 {
+                nurbs_core::Frame::Curvature
+            } else {
+                nurbs_core::Frame::Tangential
+            };
+            mask.fix_frame(side, frame.max(pole));
         }
     }
     // a degenerate corner's 2 × 2 block carries its normal; the set steps keep it, so does fairing
