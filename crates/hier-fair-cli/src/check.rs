@@ -46,6 +46,11 @@ pub fn run_with(
         })?),
     };
     let model = Model::from_json(model_text).map_err(|e| anyhow!("{source}: {e}"))?;
+    // a preset's gap is millimetres; the model's measures are in its unit
+    let preset = preset.map(|p| Preset {
+        g0: p.g0 / model.mm_per_unit(),
+        ..p
+    });
     let params = MeasureParams {
         samples,
         ..MeasureParams::default()
@@ -227,11 +232,21 @@ fn table(
 }
 
 /// "N of M links met (G0 ≤ …, G1 ≤ …°, G2 ≤ … relative" — the start of every verdict line
-/// (`check`, `connect`, `fair`), the parenthesis left open for what follows.
-pub fn links_met(met: usize, total: usize, t: &hier_fair::ModelTolerances) -> String {
+/// (`check`, `connect`, `fair`), the parenthesis left open for what follows; the gap in the
+/// model's unit, named where the model is not in millimetres.
+pub fn links_met(met: usize, total: usize, model: &Model) -> String {
+    let t = &model.tolerances;
+    let unit = match model.units.as_deref() {
+        Some(u) if model.mm_per_unit() != 1.0 => format!(" {u}"),
+        _ => String::new(),
+    };
+    let g0 = match format!("{}", t.g0) {
+        short if short.len() <= 8 => short,
+        _ => format!("{:.3e}", t.g0),
+    };
     format!(
-        "{met} of {total} links met (G0 ≤ {}, G1 ≤ {}°, G2 ≤ {} relative",
-        t.g0, t.g1_deg, t.g2_rel
+        "{met} of {total} links met (G0 ≤ {g0}{unit}, G1 ≤ {}°, G2 ≤ {} relative",
+        t.g1_deg, t.g2_rel
     )
 }
 
@@ -242,7 +257,11 @@ fn verdict(model: &Model, checks: &[LinkCheck]) -> String {
     let untouched = checks.iter().filter(|c| !c.touches(model)).count();
     format!(
         "verdict: {}, each up to its target){}\n",
-        links_met(checks.iter().filter(|c| met(c)).count(), checks.len(), t),
+        links_met(
+            checks.iter().filter(|c| met(c)).count(),
+            checks.len(),
+            model
+        ),
         if untouched > 0 {
             format!("; {untouched} do not touch their masters")
         } else {

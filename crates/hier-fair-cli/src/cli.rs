@@ -73,7 +73,7 @@ enum Command {
         #[arg(short = 'o', long = "output")]
         output: PathBuf,
         /// Highest continuity set (G0, G1 or G2; default: each link's own).
-        #[arg(long, value_parser = parse_keep)]
+        #[arg(long, value_parser = crate::values::parse_keep)]
         target: Option<nurbs_core::Continuity>,
         /// Report JSON with before/after continuity per link.
         #[arg(long)]
@@ -432,8 +432,7 @@ fn fair_command(args: FairArgs) -> Result<()> {
             images.as_deref(),
             &options,
         )?;
-        print!("{}", outcome.0);
-        exit_if_failed(&outcome.1);
+        crate::pipeline::finish(outcome, quiet);
         return Ok(());
     }
     let model_options = [
@@ -468,20 +467,6 @@ fn fair_surfaces(
     crate::kind::refuse_model_options(input, model_options)?;
     print!("{}", crate::fair::run(input, output, report, options)?);
     Ok(())
-}
-
-/// Exits with 1 after naming the first surface that could not be faired (the partial result
-/// and report are written already).
-fn exit_if_failed(failed: &[String]) {
-    if let Some(first) = failed.first() {
-        use std::io::Write;
-        let _ = std::io::stdout().flush();
-        eprintln!(
-            "error: {} surface(s) could not be faired, the first {first}; the partial result and report were written",
-            failed.len()
-        );
-        std::process::exit(1);
-    }
 }
 
 /// The registered method named `name` ([`crate::methods`]), checked against `--iterations`
@@ -543,22 +528,24 @@ struct FairArgs {
     /// curvature, greiner, or one the program registered (`cli::main_with`)
     #[arg(long)]
     method: Option<String>,
-    /// deviation tolerance in model units (default: the model's; 0.02 for a bare surface)
-    #[arg(long, allow_negative_numbers = true)]
+    /// deviation tolerance, a length in millimetres or with a unit (0.05, 0.002in, 5e-5m),
+    /// converted to the model's unit (default: the model's; 0.02 mm for a bare surface)
+    #[arg(long, allow_negative_numbers = true, value_parser = crate::values::parse_length)]
     tolerance: Option<f64>,
-    /// models: deviation tolerance of one role, ROLE=MM (primary, connecting, corner;
-    /// repeatable); a surface's own "deviation" in the model still wins
-    #[arg(long = "tolerance-role", value_parser = parse_role_tolerance)]
+    /// models: deviation tolerance of one role, ROLE=LENGTH in millimetres or with a unit
+    /// (primary, connecting, corner; repeatable); a surface's own "deviation" in the model
+    /// still wins
+    #[arg(long = "tolerance-role", value_parser = crate::values::parse_role_tolerance)]
     tolerance_role: Vec<(hier_fair::Role, f64)>,
     /// iteration limit of the iterative methods (energy, energy-global polish,
     /// energy-bezier, krr); default: each method's own
     #[arg(long)]
     iterations: Option<usize>,
     /// bare surfaces: the frame kept on all four sides (G0, G1 or G2)
-    #[arg(long, value_parser = parse_keep, default_value = "G0")]
+    #[arg(long, value_parser = crate::values::parse_keep, default_value = "G0")]
     keep: nurbs_core::Continuity,
     /// models: the highest continuity set on any link, G0, G1 or G2 (a cap on each link's own)
-    #[arg(long, value_parser = parse_keep)]
+    #[arg(long, value_parser = crate::values::parse_keep)]
     target: Option<nurbs_core::Continuity>,
     /// report JSON (per surface, per link, problems; cli-contract.md)
     #[arg(long)]
@@ -578,35 +565,6 @@ struct FairArgs {
     /// whose faired peak curvature is beyond 1.6× its input's keeps the fairer setting)
     #[arg(long)]
     keep_faired: bool,
-}
-
-/// `ROLE=MM` of `--tolerance-role`.
-fn parse_role_tolerance(s: &str) -> Result<(hier_fair::Role, f64), String> {
-    let (role, mm) = s
-        .split_once('=')
-        .ok_or_else(|| format!("expected ROLE=MM (e.g. connecting=0.5), got {s:?}"))?;
-    let role = hier_fair::Role::parse(role.trim())
-        .ok_or_else(|| format!("unknown role {role:?}: expected primary, connecting or corner"))?;
-    let mm: f64 = mm
-        .trim()
-        .parse()
-        .map_err(|_| format!("{mm:?} is not a length"))?;
-    if !(mm.is_finite() && mm > 0.0) {
-        return Err(format!(
-            "the tolerance of {} must be a finite length > 0, got {mm}",
-            role.name()
-        ));
-    }
-    Ok((role, mm))
-}
-
-fn parse_keep(text: &str) -> Result<nurbs_core::Continuity, String> {
-    match text.to_ascii_uppercase().as_str() {
-        "G0" => Ok(nurbs_core::Continuity::G0),
-        "G1" => Ok(nurbs_core::Continuity::G1),
-        "G2" => Ok(nurbs_core::Continuity::G2),
-        _ => Err(format!("expected G0, G1 or G2, got {text}")),
-    }
 }
 
 /// The error and its causes on one line, each cause once: error types that print their source

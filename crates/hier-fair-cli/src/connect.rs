@@ -38,7 +38,7 @@ pub fn run(model_text: &str, source: &str, target: Option<Continuity>) -> Result
         .count();
     let verdict = format!(
         "verdict: {}, each up to its target)",
-        crate::check::links_met(met, report.links.len(), t)
+        crate::check::links_met(met, report.links.len(), &model)
     );
     // `--target` caps each link's own continuity; say so where it asks for more than any link
     if let (Some(t), Some(top)) = (target, model.links.iter().map(|l| l.continuity).max())

@@ -53,7 +53,7 @@ pub fn model_from_step(input: &Path) -> Result<(Model, String, hier_fair::BuildL
             .iter()
             .map(|f| (f.name.clone(), f.id.to_string(), f.surface.clone())),
     );
-    model.units = Some(file.units.clone());
+    model.set_units(&file.units);
     let tol = hier_fair::trim::TRIM_SHARE * model.tolerances.g0;
     for (m, f) in model.surfaces.iter_mut().zip(&file.faces) {
         m.trim = f
@@ -131,7 +131,7 @@ pub fn model_from_iges(input: &Path) -> Result<(Model, String, hier_fair::BuildL
             .iter()
             .map(|s| (s.name.clone(), format!("de{}", s.de), s.surface.clone())),
     );
-    model.units = Some(file.units.to_lowercase());
+    model.set_units(&nurbs_io::units::iges_unit(file.unit_flag, &file.units));
     let tol = hier_fair::trim::TRIM_SHARE * model.tolerances.g0;
     for (m, s) in model.surfaces.iter_mut().zip(&file.surfaces) {
         m.trim = s
@@ -218,20 +218,6 @@ pub fn build(input: &Path, output: &Path, explain: bool) -> Result<String> {
     Ok(out)
 }
 
-/// IGES unit flag and name for a model's unit text.
-fn unit(units: Option<&str>) -> (i64, String) {
-    match units.map(|u| u.trim().to_lowercase()).as_deref() {
-        None | Some("") | Some("mm") | Some("unknown") => (2, "MM".into()),
-        Some("in") | Some("inch") => (1, "IN".into()),
-        Some("ft") => (4, "FT".into()),
-        Some("m") => (6, "M".into()),
-        Some("km") => (7, "KM".into()),
-        Some("um") => (9, "UM".into()),
-        Some("cm") => (10, "CM".into()),
-        Some(other) => (3, other.to_uppercase()),
-    }
-}
-
 /// `YYYYMMDD.HHNNSS` of now (UTC), as the Global section wants it.
 fn iges_date_now() -> String {
     let secs = std::time::SystemTime::now()
@@ -293,10 +279,19 @@ pub fn cad_text(model: &Model, output: &Path) -> Result<String> {
         let name = output
             .file_name()
             .map_or_else(|| "model.step".into(), |n| n.to_string_lossy().into_owned());
-        nurbs_io::write_step_faces(&faces(model), model.units.as_deref().unwrap_or("mm"), &name)
+        nurbs_io::write_step_faces(&faces(model), written_unit(model), &name)
             .map_err(|e| anyhow!("{e}"))
     } else {
         iges_text(model, output)
+    }
+}
+
+/// The unit a model's coordinates are written in: its own where [`nurbs_io::units`] knows it,
+/// else millimetres, as which the model was read ([`Model::mm_per_unit`]).
+fn written_unit(model: &Model) -> &str {
+    match model.units.as_deref() {
+        Some(u) if nurbs_io::units::mm_per_unit(u).is_some() => u,
+        _ => "mm",
     }
 }
 
@@ -317,7 +312,10 @@ fn faces(model: &Model) -> Vec<nurbs_io::Face<'_>> {
 /// The surfaces of `model` as the text of an IGES 5.3 file named `output` (entity 128, a
 /// trimmed surface 144 over it where the surface has trim loops).
 pub fn iges_text(model: &Model, output: &Path) -> Result<String> {
-    let (unit_flag, units) = unit(model.units.as_deref());
+    let u = written_unit(model);
+    let (unit_flag, units) = nurbs_io::units::iges_flag(u).ok_or_else(|| {
+        anyhow!("the model's unit {u:?} has no IGES unit flag ([IGES] Global parameter 14): export it to STEP")
+    })?;
     let params = IgesWriteParams {
         unit_flag,
         units,

@@ -29,6 +29,7 @@ pub mod label;
 pub mod mesh;
 pub mod pipeline;
 pub mod summary;
+pub mod values;
 
 /// The fairing methods `--method` names: the built-in ones unless [`cli::main_with`] was given
 /// others.

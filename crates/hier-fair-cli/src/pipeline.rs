@@ -22,9 +22,10 @@ pub struct ModelOptions {
     /// one method for every role, by its name in the program's registry ([`crate::methods`];
     /// `None`: the framework's default per role)
     pub method: Option<&'static str>,
-    /// deviation tolerance (`None`: the model's)
+    /// deviation tolerance in millimetres, whatever the model's unit (`None`: the model's)
     pub tolerance: Option<f64>,
-    /// deviation tolerance per role (primary, connecting, corner), over the model's
+    /// deviation tolerance per role (primary, connecting, corner) in millimetres, over the
+    /// model's
     pub role_tolerance: [Option<f64>; 3],
     /// iteration limit of the methods
     pub iterations: Option<usize>,
@@ -63,10 +64,12 @@ pub fn fair(model: &Model, options: &ModelOptions) -> Result<(Model, FairModelRe
         Some(m) => crate::methods().build_roles([m; 3], options.iterations)?,
         None => hier_fair::BuiltMethods::new(&RoleMethods::default(), options.iterations),
     };
+    // the lengths a user gives are millimetres; the framework takes the model's unit
+    let in_units = |mm: f64| mm / model.mm_per_unit();
     let params = FairParams {
         target: options.target,
-        tolerance: options.tolerance,
-        role_tolerance: options.role_tolerance,
+        tolerance: options.tolerance.map(in_units),
+        role_tolerance: options.role_tolerance.map(|t| t.map(in_units)),
         verify_unmet: !options.no_verify,
         prefer_fairer: !options.keep_faired,
         ..FairParams::default()
@@ -440,6 +443,8 @@ pub fn images_legend() -> String {
 /// `fair` on a model: reads nothing (the text is given), writes the faired model atomically (never
 /// over the input), the report and pictures when asked; returns the summary and whether a
 /// surface failed (the partial result and report are written all the same).
+/// Returns the text to print and what failed: surfaces that could not be faired, and links
+/// left unmet (the command then exits 1, its outputs written).
 pub fn run_fair(
     input: &Path,
     text: &str,
@@ -447,7 +452,7 @@ pub fn run_fair(
     report_path: Option<&Path>,
     images: Option<&Path>,
     options: &ModelOptions,
-) -> Result<(String, Vec<String>)> {
+) -> Result<FairOutcome> {
     files::refuse_overwrite(output, &[input])?;
     if let Some(r) = report_path {
         files::refuse_overwrite(r, &[input, output])?;
@@ -473,25 +478,44 @@ pub fn run_fair(
     if let Some(dir) = images {
         write_images(dir, &model, &faired, &report)?;
     }
-    let failures = report
+    let failed = report
         .problems
         .iter()
         .filter(|p| p.kind == hier_fair::ProblemKind::Failed)
         .map(|p| format!("{}: {}", p.surface, p.message))
         .collect();
+    let mut unmet: Vec<String> = report
+        .problems
+        .iter()
+        .filter(|p| p.kind == hier_fair::ProblemKind::Unmet)
+        .filter_map(|p| p.link.clone())
+        .collect();
+    unmet.sort_unstable();
+    unmet.dedup();
     let mut text = summary(&report, &format!("hier-fair fair {}", input.display()));
-    text += &verdict(&report, &model.tolerances, output);
-    Ok((text, failures))
+    text += &verdict(&report, &model, output);
+    Ok(FairOutcome {
+        text,
+        failed,
+        unmet,
+    })
+}
+
+/// What `fair` on a model did, for the command to print and to exit by.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FairOutcome {
+    /// the summary and the verdict line
+    pub text: String,
+    /// the surfaces that could not be faired, each with why
+    pub failed: Vec<String>,
+    /// the links left unmet that are no named conflict
+    pub unmet: Vec<String>,
 }
 
 /// The last line of `fair` on a model: links met against the model's tolerances, the links
 /// named as conflicts or unmet, the surfaces within their deviation, the fair ones, and the
 /// file written — what a newcomer reads to know whether the run succeeded.
-pub fn verdict(
-    report: &FairModelReport,
-    tolerances: &hier_fair::ModelTolerances,
-    output: &Path,
-) -> String {
+pub fn verdict(report: &FairModelReport, model: &Model, output: &Path) -> String {
     let met = report.links.iter().filter(|l| l.met).count();
     // met links whose G2 figure across the boundary (n × T, what a checker reads) is above the
     // tolerance that the framework's parametric figure meets (g-continuity's measure module)
@@ -504,7 +528,7 @@ pub fn verdict(
                 && l.after
                     .as_ref()
                     .and_then(|m| m.g2_rel_across)
-                    .is_some_and(|r| r > tolerances.g2_rel)
+                    .is_some_and(|r| r > model.tolerances.g2_rel)
         })
         .count();
     let count = |kind: hier_fair::ProblemKind| {
@@ -530,7 +554,7 @@ pub fn verdict(
         .count();
     format!(
         "verdict: {}{}), {} conflicts, {} unmet; {within} of {} surfaces within their deviation; {fair} of {} fair against their input; wrote {}\n",
-        crate::check::links_met(met, report.links.len(), tolerances),
+        crate::check::links_met(met, report.links.len(), model),
         if across > 0 {
             format!("; {across} of them above it across the boundary, n × T")
         } else {
@@ -542,4 +566,49 @@ pub fn verdict(
         report.surfaces.len(),
         output.display()
     )
+}
+
+/// Exits with 1 after naming the first surface that could not be faired and the first link
+/// left unmet (the result and report are written already): what a script reads to know that
+/// the run did not reach its targets.
+pub fn exit_if_failed(failed: &[String], unmet: &[String]) {
+    let mut parts = Vec::new();
+    if let Some(first) = failed.first() {
+        parts.push(format!(
+            "{} surface(s) could not be faired, the first {first}",
+            failed.len()
+        ));
+    }
+    if let Some(first) = unmet.first() {
+        parts.push(format!(
+            "{} link(s) unmet and no named conflict, the first {first}",
+            unmet.len()
+        ));
+    }
+    if parts.is_empty() {
+        return;
+    }
+    use std::io::Write;
+    let _ = std::io::stdout().flush();
+    eprintln!(
+        "error: {}; the result and report were written",
+        parts.join("; ")
+    );
+    std::process::exit(1);
+}
+
+/// Prints what `fair` on a model did — with `quiet` its verdict line alone (the report file
+/// holds the rest) — and exits 1 where it failed ([`exit_if_failed`]).
+pub fn finish(outcome: FairOutcome, quiet: bool) {
+    let text = if quiet {
+        outcome
+            .text
+            .lines()
+            .last()
+            .map_or(String::new(), |l| format!("{l}\n"))
+    } else {
+        outcome.text
+    };
+    print!("{text}");
+    exit_if_failed(&outcome.failed, &outcome.unmet);
 }

@@ -565,7 +565,6 @@ fn fair_ends_with_a_verdict_line() {
         model.to_str().unwrap(),
         "-o",
         out.to_str().unwrap(),
-        "--quiet",
         "--no-verify",
     ]);
     assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
@@ -580,4 +579,18 @@ fn fair_ends_with_a_verdict_line() {
         text.contains("fairness: 4 of 9 surfaces fair against their input; not: fillet_s"),
         "{text}"
     );
+    // --quiet: the verdict line alone
+    let quiet = dir.path().join("q.json");
+    let o = run(&[
+        "fair",
+        model.to_str().unwrap(),
+        "-o",
+        quiet.to_str().unwrap(),
+        "--no-verify",
+        "--quiet",
+    ]);
+    assert_eq!(o.status.code(), Some(0), "{}", stderr(&o));
+    let text = String::from_utf8_lossy(&o.stdout);
+    assert_eq!(text.lines().count(), 1, "{text}");
+    assert!(text.starts_with("verdict: 12 of 12 links met"), "{text}");
 }

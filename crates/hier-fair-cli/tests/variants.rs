@@ -23,17 +23,18 @@ fn variant(name: &str, ext: &str) -> String {
         .to_string()
 }
 
-/// Runs `hier-fair ARGS` and asserts that it succeeds.
+/// Runs `hier-fair ARGS` and asserts that it wrote its outputs: exit 0, or 1 for links left
+/// unmet only (cli-contract.md; the tests read the report for those).
 fn hier_fair(args: &[&str]) {
     let o = Command::new(env!("CARGO_BIN_EXE_hier-fair"))
         .args(args)
         .output()
         .unwrap();
-    assert!(
-        o.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    let err = String::from_utf8_lossy(&o.stderr);
+    let unmet_only = o.status.code() == Some(1)
+        && err.contains("link(s) unmet")
+        && !err.contains("could not be faired");
+    assert!(o.status.success() || unmet_only, "{args:?}: {err}");
 }
 
 /// Fairs `fixtures/occt_variants/NAME.step` per role and returns the report.

@@ -32,7 +32,7 @@ pub struct LinkCheck {
 /// Continuity limits a link must not exceed.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Preset {
-    /// largest gap (model units)
+    /// largest gap (model units; the named presets' in millimetres, which `check` converts)
     pub g0: f64,
     /// largest normal angle (degrees)
     pub g1_deg: f64,
@@ -42,7 +42,7 @@ pub struct Preset {
 
 impl Preset {
     /// The named presets of the CLI contract: class-a 0.001 / 0.01° / 0.02, standard 0.01 / 0.1° /
-    /// 0.05, exchange 0.01 / 0.5° / none.
+    /// 0.05, exchange 0.01 / 0.5° / none; the gaps in millimetres.
     pub fn named(name: &str) -> Option<Preset> {
         match name {
             "class-a" => Some(Preset {

@@ -88,8 +88,9 @@ pub struct CornerGroup {
     pub patches: Vec<usize>,
 }
 
-/// Model tolerances. Defaults: the values of the model-format example (deviation 0.05, g0 0.001,
-/// g1 0.01°, g2 0.005 — Class-A practice).
+/// Model tolerances. Defaults: the values of the model-format example (deviation 0.05 mm, g0
+/// 0.001 mm, g1 0.01°, g2 0.005 — Class-A practice); a model in another unit takes the lengths
+/// in its unit ([`Model::set_units`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ModelTolerances {
     /// largest distance of a faired surface from its original (model units)
@@ -452,8 +453,39 @@ impl Model {
                 t.g2_rel.is_some(),
             ],
         };
+        let mut model = model;
+        model.default_lengths_in_units();
         model.validate()?;
         Ok(model)
+    }
+
+    /// Millimetres per model unit ([`nurbs_io::units::mm_per_unit`] of [`Model::units`]); 1 where
+    /// the unit is not given or not known (the model is then read as millimetres).
+    pub fn mm_per_unit(&self) -> f64 {
+        self.units
+            .as_deref()
+            .and_then(nurbs_io::units::mm_per_unit)
+            .unwrap_or(1.0)
+    }
+
+    /// Sets the model's unit ([`nurbs_io::units`] text); the length tolerances the model was not
+    /// given (deviation, G0 gap) become the defaults, which are millimetres, in that unit.
+    pub fn set_units(&mut self, units: &str) {
+        self.units = Some(units.to_string());
+        self.default_lengths_in_units();
+    }
+
+    /// The deviation and G0 tolerances the model was not given: [`ModelTolerances::default`]'s
+    /// millimetres in the model's unit (a metre model's default deviation 0.05 mm is 5e-5).
+    fn default_lengths_in_units(&mut self) {
+        let d = ModelTolerances::default();
+        let scale = 1.0 / self.mm_per_unit();
+        if !self.tolerances_given[0] {
+            self.tolerances.deviation = d.deviation * scale;
+        }
+        if !self.tolerances_given[1] {
+            self.tolerances.g0 = d.g0 * scale;
+        }
     }
 
     /// The model as JSON (model-format.md); the tolerances are written as given.

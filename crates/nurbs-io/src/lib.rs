@@ -32,6 +32,7 @@ pub mod params;
 pub mod reader;
 pub mod step;
 pub mod structure;
+pub mod units;
 pub mod writer;
 
 pub use bounds::{Face, FaceBounds, face_bounds};

@@ -74,7 +74,7 @@ fn a_bare_surface_in_a_geometric_set_is_read() {
 }
 
 /// Rhino's IGES with a Terminate record that miscounts, and HarmonyWare's with an empty line
-/// after it: each reads its one surface, the first with the miscount named.
+/// after it: each reads its one surface, the first with the miscount named, each in its unit.
 #[test]
 fn iges_with_wrong_counts_or_a_blank_last_line_reads() {
     let bad = read_iges(&fixture("bad_header.igs")).unwrap();
@@ -84,7 +84,10 @@ fn iges_with_wrong_counts_or_a_blank_last_line_reads() {
             .iter()
             .any(|w| w.contains("Terminate record says"))
     );
+    // its unit flag is 0, outside 1–11, with no unit name: read as the flag's default, inches
+    assert_eq!((bad.unit_flag, bad.units.as_str()), (1, "IN"));
     let torus = read_iges(&fixture("OCC26138_Torus.igs")).unwrap();
+    assert_eq!((torus.unit_flag, torus.units.as_str()), (2, "MM"));
     assert_eq!(torus.surfaces.len(), 1);
     assert!(torus.warnings.is_empty(), "{:?}", torus.warnings);
 }

@@ -151,6 +151,31 @@ fn written_step_reads_back_the_same_surfaces() {
     }
 }
 
+/// Every unit a model can be in is written as the LENGTH_UNIT it is ([ISO41]: the metre with its
+/// SI prefix, or a CONVERSION_BASED_UNIT defined in millimetres) and read back as the same unit;
+/// a unit the writer does not know is refused rather than written as millimetres.
+#[test]
+fn units_are_written_and_read_back() {
+    let s = nurbs_core::shapes::cylinder(5.0, 30.0).unwrap();
+    for unit in ["mm", "cm", "m", "km", "um", "in", "ft", "12.5 mm"] {
+        let text = nurbs_io::write_step(&[("c", &s)], unit, "u.step").unwrap();
+        let back = read_step(&text).unwrap();
+        assert_eq!(back.units, unit, "{text}");
+        assert_eq!(
+            nurbs_io::units::mm_per_unit(&back.units),
+            nurbs_io::units::mm_per_unit(unit)
+        );
+    }
+    // a conversion-based unit with a name of its own is read by its size: 'UNKNOWN' as 10 mm
+    let text = nurbs_io::write_step(&[("c", &s)], "12.5 mm", "u.step")
+        .unwrap()
+        .replace("LENGTH_MEASURE(12.5)", "LENGTH_MEASURE(10.)")
+        .replace("'12.5 MM'", "'UNKNOWN'");
+    assert_eq!(read_step(&text).unwrap().units, "cm");
+    let err = nurbs_io::write_step(&[("c", &s)], "parsec", "u.step").unwrap_err();
+    assert!(err.to_string().contains("parsec"), "{err}");
+}
+
 /// SURFACE_OF_LINEAR_EXTRUSION of a rational quarter circle (radius 2) along a vector of
 /// magnitude 1.5, bounded by the circle, its copy 3 higher and two lines: the face is the
 /// exact quarter cylinder of height 3 (v from 0 to 2 in units of the vector).

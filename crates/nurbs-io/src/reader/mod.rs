@@ -216,11 +216,24 @@ fn global_units(global: &Global) -> Result<(f64, i64, String), IgesError> {
             detail: format!("model space scale {scale} must be > 0"),
         });
     }
-    let unit_flag = num_param(11, 1.0) as i64;
-    let mut units = text_param(12);
-    if units.is_empty() {
-        units = unit_name(unit_flag).to_string();
-    }
+    // a flag outside 1–11, or 3 ("refer to parameter 15") without a unit name this reader
+    // knows, is read as the parameter's default, 1 (inches), [IGES] §2.2.4.3.14 — as other
+    // readers do
+    let flag = num_param(11, 1.0) as i64;
+    let name = text_param(12);
+    let known = crate::units::mm_per_unit(&name).is_some();
+    let (unit_flag, units) = match flag {
+        1..=11 if flag != 3 => {
+            let units = if name.is_empty() {
+                unit_name(flag).to_string()
+            } else {
+                name
+            };
+            (flag, units)
+        }
+        _ if known => (3, name),
+        _ => (1, unit_name(1).to_string()),
+    };
     Ok((scale, unit_flag, units))
 }
 

@@ -125,8 +125,11 @@ impl<'a> Model<'a> {
     }
 }
 
-/// The length unit's name: the LENGTH_UNIT of the GLOBAL_UNIT_ASSIGNED_CONTEXT, else the first
-/// LENGTH_UNIT instance (a conversion-based unit refers to an SI one, which must not win).
+/// The length unit as [`crate::units`] text: the LENGTH_UNIT of the GLOBAL_UNIT_ASSIGNED_CONTEXT,
+/// else the first LENGTH_UNIT instance (a conversion-based unit refers to an SI one, which must
+/// not win); a conversion-based unit by the size its LENGTH_MEASURE_WITH_UNIT gives it ([ISO41]:
+/// 'INCH' as 25.4 mm is "in", 'UNKNOWN' as 10 mm "cm", 12.5 mm "12.5 mm"), by its name where
+/// that size cannot be read.
 pub(super) fn units(m: &Model, ids: &[u64]) -> String {
     let assigned: Vec<u64> = ids
         .iter()
@@ -156,19 +159,8 @@ pub(super) fn units(m: &Model, ids: &[u64]) -> String {
         if !inst.parts.iter().any(|(n, _)| n == "LENGTH_UNIT") {
             continue;
         }
-        if let Some((_, p)) = inst.parts.iter().find(|(n, _)| n == "SI_UNIT") {
-            let prefix = match p.first() {
-                Some(Value::Enum(e)) => e.as_str(),
-                _ => "",
-            };
-            return match prefix {
-                "MILLI" => "mm",
-                "CENTI" => "cm",
-                "MICRO" => "um",
-                "KILO" => "km",
-                _ => "m",
-            }
-            .to_string();
+        if let Some(mm) = unit_mm(m, id, 0) {
+            return crate::units::unit_text(mm);
         }
         if let Some((_, p)) = inst
             .parts
@@ -184,4 +176,53 @@ pub(super) fn units(m: &Model, ids: &[u64]) -> String {
         }
     }
     "mm".to_string()
+}
+
+/// Conversion-based units defined by one another, at most this deep (a cycle in a corrupt file
+/// ends here).
+const MAX_UNIT_NESTING: usize = 4;
+
+/// Millimetres per the length unit `id`: an SI_UNIT (metre with its prefix, [ISO41]) or a
+/// CONVERSION_BASED_UNIT, its LENGTH_MEASURE_WITH_UNIT's value times its unit's size.
+fn unit_mm(m: &Model, id: u64, depth: usize) -> Option<f64> {
+    let inst = m.get(id).ok()?;
+    if let Some((_, p)) = inst.parts.iter().find(|(n, _)| n == "SI_UNIT") {
+        if !matches!(p.get(1), Some(Value::Enum(e)) if e == "METRE") {
+            return None;
+        }
+        let prefix = match p.first() {
+            Some(Value::Enum(e)) => e.as_str(),
+            _ => "",
+        };
+        return Some(match prefix {
+            "" => 1e3,
+            "KILO" => 1e6,
+            "HECTO" => 1e5,
+            "DECA" => 1e4,
+            "DECI" => 1e2,
+            "CENTI" => 1e1,
+            "MILLI" => 1.0,
+            "MICRO" => 1e-3,
+            "NANO" => 1e-6,
+            _ => return None,
+        });
+    }
+    if depth >= MAX_UNIT_NESTING {
+        return None;
+    }
+    let (_, p) = inst
+        .parts
+        .iter()
+        .find(|(n, _)| n == "CONVERSION_BASED_UNIT")?;
+    let Some(Value::Ref(measure)) = p.get(1) else {
+        return None;
+    };
+    let mu = m.get(*measure).ok()?;
+    let (_, q) = mu.parts.first()?;
+    let value = m.num(*measure, q.first()).ok()?;
+    let Some(Value::Ref(base)) = q.get(1) else {
+        return None;
+    };
+    let mm = value * unit_mm(m, *base, depth + 1)?;
+    (mm.is_finite() && mm > 0.0).then_some(mm)
 }

@@ -29,7 +29,8 @@ pub fn write_step(
 /// used both ways) — and otherwise by its four boundary curves (exact isocurves, a collapsed side
 /// a vertex loop), the faces in one open shell of a SHELL_BASED_SURFACE_MODEL, with the product
 /// structure a CAD system needs to open it. `units` is the length unit ("mm", "m", "in", …);
-/// `name` the file's name in the header.
+/// `name` the file's name in the header. A unit [`crate::units::mm_per_unit`] does not know is
+/// refused: a file in a wrong unit is a part a thousand times too small.
 pub fn write_step_faces(
     faces: &[Face<'_>],
     units: &str,
@@ -43,28 +44,7 @@ pub fn write_step_faces(
     }
     let shell = w.add(format!("OPEN_SHELL('',({}))", refs(&ids)));
     let model = w.add(format!("SHELL_BASED_SURFACE_MODEL('',(#{shell}))"));
-    let unit = match units {
-        "m" => "( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT($,.METRE.) )".to_string(),
-        "cm" => "( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.CENTI.,.METRE.) )".to_string(),
-        "um" => "( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MICRO.,.METRE.) )".to_string(),
-        "km" => "( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.KILO.,.METRE.) )".to_string(),
-        _ => "( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.) )".to_string(),
-    };
-    let inch = matches!(units, "in" | "ft");
-    let length = if inch {
-        let mm = w.add("( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT(.MILLI.,.METRE.) )".into());
-        let factor = if units == "in" { 25.4 } else { 304.8 };
-        let measure = w.add(format!(
-            "LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE({factor}),#{mm})"
-        ));
-        let dims = w.add("DIMENSIONAL_EXPONENTS(1.,0.,0.,0.,0.,0.,0.)".into());
-        w.add(format!(
-            "( CONVERSION_BASED_UNIT('{}',#{measure}) LENGTH_UNIT() NAMED_UNIT(#{dims}) )",
-            if units == "in" { "INCH" } else { "FOOT" }
-        ))
-    } else {
-        w.add(unit)
-    };
+    let length = w.length_unit(units)?;
     let angle = w.add("( NAMED_UNIT(*) PLANE_ANGLE_UNIT() SI_UNIT($,.RADIAN.) )".into());
     let solid = w.add("( NAMED_UNIT(*) SI_UNIT($,.STERADIAN.) SOLID_ANGLE_UNIT() )".into());
     let uncertainty = w.add(format!(
@@ -139,6 +119,49 @@ impl StepWriter {
     fn add(&mut self, line: String) -> usize {
         self.lines.push(line);
         self.lines.len()
+    }
+
+    /// The LENGTH_UNIT of a model in `units` ([`crate::units`] text, [ISO41]): an SI unit
+    /// (the metre with its prefix) where it is one, else a CONVERSION_BASED_UNIT defined in
+    /// millimetres (INCH, FOOT, or one named by its size).
+    fn length_unit(&mut self, units: &str) -> Result<usize, nurbs_core::Error> {
+        let mm = crate::units::mm_per_unit(units).ok_or_else(|| nurbs_core::Error::Format {
+            detail: format!(
+                "model unit {units:?} is not a length unit this writer knows ({}, or \"<factor> mm\")",
+                crate::units::UNITS.map(|(n, _)| n).join(", ")
+            ),
+        })?;
+        let si =
+            |prefix: &str| format!("( LENGTH_UNIT() NAMED_UNIT(*) SI_UNIT({prefix},.METRE.) )");
+        let prefix = match crate::units::unit_text(mm).as_str() {
+            "mm" => Some(".MILLI."),
+            "cm" => Some(".CENTI."),
+            "dm" => Some(".DECI."),
+            "m" => Some("$"),
+            "km" => Some(".KILO."),
+            "um" => Some(".MICRO."),
+            "nm" => Some(".NANO."),
+            _ => None,
+        };
+        if let Some(prefix) = prefix {
+            return Ok(self.add(si(prefix)));
+        }
+        let name = match crate::units::unit_text(mm).as_str() {
+            "in" => "INCH".to_string(),
+            "ft" => "FOOT".to_string(),
+            "mil" => "MIL".to_string(),
+            "mi" => "MILE".to_string(),
+            _ => format!("{} MM", real(mm)),
+        };
+        let base = self.add(si(".MILLI."));
+        let measure = self.add(format!(
+            "LENGTH_MEASURE_WITH_UNIT(LENGTH_MEASURE({}),#{base})",
+            real(mm)
+        ));
+        let dims = self.add("DIMENSIONAL_EXPONENTS(1.,0.,0.,0.,0.,0.,0.)".into());
+        Ok(self.add(format!(
+            "( CONVERSION_BASED_UNIT('{name}',#{measure}) LENGTH_UNIT() NAMED_UNIT(#{dims}) )"
+        )))
     }
     fn point(&mut self, p: &Point3) -> usize {
         self.add(format!(

@@ -1,0 +1,34 @@
+//! The values of the command line's options: lengths in millimetres (with an optional unit),
+//! a role's tolerance, a continuity.
+
+/// A length of `--tolerance`, in millimetres ([`nurbs_io::units::parse_length_mm`]).
+pub fn parse_length(s: &str) -> Result<f64, String> {
+    nurbs_io::units::parse_length_mm(s)
+}
+
+/// `ROLE=LENGTH` of `--tolerance-role`, the length in millimetres.
+pub fn parse_role_tolerance(s: &str) -> Result<(hier_fair::Role, f64), String> {
+    let (role, mm) = s
+        .split_once('=')
+        .ok_or_else(|| format!("expected ROLE=LENGTH (e.g. connecting=0.5), got {s:?}"))?;
+    let role = hier_fair::Role::parse(role.trim())
+        .ok_or_else(|| format!("unknown role {role:?}: expected primary, connecting or corner"))?;
+    let mm = nurbs_io::units::parse_length_mm(mm)?;
+    if !(mm.is_finite() && mm > 0.0) {
+        return Err(format!(
+            "the tolerance of {} must be a finite length > 0, got {mm}",
+            role.name()
+        ));
+    }
+    Ok((role, mm))
+}
+
+/// A continuity of `--keep` and `--target`: G0, G1 or G2 (any case).
+pub fn parse_keep(text: &str) -> Result<nurbs_core::Continuity, String> {
+    match text.to_ascii_uppercase().as_str() {
+        "G0" => Ok(nurbs_core::Continuity::G0),
+        "G1" => Ok(nurbs_core::Continuity::G1),
+        "G2" => Ok(nurbs_core::Continuity::G2),
+        _ => Err(format!("expected G0, G1 or G2, got {text}")),
+    }
+}
