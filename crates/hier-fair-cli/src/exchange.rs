@@ -56,6 +56,7 @@ pub fn model_from_step(input: &Path) -> Result<(Model, String, hier_fair::BuildL
     model.set_units(&file.units);
     let tol = hier_fair::trim::TRIM_SHARE * model.tolerances.g0;
     for (m, f) in model.surfaces.iter_mut().zip(&file.faces) {
+        m.part = f.part.clone();
         m.trim = f
             .trim
             .iter()

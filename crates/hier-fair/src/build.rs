@@ -114,7 +114,7 @@ fn contact<'m>(
     let mut best: Option<SideContact> = None;
     let mut nearest: Option<(usize, f64)> = None;
     for (k, other) in model.surfaces.iter().enumerate() {
-        if k == own {
+        if k == own || other_part(model, own, k) {
             continue;
         }
         let (lo, hi) = crate::patches::net_box(&other.surface, tol);
@@ -153,6 +153,15 @@ fn contact<'m>(
         }
     }
     (best, nearest)
+}
+
+/// Whether surfaces `a` and `b` belong to different parts of an assembly: two parts that
+/// merely touch are not one surface model, and no link joins them.
+fn other_part(model: &Model, a: usize, b: usize) -> bool {
+    match (&model.surfaces[a].part, &model.surfaces[b].part) {
+        (Some(x), Some(y)) => x != y,
+        _ => false,
+    }
 }
 
 /// Whether `s` bridges the surfaces its opposite sides `a`, `b` lie on: narrow across
@@ -444,6 +453,10 @@ fn find_contacts(model: &Model, log: &mut BuildLog) -> Vec<[Option<SideContact>;
                 continue;
             }
             let (c, nearest) = contact(model, k, side, tol, &mut projectors);
+            // an assembly's part is linked inside itself only: say so where nothing was found
+            let within = model.surfaces[k].part.as_ref().map_or(String::new(), |p| {
+                format!(" of its part {p} (another part's surfaces are not linked to it)")
+            });
             match (&c, nearest) {
                 (Some(c), _) => log.lines.push(format!(
                     "{name}.{}: lies on {} (max distance {:.2e}, max normal angle {})",
@@ -453,12 +466,12 @@ fn find_contacts(model: &Model, log: &mut BuildLog) -> Vec<[Option<SideContact>;
                     c.angle_deg.map_or("undefined".to_string(), |a| format!("{a:.3}°"))
                 )),
                 (None, Some((m, d))) => log.lines.push(format!(
-                    "{name}.{}: lies on no surface within {tol:.1e} (closest: {}, max distance {d:.3e})",
+                    "{name}.{}: lies on no surface{within} within {tol:.1e} (closest: {}, max distance {d:.3e})",
                     side.name(),
                     model.surfaces[m].name
                 )),
                 (None, None) => log.lines.push(format!(
-                    "{name}.{}: no other surface is near: a free boundary",
+                    "{name}.{}: no other surface{within} is near: a free boundary",
                     side.name()
                 )),
             }

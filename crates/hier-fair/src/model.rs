@@ -64,6 +64,9 @@ pub struct ModelSurface {
     /// order, where the surface is a trimmed face's box (imported from STEP or IGES); empty:
     /// the whole surface is the face. Fairing keeps it as it is.
     pub trim: Vec<Vec<Point3>>,
+    /// the part of an assembly the surface belongs to (its instance path, model-format.md);
+    /// `build` links surfaces of one part only. `None`: no assembly.
+    pub part: Option<String>,
 }
 
 /// A continuity link: the slave's side lies on the master.
@@ -169,6 +172,8 @@ struct SurfaceEntry {
     deviation: Option<f64>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     trim: Vec<Vec<[f64; 3]>>,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    part: Option<String>,
 }
 
 /// `tolerances.deviation`: one length for every surface, or one per role.
@@ -286,6 +291,7 @@ fn surfaces_of(entries: Vec<SurfaceEntry>) -> Result<Vec<ModelSurface>> {
             surface,
             deviation: entry.deviation,
             trim,
+            part: entry.part,
         });
     }
     Ok(surfaces)
@@ -383,6 +389,7 @@ impl Model {
                 surface,
                 deviation: None,
                 trim: Vec::new(),
+                part: None,
             })
             .collect();
         Self {
@@ -523,6 +530,7 @@ impl Model {
                         .iter()
                         .map(|l| l.iter().map(|p| [p.x, p.y, p.z]).collect())
                         .collect(),
+                    part: s.part.clone(),
                 })
                 .collect(),
             links: self

@@ -34,15 +34,31 @@ fn off_sphere(s: &BSplineSurface, centre: Point3, radius: f64) -> (f64, bool) {
     (worst, whole)
 }
 
-/// SolidWorks' sphere whose face has no bounds: the whole sphere of radius 1 about the origin
-/// (the file writes 1.0000000000000009, four ulps above 1).
+/// SolidWorks' sphere whose face has no bounds: the whole sphere of radius 1 (the file writes
+/// 1.0000000000000009, four ulps above 1), placed twice by the assembly — about the origin and
+/// about the second usage's placement (-0.118…, 1.686…, -1.244…).
 #[test]
 fn a_sphere_face_with_no_bounds_is_the_whole_sphere() {
     let f = read_step(&String::from_utf8(fixture("bug24283_spheres.stp")).unwrap()).unwrap();
     assert!(f.warnings.is_empty(), "{:?}", f.warnings);
-    assert_eq!(f.faces.len(), 1);
-    let (off, whole) = off_sphere(&f.faces[0].surface, Point3::origin(), 1.000_000_000_000_001);
-    assert!(off < 1e-9 && whole, "{off}");
+    assert_eq!(f.faces.len(), 2);
+    let centres = [
+        Point3::origin(),
+        Point3::new(
+            -0.118_478_102_591_744_71,
+            1.686_317_213_533_462_3,
+            -1.243_965_529_391_942_7,
+        ),
+    ];
+    for face in &f.faces {
+        let (off, whole) = centres
+            .iter()
+            .map(|&c| off_sphere(&face.surface, c, 1.000_000_000_000_001))
+            .min_by(|a, b| a.0.total_cmp(&b.0))
+            .unwrap();
+        assert!(off < 1e-9 && whole, "{}: {off}", face.name);
+    }
+    assert!((f.faces[0].surface.point(0.0, 0.0) - f.faces[1].surface.point(0.0, 0.0)).norm() > 1.0);
 }
 
 /// SYRKO's primitives: eleven faces; the sphere (radius 100 about (200, 50, 50)) bounded by a

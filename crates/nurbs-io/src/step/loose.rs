@@ -130,6 +130,7 @@ fn loose_surface(
         surface: built,
         kind: m.kind(basis)?.to_string(),
         trim,
+        part: None,
     })))
 }
 

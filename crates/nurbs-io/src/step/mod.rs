@@ -32,6 +32,7 @@
 //! `faces` (a face's bound loops and their parameters), `domain` (a face's parameter box),
 //! `loose` (surfaces outside faces), `writer` (the AP214 writer).
 
+mod assembly;
 mod curves;
 mod domain;
 mod entities;
@@ -117,6 +118,9 @@ pub struct StepFace {
     /// the face's bounds as data: each loop's points in order along it (the outer bound first),
     /// on the surface
     pub trim: Vec<Vec<Point3>>,
+    /// the instance path of the part the face belongs to in an assembly (its usage occurrences,
+    /// `LBA1/LBRACKET1`), `None` outside assemblies
+    pub part: Option<String>,
 }
 
 /// What a STEP file held.
@@ -161,6 +165,7 @@ pub fn read_step(text: &str) -> Result<StepFile, StepError> {
         }
     }
     loose::read_loose(&m, &ids, &mut file, &mut first_error);
+    file.faces = assembly::place(&m, &ids, std::mem::take(&mut file.faces));
     match first_error {
         Some(e) if file.faces.is_empty() => Err(e),
         _ => Ok(file),
@@ -193,5 +198,6 @@ fn read_face(m: &Model, id: u64, kind: &str) -> Result<Result<StepFace, String>,
         surface: built,
         kind: skind,
         trim: trim_loops(&bounds),
+        part: None,
     }))
 }
