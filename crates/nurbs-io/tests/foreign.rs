@@ -107,3 +107,35 @@ fn iges_with_wrong_counts_or_a_blank_last_line_reads() {
     assert_eq!(torus.surfaces.len(), 1);
     assert!(torus.warnings.is_empty(), "{:?}", torus.warnings);
 }
+
+/// I-DEAS' part as bounded surfaces (143) with boundaries (141) of lines and arcs: all eleven
+/// faces Open CASCADE reads (nine planes, two tabulated cylinders), each with its outer
+/// boundary as a trim loop on its surface — before, the planes were skipped, and the two
+/// cylinders came in untrimmed.
+#[test]
+fn bounded_surfaces_with_boundaries_are_read() {
+    let f = read_iges(&fixture("UKI60998.igs")).unwrap();
+    assert_eq!(f.surfaces.len(), 11);
+    assert_eq!(f.trimmed_entities, 11);
+    let planes = f
+        .surfaces
+        .iter()
+        .filter(|s| (s.surface.degree_u(), s.surface.degree_v()) == (1, 1))
+        .count();
+    assert_eq!(planes, 9, "nine bilinear planes");
+    for s in &f.surfaces {
+        assert!(s.trim.len() >= 3, "{}: no trim", s.de);
+        // the trim lies on the surface read
+        let mut projector =
+            nurbs_core::SurfaceProjector::new(&s.surface, nurbs_core::ProjectionParams::default());
+        for p in &s.trim {
+            let d = projector.project(p).distance;
+            assert!(d < 1e-6 * s.surface.size(), "{}: trim point {d} off", s.de);
+        }
+    }
+    assert!(
+        !f.skipped.keys().any(|&t| t == 143 || t == 108),
+        "{:?}",
+        f.skipped
+    );
+}

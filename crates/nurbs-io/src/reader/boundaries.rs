@@ -1,4 +1,5 @@
-//! A trimmed surface's boundaries (142 curves on surface, [IGES] §4.32, §4.34): the composite
+//! A trimmed or bounded surface's boundaries (142 curves on surface and 141 boundaries, [IGES]
+//! §4.32–§4.34): the composite
 //! (102) and simple model-space curves sampled, the parameter box of a B-spline face's outer
 //! boundary, and the outer and inner boundaries as loops of points on the face's surface.
 
@@ -57,6 +58,34 @@ impl Reader<'_> {
                     None => out,
                 });
             }
+            // a boundary (141, [IGES] §4.33) used as a loop: its model-space curves in order,
+            // each run backwards where its sense is 2; its own transformation is the caller's
+            // to apply, as for the 142 it stands in for ([`Self::curve_on_surface`])
+            141 => {
+                let params = entity_params(e, &self.p, &self.global)?;
+                let mut c = Cursor {
+                    params: &params,
+                    next: 1,
+                    e,
+                };
+                let (_type, _pref, _surface) = (c.int()?, c.int()?, c.int()?);
+                let n = c.count("N (number of curves of the boundary)", 0)?;
+                let mut out = Vec::new();
+                for _ in 0..n {
+                    let member = self.entry(c.int()?, e)?;
+                    let sense = c.int()?;
+                    let k = c.count("K (parameter-space curves of a boundary curve)", 0)?;
+                    for _ in 0..k {
+                        c.int()?;
+                    }
+                    let mut pts = self.boundary_samples(member, depth + 1, samples)?;
+                    if sense == 2 {
+                        pts.reverse();
+                    }
+                    out.extend(pts);
+                }
+                return Ok(out);
+            }
             _ => self.any_curve(e, 1.0)?,
         };
         let (t0, t1) = local.knots().domain();
@@ -67,7 +96,12 @@ impl Reader<'_> {
 
     /// The pointers of a curve on a surface (142, [IGES] §4.32): to its parameter-space curve
     /// and to its model-space curve (0 where absent).
+    /// A boundary (141) has no single curve of each kind: it is its own model-space curve
+    /// (its curves in order, [`Self::boundary_samples`]) and has no parameter-space one here.
     pub(super) fn curve_on_surface(&self, e: &DirEntry) -> Result<(i64, i64), IgesError> {
+        if e.entity_type == 141 {
+            return Ok((0, e.seq as i64));
+        }
         let params = entity_params(e, &self.p, &self.global)?;
         let mut c = Cursor {
             params: &params,
@@ -229,6 +263,23 @@ impl Reader<'_> {
             inner.push(self.entry(c.int()?, e)?);
         }
         Ok((outer, inner))
+    }
+
+    /// The boundaries of a bounded surface (143, [IGES] §4.33) after its surface pointer: N and
+    /// the N boundaries (141), the first taken as the outer one (the standard names none; the
+    /// writers put the outer first), the others as inner ones.
+    pub(super) fn bounded_boundaries<'r>(
+        &'r self,
+        c: &mut Cursor<'_>,
+        e: &DirEntry,
+    ) -> Result<(Option<&'r DirEntry>, Vec<&'r DirEntry>), IgesError> {
+        let n = c.count("N (number of boundaries of the bounded surface)", 0)?;
+        let mut all = Vec::with_capacity(n);
+        for _ in 0..n {
+            all.push(self.entry(c.int()?, e)?);
+        }
+        let mut all = all.into_iter();
+        Ok((all.next(), all.collect()))
     }
 
     /// The inner boundaries (142s) `inner` of a face on the B-spline surface `surface` as

@@ -2,11 +2,13 @@
 //! entities 128 (rational B-spline surface), 120 (surface of revolution, with its 110 axis and
 //! its 110 / 100 / 126 generatrix), 108 (plane, bounded by the outer boundary of the 144 that
 //! trims it: its 142 and the 102 / 110 / 100 / 126 model-space curve), 126 (curve), 144 (trimmed
-//! surface) and 124 (transformation matrix) ([IGES] §2, §4.3, §4.13, §4.16, §4.23, §4.24, §4.34, §4.21).
-//! A trimmed surface's boundaries are kept as data on its surface ([`IgesSurface::trim`], the
-//! outer one, and [`IgesSurface::holes`], its N2 inner ones): each 142's parameter-space curve
-//! through a B-spline surface where it has one, else its model-space curve (100, 102, 110, 126)
-//! on the surface.
+//! surface), 143 (bounded surface, with its 141 boundaries: the first the outer one, each the
+//! model-space curves it lists in order) and 124 (transformation matrix) ([IGES] §2, §4.3,
+//! §4.13, §4.16, §4.23, §4.24, §4.33, §4.34, §4.21).
+//! A trimmed or bounded surface's boundaries are kept as data on its surface
+//! ([`IgesSurface::trim`], the outer one, and [`IgesSurface::holes`], the inner ones): each
+//! 142's parameter-space curve through a B-spline surface where it has one, else its
+//! model-space curve (100, 102, 110, 126) on the surface; a 141's model-space curves.
 //!
 //! Control points of entity 128 are stored with the u index varying fastest, W(0,0), W(1,0), …;
 //! here they go to the flat net `P[i * n_v + j]`. Weights that are all equal make a polynomial
@@ -289,7 +291,7 @@ impl Reader<'_> {
             118 => keep_or_refuse(self.ruled(e, scale), file)?,
             126 => file.curves.push(self.curve(e, scale)?),
             140 => keep_or_refuse(self.offset(e, scale), file)?,
-            144 => self.trimmed_surface(e, scale, file, pending)?,
+            144 | 143 => self.trimmed_surface(e, scale, file, pending)?,
             // planes are read through the trimmed surfaces that bound them
             124 | 108 => {}
             other => *file.skipped.entry(other).or_default() += 1,
@@ -312,24 +314,35 @@ impl Reader<'_> {
             next: 1,
             e,
         };
+        // a bounded surface (143, [IGES] §4.33) has TYPE before its surface pointer and a list
+        // of boundaries (141) after it, the first the outer one; a trimmed surface (144) its
+        // N1, N2, outer and inner boundaries (142)
+        if e.entity_type == 143 {
+            c.int()?;
+        }
         let pts = c.int()?;
         let target = self.entry(pts, e)?;
         pending.trimmed_targets.push(target.seq);
         file.trimmed_entities += 1;
+        let boundaries = if e.entity_type == 143 {
+            self.bounded_boundaries(&mut c, e)?
+        } else {
+            self.face_boundaries(&mut c, e)?
+        };
         if target.entity_type == 128 {
             // a B-spline face is its surface over the face's parameter box, cut once
             // every surface is read (a writer may put the 144 before its 128: Open
             // CASCADE does)
-            if let (Some(outer), inner) = self.face_boundaries(&mut c, e)? {
+            if let (Some(outer), inner) = boundaries {
                 pending.faces.push((target.seq, (e, outer, inner)));
             }
         } else if matches!(target.entity_type, 120 | 122 | 118 | 140) {
-            if let (Some(outer), inner) = self.face_boundaries(&mut c, e)? {
+            if let (Some(outer), inner) = boundaries {
                 pending.exact_faces.push((target.seq, (e, outer, inner)));
             }
         } else if target.entity_type == 108 {
             // a plane is as large as its face: bounded by the outer boundary
-            if let (Some(outer), inner) = self.face_boundaries(&mut c, e)?
+            if let (Some(outer), inner) = boundaries
                 && !pending.planes_read.contains(&target.seq)
             {
                 let mut plane = self.bounded_plane(target, outer, e, scale)?;

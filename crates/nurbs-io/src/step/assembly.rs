@@ -427,18 +427,14 @@ impl Tree {
     }
 }
 
-/// The placed instances of each face of `faces` (id → placements with their path labels), or
-/// `None` when the file places nothing (no transformed relationship, no mapped item: every face
-/// is where it is read) or would make more than [`MAX_INSTANCES`].
-pub(super) fn instances(
-    m: &Model,
-    ids: &[u64],
-    faces: &BTreeSet<u64>,
-) -> Option<BTreeMap<u64, Vec<(Placement, String)>>> {
+/// The placed instances of each face of `faces` (id → placements with their path labels);
+/// [`Placed::None`] when the file places nothing (no transformed relationship, no mapped item:
+/// every face is where it is read).
+pub(super) fn instances(m: &Model, ids: &[u64], faces: &BTreeSet<u64>) -> Placed {
     let reps = representations(m, ids);
     let relations = relations(m, ids, &reps);
     if relations.0.is_empty() {
-        return None;
+        return Placed::None;
     }
     let tree = Tree::new(m, &reps, relations, faces);
     // depth-first from the top-level products' representations (a representation of a
@@ -467,7 +463,7 @@ pub(super) fn instances(
         for &f in &tree.faces[g] {
             made += 1;
             if made > MAX_INSTANCES {
-                return None;
+                return Placed::TooMany;
             }
             out.entry(f).or_default().push((at, path.clone()));
         }
@@ -483,15 +479,38 @@ pub(super) fn instances(
             stack.push((c.group, at.after(&c.placement), label, depth + 1));
         }
     }
-    Some(out)
+    Placed::Faces(out)
+}
+
+/// What [`instances`] found.
+pub(super) enum Placed {
+    /// the file places nothing
+    None,
+    /// more than [`MAX_INSTANCES`] face instances
+    TooMany,
+    /// the placements of each face, with their path labels
+    Faces(BTreeMap<u64, Vec<(Placement, String)>>),
 }
 
 /// `faces` with every face placed once per instance (see the module docs); a face no
-/// placement reaches stays as it is read.
-pub(super) fn place(m: &Model, ids: &[u64], faces: Vec<StepFace>) -> Vec<StepFace> {
+/// placement reaches stays as it is read. Where the instances would pass [`MAX_INSTANCES`],
+/// the faces stay as read and the warning says so.
+pub(super) fn place(
+    m: &Model,
+    ids: &[u64],
+    faces: Vec<StepFace>,
+    warnings: &mut Vec<String>,
+) -> Vec<StepFace> {
     let face_ids: BTreeSet<u64> = faces.iter().map(|f| f.id).collect();
-    let Some(placed) = instances(m, ids, &face_ids) else {
-        return faces;
+    let placed = match instances(m, ids, &face_ids) {
+        Placed::None => return faces,
+        Placed::TooMany => {
+            warnings.push(format!(
+                "the assembly places more than {MAX_INSTANCES} faces: each face is read once, where its part's own coordinates put it"
+            ));
+            return faces;
+        }
+        Placed::Faces(p) => p,
     };
     let mut out = Vec::with_capacity(faces.len());
     for f in faces {

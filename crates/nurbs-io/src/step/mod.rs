@@ -165,7 +165,12 @@ pub fn read_step(text: &str) -> Result<StepFile, StepError> {
         }
     }
     loose::read_loose(&m, &ids, &mut file, &mut first_error);
-    file.faces = assembly::place(&m, &ids, std::mem::take(&mut file.faces));
+    file.faces = assembly::place(
+        &m,
+        &ids,
+        std::mem::take(&mut file.faces),
+        &mut file.warnings,
+    );
     match first_error {
         Some(e) if file.faces.is_empty() => Err(e),
         _ => Ok(file),
