@@ -441,10 +441,9 @@ pub fn images_legend() -> String {
 }
 
 /// `fair` on a model: reads nothing (the text is given), writes the faired model atomically (never
-/// over the input), the report and pictures when asked; returns the summary and whether a
-/// surface failed (the partial result and report are written all the same).
-/// Returns the text to print and what failed: surfaces that could not be faired, and links
-/// left unmet (the command then exits 1, its outputs written).
+/// over the input), the report and pictures when asked; returns the text to print and what
+/// failed — surfaces that could not be faired, links left unmet — for the command to exit 1 by
+/// (the result and report are written all the same).
 pub fn run_fair(
     input: &Path,
     text: &str,
