@@ -194,8 +194,14 @@ fn unit_mm(m: &Model, id: u64, depth: usize) -> Option<f64> {
             Some(Value::Enum(e)) => e.as_str(),
             _ => "",
         };
+        // every si_prefix of [ISO41], in millimetres
         return Some(match prefix {
             "" => 1e3,
+            "EXA" => 1e21,
+            "PETA" => 1e18,
+            "TERA" => 1e15,
+            "GIGA" => 1e12,
+            "MEGA" => 1e9,
             "KILO" => 1e6,
             "HECTO" => 1e5,
             "DECA" => 1e4,
@@ -204,6 +210,9 @@ fn unit_mm(m: &Model, id: u64, depth: usize) -> Option<f64> {
             "MILLI" => 1.0,
             "MICRO" => 1e-3,
             "NANO" => 1e-6,
+            "PICO" => 1e-9,
+            "FEMTO" => 1e-12,
+            "ATTO" => 1e-15,
             _ => return None,
         });
     }
