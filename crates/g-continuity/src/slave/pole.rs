@@ -201,28 +201,27 @@ fn set_one_pole(
     let ts: Vec<f64> = (0..samples)
         .map(|k| t0 + (t1 - t0) * k as f64 / (samples - 1) as f64)
         .collect();
-    let residual = |s: &BSplineSurface| -> Vec<f64> {
-        ts.iter()
-            .map(|&t| {
-                let (a, b) = across(s, side, t);
-                form.at(&a) - n.dot(&b)
-            })
-            .collect()
-    };
-    let r0 = residual(s);
-    // n·b is linear in the control points (weights fixed): its columns by unit moves along n
-    let h = s.size().max(f64::MIN_POSITIVE);
+    // n·b is linear in the control points (weights fixed): a move x of point (i, j) along n
+    // changes it by x·R_ij,xx (nurbs-core's rational basis), so each sample is one row
     let free: Vec<(usize, usize)> = row2[1..m - 1].to_vec();
+    let column = |ij: (usize, usize)| free.iter().position(|&f| f == ij);
+    let mut basis = nurbs_core::SurfaceBasis::new(s);
+    let mut evaluator = nurbs_core::SurfaceBasisEvaluator::new(s);
     let mut a = DMatrix::zeros(samples, free.len());
-    for (c, &(i, j)) in free.iter().enumerate() {
-        let idx = s.index(i, j);
-        let keep = s.control_points()[idx];
-        s.control_points_mut()[idx] = keep + n * h;
-        let r = residual(s);
-        s.control_points_mut()[idx] = keep;
-        for (k, (rk, r0k)) in r.iter().zip(&r0).enumerate() {
-            // residual = II − n·b: a move x along n changes it by −x·∂(n·b)
-            a[(k, c)] = (r0k - rk) / h;
+    let mut r0 = Vec::with_capacity(samples);
+    for (k, &t) in ts.iter().enumerate() {
+        let (u, v) = side.params(s, t);
+        let (d, dd) = across(s, side, t);
+        r0.push(form.at(&d) - n.dot(&dd));
+        evaluator.eval(u, v, &mut basis);
+        let second = match side.cross_direction() {
+            Direction::U => &basis.duu,
+            Direction::V => &basis.dvv,
+        };
+        for (e, &value) in second.iter().enumerate() {
+            if let Some(c) = column(basis.control_index(e)) {
+                a[(k, c)] = value;
+            }
         }
     }
     let b = DMatrix::from_column_slice(samples, 1, &r0);
