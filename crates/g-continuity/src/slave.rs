@@ -25,7 +25,8 @@
 //!
 //! Modules: `status` (how each point of a side's row takes part in a step), `step` (one step
 //! over all sides, twists averaged), `set` (the public steps: [`set_rows`], [`set_g1`], …,
-//! [`set_step`] with its refinement rounds), `prepare` ([`prepare_slave`]), `refine` (the knots
+//! [`set_step`] with its refinement rounds; its C0 step spreads the boundary's move into the
+//! interior, `spread`), `prepare` ([`prepare_slave`]), `refine` (the knots
 //! of the refinement rounds) and `connect` ([`connect_slave`]).
 //!
 //! # Tolerance
@@ -48,6 +49,7 @@ mod pole;
 mod prepare;
 mod refine;
 mod set;
+mod spread;
 mod status;
 mod step;
 

@@ -493,15 +493,6 @@ fn refine_to(c: &BSplineCurve, interior: &[f64], quad: usize) -> Result<BSplineC
     Ok(out)
 }
 
-/// Greville abscissae of a knot vector.
-pub(crate) fn greville(kv: &KnotVector) -> Vec<f64> {
-    let p = kv.degree();
-    let t = kv.knots();
-    (0..kv.num_basis())
-        .map(|i| t[i + 1..=i + p].iter().sum::<f64>() / p as f64)
-        .collect()
-}
-
 /// Bicubic Coons net from the sides v = 0 (`a`, in u), v = 1 (`b`, in u), u = 0 (`d`, in v) and
 /// u = 1 (`e`, in v); the side rows are copied exactly.
 fn coons(
@@ -513,7 +504,7 @@ fn coons(
     let ku = a.knots().clone();
     let kv = d.knots().clone();
     let (nu, nv) = (ku.num_basis(), kv.num_basis());
-    let (gu, gv) = (greville(&ku), greville(&kv));
+    let (gu, gv) = (ku.greville(), kv.greville());
     let (pa, pb, pd, pe) = (
         a.control_points(),
         b.control_points(),
@@ -676,7 +667,7 @@ mod tests {
 
     #[test]
     fn greville_of_bezier_is_uniform() {
-        let g = greville(&KnotVector::bezier(3).unwrap());
+        let g = KnotVector::bezier(3).unwrap().greville();
         assert_eq!(g, vec![0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0]);
     }
 }

@@ -258,6 +258,23 @@ impl KnotVector {
         out
     }
 
+    /// Greville abscissae, one per basis function: (t_{i+1} + … + t_{i+p}) / p, the parameter
+    /// a control point sits over (the knot averages; the degree is at least 1). They rise with
+    /// i and run from the domain's start to its end on a clamped vector.
+    pub fn greville(&self) -> Vec<f64> {
+        let p = self.degree;
+        let t = &self.knots;
+        (0..self.num_basis())
+            .map(|i| t[i + 1..=i + p].iter().sum::<f64>() / p as f64)
+            .collect()
+    }
+
+    /// [`KnotVector::greville`] as fractions of the domain (0 at its start, 1 at its end).
+    pub fn greville_fractions(&self) -> Vec<f64> {
+        let (a, b) = self.domain();
+        self.greville().iter().map(|g| (g - a) / (b - a)).collect()
+    }
+
     /// Length of the domain t_{n+1} − t_p.
     pub fn domain_length(&self) -> f64 {
         let (a, b) = self.domain();
@@ -283,6 +300,20 @@ impl KnotVector {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn greville_abscissae_are_the_knot_averages() {
+        let g = KnotVector::bezier(3).unwrap().greville();
+        assert_eq!(g.len(), 4);
+        for (a, b) in g.iter().zip([0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0]) {
+            assert!((a - b).abs() < 1e-15, "{g:?}");
+        }
+        let kv = KnotVector::new(3, vec![2.0, 2.0, 2.0, 2.0, 3.0, 4.0, 4.0, 4.0, 4.0]).unwrap();
+        let f = kv.greville_fractions();
+        for (a, b) in f.iter().zip([0.0, 1.0 / 6.0, 0.5, 5.0 / 6.0, 1.0]) {
+            assert!((a - b).abs() < 1e-15, "{f:?}");
+        }
+    }
 
     #[test]
     fn rejects_bad_vectors() {

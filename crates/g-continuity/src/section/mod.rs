@@ -99,7 +99,7 @@ pub fn one_hump_section(
         Direction::U => s.control_point(c, a),
     };
     let m = coords.len();
-    let weights_new = new_weights(&s, cross, &greville_fractions(&kv));
+    let weights_new = new_weights(&s, cross, &kv.greville_fractions());
     let mut columns = Vec::with_capacity(na);
     for a in 0..na {
         let (e0, e1) = (at(a, 0), at(a, nc - 1));
@@ -165,17 +165,6 @@ fn new_weights(s: &BSplineSurface, cross: Direction, greville: &[f64]) -> Option
             })
             .collect(),
     )
-}
-
-/// The Greville abscissae of `kv` as fractions of its domain (the mean of each basis function's
-/// p interior knots).
-fn greville_fractions(kv: &KnotVector) -> Vec<f64> {
-    let (a, b) = kv.domain();
-    let p = kv.degree();
-    let k = kv.knots();
-    (0..kv.num_basis())
-        .map(|i| (k[i + 1..=i + p].iter().sum::<f64>() / p as f64 - a) / (b - a))
-        .collect()
 }
 
 /// The meeting point of a control column's end tangents: from `e0` towards `p1` and from `e1`

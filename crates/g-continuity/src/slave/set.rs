@@ -161,6 +161,10 @@ pub fn set_step(
     loop {
         let mut s = work.clone();
         report.max_move = solve_round(&mut s, links, step, &params.set, &mut report)?;
+        if step == Continuity::G0 && params.set.spread_boundary_move {
+            let linked = Side::ALL.map(|side| links.iter().any(|l| l.side == side));
+            super::spread::spread_boundary_move(&work, &mut s, linked, params.set.kept_sides);
+        }
         let after = measure_links(links, &s, &params.measure)?;
         let rank = RoundRank::new(links, &after, step, &tolerances);
         report.after = after;

@@ -50,14 +50,17 @@ impl DryRun {
 impl Job<'_> {
     /// Runs the continuity steps alone (no fairing) from `prepared`: every step up to the
     /// highest target, each with its sampled deviation from the original.
+    /// `spread`: [`g_continuity::SetParams::spread_boundary_move`] in the C0 step.
     pub(super) fn dry_run(
         &self,
         prepared: &BSplineSurface,
         links: &[SideLink<'_>],
+        spread: bool,
     ) -> std::result::Result<DryRun, String> {
         let original = &self.model.surfaces[self.surface].surface;
         let mut steps = Vec::new();
-        let params = self.set_params();
+        let mut params = self.set_params();
+        params.set.spread_boundary_move = spread;
         let Some(top) = links.iter().map(|l| l.target).max() else {
             return Ok(DryRun {
                 steps,
@@ -67,6 +70,7 @@ impl Job<'_> {
                 prepared: prepared.clone(),
                 tangent_corners: false,
                 section_ramp: None,
+                spread,
             });
         };
         let mut s = prepared.clone();
@@ -95,6 +99,7 @@ impl Job<'_> {
             prepared: prepared.clone(),
             tangent_corners: set.tangent_corners,
             section_ramp: None,
+            spread,
         })
     }
 
@@ -156,9 +161,32 @@ impl Job<'_> {
     /// deviation at which G2 holds is searched before a link is called missed. Returns the
     /// chosen trial and the smallest deviation any trial that met every link needed (the honest
     /// figure of a conflict).
+    ///
+    /// With `spread` the search runs with the C0 step's boundary move spread into the interior
+    /// ([`g_continuity::SetParams::spread_boundary_move`]); where its pick misses a link, it
+    /// runs again without, and that pick is taken where it meets every link.
     pub(super) fn prepare_and_dry_run(
         &self,
         links: &[SideLink<'_>],
+        spread: bool,
+    ) -> std::result::Result<(DryRun, Option<f64>), String> {
+        let (mut pick, mut needed) = self.lead_in_search(links, spread)?;
+        if spread && !pick.met {
+            let (other, other_needed) = self.lead_in_search(links, false)?;
+            if other.met {
+                (pick, needed) = (other, other_needed);
+            }
+        }
+        let budget = self.params.budget.lead_in(self.tolerance);
+        Ok((self.with_section(links, budget, pick)?, needed))
+    }
+
+    /// The lead-in width search of [`Job::prepare_and_dry_run`] with `spread` in its C0 steps:
+    /// the chosen trial and the smallest deviation any trial that met every link needed.
+    fn lead_in_search(
+        &self,
+        links: &[SideLink<'_>],
+        spread: bool,
     ) -> std::result::Result<(DryRun, Option<f64>), String> {
         let name = &self.model.surfaces[self.surface].name;
         let g2 = links.iter().any(|l| {
@@ -178,7 +206,7 @@ impl Job<'_> {
                 .map_err(|e| format!("preparing {name}: {e}"))?;
             let (prepared, _) = free_rows(prepared, links, self.params.min_free_rows)
                 .map_err(|e| format!("inserting knots into {name}: {e}"))?;
-            let dry = self.dry_run(&prepared, links)?;
+            let dry = self.dry_run(&prepared, links, spread)?;
             let (d, met) = (dry.deviation(), dry.met);
             let (excess, narrowable) = if met {
                 (0.0, false)
@@ -226,8 +254,7 @@ impl Job<'_> {
             .or_else(|| least(&|(t, _)| t.deviation() <= budget, &|(_, e)| *e))
             .or_else(|| least(&|_| true, &|(t, _)| t.deviation()))
             .unwrap_or(0);
-        let regular = trials.swap_remove(pick).0;
-        Ok((self.with_section(links, budget, regular)?, needed))
+        Ok((trials.swap_remove(pick).0, needed))
     }
 }
 

@@ -45,6 +45,7 @@
 //! left as it was and named in the report's problems; its slaves still run against it. The run
 //! never stops half-way without a report.
 
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
 use g_continuity::{ConnectParams, LinkMeasure, SideLink, Tolerances, prepare_slave, set_step};
@@ -59,6 +60,7 @@ use crate::model::{Model, Role};
 
 mod budget;
 mod dry_run;
+mod follow;
 mod group;
 mod growth;
 mod job;
@@ -69,6 +71,7 @@ mod report;
 mod seams;
 mod section;
 mod slivers;
+mod spread;
 mod stages;
 mod verify;
 mod vertex;
@@ -241,19 +244,16 @@ pub fn fair_model_with(
         edges: &edges,
         edges_before: &edges_before,
         ranges: &ranges,
+        no_section: &[],
+        sectioned: &[],
     };
-    let mut out = model.clone();
-    let slivers = slivers::merge_slivers(&mut out, connect.tolerances.g0, |m, k| {
+    let mut start_model = model.clone();
+    let slivers = slivers::merge_slivers(&mut start_model, connect.tolerances.g0, |m, k| {
         m.deviation_of(k, &params.role_tolerance, params.tolerance)
     });
-    let mut report = FairModelReport {
-        tolerance,
-        ..FairModelReport::default()
-    };
-    report.problems.extend(slivers);
-    plan.run(&mut out, &mut report, progress)?;
-    let after = measure_links(&out, &ranges, &connect);
-    report.links = link_reports(model, plan.before, after, &cap);
+    let (mut out, mut report, links) =
+        plan.run_following(&start_model, &slivers, tolerance, progress)?;
+    report.links = links;
     report
         .edges
         .extend(found_edge_reports(model, &found, &report.links));
@@ -291,6 +291,7 @@ fn measure_edges(on: &Model, edges: &[crate::edges::SharedEdge]) -> Vec<crate::e
 
 /// What a run of [`fair_model_with`] works from: the model with its found links, the methods,
 /// the settings, and the input's measures every result is held against.
+#[derive(Clone, Copy)]
 struct Plan<'a> {
     model: &'a Model,
     fairers: Fairers<'a>,
@@ -304,6 +305,11 @@ struct Plan<'a> {
     edges_before: &'a [crate::edges::EdgeMeasure],
     /// per link, the part of the slave's side it holds on
     ranges: &'a [Option<(f64, f64)>],
+    /// per surface, whether its one-hump section is withdrawn ([`follow`]; empty: none is)
+    no_section: &'a [bool],
+    /// per surface, whether it took its one-hump section in this run (set as each finishes;
+    /// its slaves then spread their boundary's move, [`spread`]; empty: none did)
+    sectioned: &'a [AtomicBool],
 }
 
 /// Every link of `model` measured (over its part of the side, `ranges`, [`crate::edges`]).
@@ -334,6 +340,7 @@ struct Outcome {
     problems: Vec<Problem>,
 }
 
+#[derive(Clone, Copy)]
 struct Job<'a> {
     model: &'a Model,
     current: &'a Model,
@@ -354,6 +361,10 @@ struct Job<'a> {
     /// whether the continuity steps may move the frame of a shared edge with a surface of the
     /// same role ([`crate::edges::is_seam`]); the fairing stages keep it either way
     free_seams: bool,
+    /// whether the one-hump section may be tried ([`section`]; withdrawn by [`follow`])
+    section_allowed: bool,
+    /// whether the C0 steps spread the boundary's move into the interior ([`spread`])
+    spread: bool,
 }
 
 /// Per-surface state while the stages run.
@@ -383,4 +394,7 @@ struct DryRun {
     /// fair its setting once keeping G2 — a fairing keeping only C0 or G1 first would move the
     /// ramps the section placed
     section_ramp: Option<f64>,
+    /// whether the C0 step spread its boundary move into the interior
+    /// (`SetParams::spread_boundary_move`); the stages' set steps do the same
+    spread: bool,
 }

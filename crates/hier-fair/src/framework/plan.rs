@@ -82,6 +82,10 @@ impl Plan<'_> {
                 group_stage(model, out, group, group_tolerance, self.params, report);
             }
             for (k, outcome) in self.wave(out, &wave) {
+                let sectioned = outcome.report.stages.first().and_then(|s| s.section_ramp);
+                if let (Some(_), Some(flag)) = (sectioned, self.sectioned.get(k)) {
+                    flag.store(true, Ordering::Relaxed);
+                }
                 out.surfaces[k].surface = outcome.surface;
                 report.surfaces.push(outcome.report);
                 report.problems.extend(outcome.problems);
@@ -119,6 +123,15 @@ impl Plan<'_> {
             edges: self.edges,
             ranges: self.ranges,
             free_seams,
+            section_allowed: !self.no_section.get(k).copied().unwrap_or(false),
+            spread: self.connect.set.spread_boundary_move
+                && !model.links.iter().any(|l| l.master == k)
+                && model.links_of_slave(k).into_iter().any(|l| {
+                    let m = model.links[l].master;
+                    self.sectioned
+                        .get(m)
+                        .is_some_and(|f| f.load(Ordering::Relaxed))
+                }),
         }
     }
 

@@ -1,6 +1,6 @@
 //! The one-hump section as a candidate of the dry run ([`g_continuity::section`]): a surface
-//! that is no other surface's master and whose G2 sides lie across one direction (a fillet
-//! between two masters, or hanging on one) also tries its section replaced by a ramped profile, with ramps as wide as the lead-in's
+//! whose G2 sides lie across one direction (a fillet between two masters, or hanging on one)
+//! also tries its section replaced by a ramped profile, with ramps as wide as the lead-in's
 //! deviation budget allows; the candidate is taken when it meets every link the lead-in trial
 //! met within that budget and is fairer by the figures of [`crate::fairness`].
 
@@ -23,6 +23,9 @@ impl Job<'_> {
     /// every G2 side that is not collapsed lies across one direction, and each such side gets
     /// a ramp of width `f`; `None` without one.
     fn section_ends(&self, links: &[SideLink<'_>], f: f64) -> Option<(Direction, (f64, f64))> {
+        if !self.section_allowed {
+            return None;
+        }
         let g2: Vec<Side> = links
             .iter()
             .filter(|l| {
@@ -35,14 +38,12 @@ impl Job<'_> {
         if g2.iter().any(|s| s.cross_direction() != dir) {
             return None;
         }
-        // a slave hanging on this surface (a vertex blend on a fillet's end, or on a part of
-        // its side) was set against the curve it shares with it, which the section changes
-        // across the whole fillet: such a master keeps its frame instead ([`MASTER_FRAME`]).
-        // Measured: with the section on those masters box12_r5 per role kept every fillet fair
-        // but met 42 of its 48 links, corner3_radii 8 of 12
-        if self.is_master() {
-            return None;
-        }
+        // a slave hanging on this surface (a vertex blend on a fillet's end) is set against
+        // the curve it shares with it, which the section changes across the whole fillet: the
+        // slave's C0 step then spreads that move over its interior
+        // ([`g_continuity::SetParams::spread_boundary_move`]). Measured before that spread,
+        // with the section on those masters box12_r5 per role met 42 of its 48 links and
+        // corner3_radii 8 of 12; with it every link (docs/benchmarks.md)
         let at = |start: bool| {
             if g2.iter().any(|s| s.is_start() == start) {
                 f
@@ -54,7 +55,7 @@ impl Job<'_> {
     }
 
     /// The fairness verdict of `result` against the input ([`FairnessVerdict`]).
-    fn verdict_of(&self, result: &BSplineSurface) -> FairnessVerdict {
+    pub(super) fn verdict_of(&self, result: &BSplineSurface) -> FairnessVerdict {
         let original = &self.model.surfaces[self.surface].surface;
         let before = surface_fairness(self.model, self.surface, original);
         let after = surface_fairness(self.model, self.surface, result);
@@ -92,7 +93,8 @@ impl Job<'_> {
             // a section whose continuity steps fail (a singular system, a master it cannot
             // follow) is no candidate: the lead-in's result stays, the surface is not lost
             let dry = if d_section <= budget {
-                self.section_dry_run(&section, links, f).ok()
+                self.section_dry_run(&section, links, f, regular.spread)
+                    .ok()
             } else {
                 None
             };
@@ -103,10 +105,14 @@ impl Job<'_> {
                 };
                 let Some(last) = dry.steps.last() else { break };
                 let verdict = self.verdict_of(&last.1);
-                let better = regular_verdict.as_ref().is_none_or(|r| {
-                    (dry.met && !regular.met)
-                        || verdict.fairer_than(r, self.connect.tolerances.g2_rel)
-                });
+                // a master's section changes what its slaves are set against: it is taken only
+                // where it is fair by every figure, not merely fairer than the lead-in (its
+                // faired result is judged again, [`Job::stages`])
+                let better = (!self.is_master() || verdict.fair())
+                    && regular_verdict.as_ref().is_none_or(|r| {
+                        (dry.met && !regular.met)
+                            || verdict.fairer_than(r, self.connect.tolerances.g2_rel)
+                    });
                 return Ok(if better { dry } else { regular });
             }
             // the narrowest ramp is tried once where the law predicts less
@@ -125,6 +131,7 @@ impl Job<'_> {
         section: &BSplineSurface,
         links: &[SideLink<'_>],
         ramp: f64,
+        spread: bool,
     ) -> std::result::Result<DryRun, String> {
         let name = &self.model.surfaces[self.surface].name;
         let connect = ConnectParams {
@@ -135,7 +142,7 @@ impl Job<'_> {
             .map_err(|e| format!("preparing {name}'s one-hump section: {e}"))?;
         let (prepared, _) = free_rows(prepared, links, self.params.min_free_rows)
             .map_err(|e| format!("inserting knots into {name}'s one-hump section: {e}"))?;
-        let mut dry = self.dry_run(&prepared, links)?;
+        let mut dry = self.dry_run(&prepared, links, spread)?;
         dry.section_ramp = Some(ramp);
         Ok(dry)
     }

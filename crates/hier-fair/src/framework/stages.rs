@@ -40,14 +40,13 @@ impl StagePlan<'_> {
 }
 
 impl Job<'_> {
-    /// The stages of this surface from `original` ([SV] §3.2): the dry run decides the highest
-    /// level the tolerance allows (conflicts and misses go to `problems` and `missed`), the set
-    /// and fairing stages run up to it, and the never-worse fallback picks the result.
-    pub(super) fn stages(
+    /// [`Job::stages`] with the spread allowed or not ([`super::spread`]).
+    pub(super) fn stages_with(
         &self,
         original: &BSplineSurface,
         problems: &mut Vec<Problem>,
         missed: &mut Vec<(usize, Problem)>,
+        spread: bool,
     ) -> std::result::Result<(BSplineSurface, Vec<StageReport>), String> {
         let labelled = self.links();
         self.check_touch(&labelled)?;
@@ -58,7 +57,7 @@ impl Job<'_> {
             stages: Vec::new(),
         };
         // 0. prepare, with the curvature lead-in the continuity steps alone can afford
-        let (dry, needed) = self.prepare_and_dry_run(&links)?;
+        let (dry, needed) = self.prepare_and_dry_run(&links, spread)?;
         let prepared = dry.prepared.clone();
         run.record(Stage::Prepare, self.start, &prepared);
         run.stages[0].knots_inserted = knots_between(self.start, &prepared);
@@ -90,7 +89,13 @@ impl Job<'_> {
         let s = if dry.section_ramp.is_some() && highest == top {
             self.section_stages(&plan, &mut run)
         } else {
-            self.run_levels(&plan, prepared, dry.tangent_corners, &mut run, problems)?
+            self.run_levels(
+                &plan,
+                prepared,
+                (dry.tangent_corners, dry.spread),
+                &mut run,
+                problems,
+            )?
         };
         let original = run.original;
         let (s, stages) = self.never_worse(&plan, s, run, problems);
@@ -269,13 +274,14 @@ impl Job<'_> {
         &self,
         plan: &StagePlan<'_>,
         prepared: BSplineSurface,
-        tangent_corners: bool,
+        (tangent_corners, spread): (bool, bool),
         run: &mut Run<'_>,
         problems: &mut Vec<Problem>,
     ) -> std::result::Result<BSplineSurface, String> {
         let name = &self.model.surfaces[self.surface].name;
         let mut set_params = self.set_params();
         set_params.set.tangent_corners = tangent_corners;
+        set_params.set.spread_boundary_move = spread;
         let levels = plan.levels();
         let mut s = prepared;
         let mut fair_left = levels.len();
