@@ -236,3 +236,103 @@ fn help_follows_the_workflow_and_lists_values() {
     let o = run(&["export", "--help"]);
     assert!(String::from_utf8_lossy(&o.stdout).contains("STEP (AP214"));
 }
+
+type Options = std::collections::BTreeMap<String, std::collections::BTreeSet<String>>;
+
+/// The long options (`--name`, `-o` read as `--output`) of each subcommand in `synopses`
+/// (`hier-fair SUB …` strings).
+fn options_of<'a>(synopses: impl Iterator<Item = &'a str>) -> Options {
+    let mut out = Options::new();
+    for synopsis in synopses {
+        let Some(rest) = synopsis.trim().strip_prefix("hier-fair ") else {
+            continue;
+        };
+        let sub = rest.split_whitespace().next().unwrap().to_string();
+        let opts = out.entry(sub).or_default();
+        for word in rest.split(|c: char| c.is_whitespace() || "[]()".contains(c)) {
+            if word == "-o" {
+                opts.insert("--output".to_string());
+            } else if let Some(name) = word.strip_prefix("--") {
+                let name: String = name
+                    .chars()
+                    .take_while(|c| c.is_ascii_lowercase() || *c == '-')
+                    .collect();
+                opts.insert(format!("--{name}"));
+            }
+        }
+    }
+    out
+}
+
+/// The options of the synopses in docs/cli-contract.md's table (each row's first cell).
+fn contract_options() -> Options {
+    let text = std::fs::read_to_string(root("docs/cli-contract.md")).unwrap();
+    let mut synopses = Vec::new();
+    for row in text.lines().filter(|l| l.starts_with("| `hier-fair ")) {
+        // the first cell: up to the first `|` not escaped as `\|`
+        let mut cell = String::new();
+        let mut prev = ' ';
+        for c in row[1..].chars() {
+            if c == '|' && prev != '\\' {
+                break;
+            }
+            cell.push(c);
+            prev = c;
+        }
+        synopses.extend(cell.split('`').skip(1).step_by(2).map(str::to_string));
+    }
+    options_of(synopses.iter().map(String::as_str))
+}
+
+/// The options of README.md's command-line synopsis (its indented `hier-fair …` lines).
+fn readme_options() -> Options {
+    let text = std::fs::read_to_string(root("README.md")).unwrap();
+    options_of(text.lines().filter(|l| l.starts_with("    hier-fair ")))
+}
+/// The long options `hier-fair SUB --help` lists (without `--help`).
+fn help_options(sub: &str) -> std::collections::BTreeSet<String> {
+    let o = run(&[sub, "--help"]);
+    assert!(o.status.success(), "{sub} --help");
+    String::from_utf8_lossy(&o.stdout)
+        .lines()
+        .filter_map(|l| {
+            let l = l.trim_start();
+            let l = l.strip_prefix("-o, ").unwrap_or(l);
+            let name: String = l
+                .strip_prefix("--")?
+                .chars()
+                .take_while(|c| c.is_ascii_lowercase() || *c == '-')
+                .collect();
+            (name != "help").then(|| format!("--{name}"))
+        })
+        .collect()
+}
+
+/// Every subcommand's `--help`, its synopsis in docs/cli-contract.md and the README's name the
+/// same options: an option added to the program and not to the documents (or the other way)
+/// fails here.
+#[test]
+fn help_the_contract_and_the_readme_name_the_same_options() {
+    for (doc, options) in [
+        ("contract", contract_options()),
+        ("README", readme_options()),
+    ] {
+        for sub in [
+            "import",
+            "build",
+            "check",
+            "connect",
+            "fair",
+            "export",
+            "demo",
+            "eval",
+            "fair-mesh",
+            "label",
+        ] {
+            let documented = options
+                .get(sub)
+                .unwrap_or_else(|| panic!("{sub} has no synopsis in the {doc}"));
+            assert_eq!(&help_options(sub), documented, "{doc}: hier-fair {sub}");
+        }
+    }
+}
