@@ -161,10 +161,35 @@ pub fn summary(report: &FairModelReport, title: &str) -> String {
             format!("; not: {}", unfair.join("; "))
         }
     );
-    for p in &report.problems {
-        let _ = writeln!(s, "{p}");
+    for line in problem_lines(&report.problems) {
+        let _ = writeln!(s, "{line}");
     }
     s
+}
+
+/// The problems as summary lines: each on its own, except the notes that a surface's
+/// thin-plate energy rose, which are one line naming every such surface and its ratio
+/// (the report keeps one problem per surface).
+fn problem_lines(problems: &[hier_fair::Problem]) -> Vec<String> {
+    let rises: Vec<String> = problems
+        .iter()
+        .filter(|p| p.is_energy_rise())
+        .map(|p| format!("{} ×{:.3}", p.surface, p.amount.unwrap_or(f64::NAN)))
+        .collect();
+    let mut lines: Vec<String> = problems
+        .iter()
+        .filter(|p| !p.is_energy_rise())
+        .map(ToString::to_string)
+        .collect();
+    if !rises.is_empty() {
+        lines.push(format!(
+            "limited: the thin-plate energy rose on {} surface(s) — {}: {}",
+            rises.len(),
+            hier_fair::ENERGY_RISE_WHY,
+            rises.join(", ")
+        ));
+    }
+    lines
 }
 
 fn png(path: &Path, img: &image::RgbImage) -> Result<()> {
@@ -610,4 +635,43 @@ pub fn finish(outcome: FairOutcome, quiet: bool) {
     };
     print!("{text}");
     exit_if_failed(&outcome.failed, &outcome.unmet);
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use hier_fair::{Problem, ProblemKind};
+
+    fn problem(surface: &str, message: String, amount: Option<f64>) -> Problem {
+        Problem {
+            kind: ProblemKind::Limited,
+            surface: surface.into(),
+            link: None,
+            message,
+            amount,
+        }
+    }
+
+    #[test]
+    fn energy_rises_are_explained_once() {
+        let rise = |s: &str, r: f64| {
+            let why = hier_fair::ENERGY_RISE_WHY;
+            problem(
+                s,
+                format!("its thin-plate energy rose from 1 to {r}: {why}"),
+                Some(r),
+            )
+        };
+        let other = problem("C1", "the continuity setting was faired once".into(), None);
+        let lines = problem_lines(&[rise("F1", 1.026), other.clone(), rise("F2", 1.5)]);
+        assert_eq!(lines.len(), 2, "{lines:?}");
+        assert_eq!(lines[0], other.to_string());
+        assert_eq!(
+            lines[1],
+            format!(
+                "limited: the thin-plate energy rose on 2 surface(s) — {}: F1 ×1.026, F2 ×1.500",
+                hier_fair::ENERGY_RISE_WHY
+            )
+        );
+    }
 }

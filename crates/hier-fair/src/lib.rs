@@ -51,8 +51,8 @@ pub use check::{
 pub use connect::{ConnectOptions, LinkConnect, ModelConnectReport, SurfaceConnect, connect};
 pub use error::{Error, Result};
 pub use framework::{
-    FairModelReport, FairParams, LinkFair, Problem, ProblemKind, Progress, Stage, StageReport,
-    SurfaceFair, fair_model, fair_model_with,
+    ENERGY_RISE_WHY, FairModelReport, FairParams, LinkFair, Problem, ProblemKind, Progress, Stage,
+    StageReport, SurfaceFair, fair_model, fair_model_with,
 };
 pub use methods::{BuiltMethods, Fairers, Method, MethodEntry, MethodRegistry, RoleMethods};
 pub use model::{CornerGroup, Link, Model, ModelSurface, ModelTolerances, Role, parse_continuity};

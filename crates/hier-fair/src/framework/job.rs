@@ -85,7 +85,8 @@ impl Job<'_> {
                 surface: entry.name.clone(),
                 link: None,
                 message: format!(
-                    "its thin-plate energy rose from {energy_before:.4e} to {energy_after:.4e}: what setting the continuity to its masters costs, which no fairing stage could take back"
+                    "its thin-plate energy rose from {energy_before:.4e} to {energy_after:.4e}: {}",
+                    report::ENERGY_RISE_WHY
                 ),
                 amount: Some(energy_after / energy_before),
             });

@@ -90,7 +90,8 @@ use masks::{free_rows, knots_between, missing_knots};
 pub use masks::{smooth_join_points, stage_mask};
 pub use plan::waves;
 pub use report::{
-    FairModelReport, LinkFair, Problem, ProblemKind, Progress, Stage, StageReport, SurfaceFair,
+    ENERGY_RISE_WHY, FairModelReport, LinkFair, Problem, ProblemKind, Progress, Stage, StageReport,
+    SurfaceFair,
 };
 use report::{edge_reports, found_edge_reports, link_reports, unmet_problems, worse_edge_problems};
 pub use seams::LINKED_SEAM_FRACTION;

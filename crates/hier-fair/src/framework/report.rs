@@ -183,6 +183,19 @@ impl Problem {
     }
 }
 
+/// The end of the message of a surface whose thin-plate energy rose ([`Problem::is_energy_rise`]):
+/// why it rose.
+pub const ENERGY_RISE_WHY: &str =
+    "what setting the continuity to its masters costs, which no fairing stage could take back";
+
+impl Problem {
+    /// Whether this is the note that a surface's thin-plate energy rose (its amount the ratio
+    /// after / before): a summary can name those once for all surfaces.
+    pub fn is_energy_rise(&self) -> bool {
+        self.kind == ProblemKind::Limited && self.message.ends_with(ENERGY_RISE_WHY)
+    }
+}
+
 impl std::fmt::Display for Problem {
     /// The report line: "limited: F02 (link F02.u0 -> P06): what happened".
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
