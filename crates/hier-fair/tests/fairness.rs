@@ -160,6 +160,36 @@ fn torus_fillets_get_one_hump_per_role() {
     }
 }
 
+/// By default (0.05 mm, of which the lead-in may take half) plate_boss's torus fillets are no
+/// masters and take one-hump sections with ramps as narrow as that budget asks: the r 5 fillet's
+/// about 1/72 of its section (below the 1/64 a master's ramp keeps), one rise and one fall
+/// across within 1.6× (measured 1.01×; before, the lead-in's five extrema at 1.30×).
+#[test]
+fn torus_fillets_get_one_hump_by_default() {
+    let m = model("occt_plate_boss").unwrap();
+    let (_, report) =
+        fair_model(&m, &RoleMethods::default(), None, &FairParams::default()).unwrap();
+    assert!(report.links.iter().all(|l| l.met));
+    for f in ["F02_torus", "F09_torus"] {
+        let s = surface(&report, f);
+        let v = s.fairness_verdict();
+        assert!(v.fair(), "{f}: {v:?}");
+        let ramp = s.stages[0].section_ramp.expect("section replaced");
+        assert!(
+            ramp >= hier_fair::framework::MIN_FREE_RAMP,
+            "{f}: ramp {ramp}"
+        );
+        assert!(s.max_deviation <= s.tolerance, "{f}");
+    }
+    let ramp = surface(&report, "F02_torus").stages[0]
+        .section_ramp
+        .unwrap();
+    assert!(
+        ramp < hier_fair::framework::MIN_RAMP,
+        "F02_torus: ramp {ramp}"
+    );
+}
+
 /// box12_r5's sphere corners are vertex blends with a pole (a side collapsed to a point) where
 /// two fillets meet. The fillets reach the plane with G2, so they are flat at that point, and
 /// the corner's sides are set to their (zero) curvature across; the pole step sets the pole's

@@ -95,7 +95,7 @@ pub use report::{
 };
 use report::{edge_reports, found_edge_reports, link_reports, unmet_problems, worse_edge_problems};
 pub use seams::LINKED_SEAM_FRACTION;
-pub use section::{MIN_RAMP, SECTION_TRIALS};
+pub use section::{MIN_FREE_RAMP, MIN_RAMP, SECTION_TRIALS};
 pub use slivers::SLIVER_MOVE_SHARE;
 pub use verify::VERIFY_FACTOR;
 
