@@ -92,10 +92,11 @@ mod tests {
     use super::*;
     use nurbs_core::{KnotVector, Point3};
 
-    /// A flat bicubic 5 × 4 net over [0, 4] × [0, 3] with one interior knot in u.
+    /// A flat bicubic 5 × 6 net over [0, 4] × [0, 3] with one interior knot in u, two in v.
     fn plate() -> BSplineSurface {
         let ku = KnotVector::new(3, vec![0.0, 0.0, 0.0, 0.0, 0.5, 1.0, 1.0, 1.0, 1.0]).unwrap();
-        let kv = KnotVector::bezier(3).unwrap();
+        let kv =
+            KnotVector::new(3, vec![0.0, 0.0, 0.0, 0.0, 0.3, 0.7, 1.0, 1.0, 1.0, 1.0]).unwrap();
         let (gu, gv) = (ku.greville_fractions(), kv.greville_fractions());
         let pts = gu
             .iter()
@@ -186,7 +187,7 @@ mod tests {
                 );
             }
         }
-        // side v0 kept: its rows 1 and 2 stay
+        // side v0 kept: its rows 1 and 2 stay, row 3 still follows the u sides
         let mut kept = move_boundary(&s, side_moves);
         spread_boundary_move(
             &s,
@@ -202,6 +203,7 @@ mod tests {
                     "({i}, {j})"
                 );
             }
+            assert_ne!(kept.control_point(i, 3), s.control_point(i, 3), "({i}, 3)");
         }
     }
 
