@@ -21,6 +21,27 @@
 //! assert_eq!(checks.len(), model.links.len());
 //! ```
 //!
+//! A model of your own, from the JSON of `model-format.md`: two unit squares side by side, the
+//! second a connecting surface linked G1 to the first along its side u0, checked.
+//!
+//! ```
+//! let json = r#"{
+//!   "surfaces": [
+//!     {"name": "left", "role": "primary", "surface": {"degree_u": 1, "degree_v": 1,
+//!       "control_points": [[[0, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 0]]]}},
+//!     {"name": "right", "role": "connecting", "surface": {"degree_u": 1, "degree_v": 1,
+//!       "control_points": [[[1, 0, 0], [1, 1, 0]], [[2, 0, 0], [2, 1, 0]]]}}
+//!   ],
+//!   "links": [{"slave": "right", "side": "u0", "master": "left", "continuity": "G1"}]
+//! }"#;
+//! let model = hier_fair::Model::from_json(json).unwrap();
+//! let checks =
+//!     hier_fair::check_model(&model, &g_continuity::MeasureParams::default()).unwrap();
+//! // the squares share their edge and are coplanar: no gap, no angle
+//! let m = &checks[0].measure;
+//! assert!(m.g0 < 1e-12 && m.g1_deg.unwrap() < 1e-9, "{}: {m:?}", checks[0].label);
+//! ```
+//!
 //! This crate alone knows the hierarchy order and the model format; it takes and returns values
 //! (JSON text, models, reports), never paths. References (keys in brackets) are listed in
 //! `docs/references.md`.

@@ -20,6 +20,38 @@
 //! assert!((finer.point(u, v) - s.point(u, v)).norm() < 1e-12);
 //! ```
 //!
+//! A surface from your own control points: a biquadratic Bézier patch (no interior knots) over
+//! a 3 × 3 net, the net flat with i over u; its corners are its corner control points.
+//!
+//! ```
+//! use nurbs_core::{BSplineSurface, KnotVector, Point3};
+//! let net: Vec<Point3> = (0..3)
+//!     .flat_map(|i| (0..3).map(move |j| (i, j)))
+//!     .map(|(i, j)| Point3::new(i as f64, j as f64, if (i, j) == (1, 1) { 1.0 } else { 0.0 }))
+//!     .collect();
+//! let bezier = KnotVector::bezier(2).unwrap();
+//! let s = BSplineSurface::new(bezier.clone(), bezier, net, None).unwrap();
+//! assert_eq!(s.point(1.0, 0.0), Point3::new(2.0, 0.0, 0.0));
+//! // the raised middle point lifts the centre by a quarter of its height (B₁²(½)² = ¼)
+//! assert!((s.point(0.5, 0.5).z - 0.25).abs() < 1e-15);
+//! ```
+//!
+//! The same surface read from the JSON format of `docs/model-format.md` (feature `serde`, on by
+//! default): knot vectors left out make a Bézier patch.
+//!
+//! ```
+//! # #[cfg(feature = "serde")] {
+//! let json = r#"{"degree_u": 2, "degree_v": 2, "control_points": [
+//!     [[0, 0, 0], [0, 1, 0], [0, 2, 0]],
+//!     [[1, 0, 0], [1, 1, 1], [1, 2, 0]],
+//!     [[2, 0, 0], [2, 1, 0], [2, 2, 0]]]}"#;
+//! let s = &nurbs_core::io::surfaces_from_json(json).unwrap()[0];
+//! assert!((s.point(0.5, 0.5).z - 0.25).abs() < 1e-15);
+//! // and written back
+//! assert!(nurbs_core::io::surface_to_json(s).contains("degree_u"));
+//! # }
+//! ```
+//!
 //! Conventions: control nets are flat, `P[i * n_v + j]`, i over u; parameters outside the domain
 //! are clamped by evaluators; normals are S_u × S_v normalized and curvatures are signed with
 //! respect to them.
