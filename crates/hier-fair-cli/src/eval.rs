@@ -31,7 +31,7 @@ impl Sample {
             v,
             d: *d,
             normal: pc.map(|c| c.normal.into()),
-            curvatures: pc.map(|c| [c.k1, c.k2, c.mean(), c.gauss()]),
+            curvatures: pc.map(|c| [c.k1, c.k2, c.mean, c.gauss]),
         }
     }
 }

@@ -69,16 +69,23 @@ pub struct CurvatureValues {
     pub k1: f64,
     /// smaller principal curvature
     pub k2: f64,
+    /// mean curvature (k1 + k2)/2 (the JSON's `mean`)
+    pub mean: f64,
+    /// Gaussian curvature k1·k2 (the JSON's `gauss`)
+    pub gauss: f64,
 }
 
 impl CurvatureValues {
-    /// Mean curvature (k1 + k2)/2.
-    pub fn mean(&self) -> f64 {
-        0.5 * (self.k1 + self.k2)
-    }
-    /// Gaussian curvature k1·k2.
-    pub fn gauss(&self) -> f64 {
-        self.k1 * self.k2
+    /// The values of principal curvatures `k1` ≥ `k2` signed against `normal`, with their
+    /// mean and Gaussian curvature.
+    pub fn new(normal: Vector3, k1: f64, k2: f64) -> Self {
+        Self {
+            normal,
+            k1,
+            k2,
+            mean: 0.5 * (k1 + k2),
+            gauss: k1 * k2,
+        }
     }
 }
 
@@ -95,17 +102,10 @@ pub struct PrincipalCurvatures {
     pub dir2: Vector3,
     /// unit normal the signs refer to
     pub normal: Vector3,
-}
-
-impl PrincipalCurvatures {
-    /// Mean curvature (k1 + k2)/2.
-    pub fn mean(&self) -> f64 {
-        0.5 * (self.k1 + self.k2)
-    }
-    /// Gaussian curvature k1·k2.
-    pub fn gauss(&self) -> f64 {
-        self.k1 * self.k2
-    }
+    /// mean curvature (k1 + k2)/2 (the JSON's `mean`)
+    pub mean: f64,
+    /// Gaussian curvature k1·k2 (the JSON's `gauss`)
+    pub gauss: f64,
 }
 
 impl SurfaceDerivatives {
@@ -204,11 +204,7 @@ impl SurfaceDerivatives {
         let mid = 0.5 * (s.b11 + s.b22);
         let half = 0.5 * (s.b11 - s.b22);
         let radius = (half * half + s.b12 * s.b12).sqrt();
-        Some(CurvatureValues {
-            normal: s.normal,
-            k1: mid + radius,
-            k2: mid - radius,
-        })
+        Some(CurvatureValues::new(s.normal, mid + radius, mid - radius))
     }
 
     /// Principal curvatures (k1 ≥ k2) and directions, `None` at singular points.
@@ -237,22 +233,25 @@ impl SurfaceDerivatives {
         let e2 = (self.dv - self.du * s.r) / (s.lc2 / s.lu2).sqrt();
         let dir1 = e1 * x + e2 * y;
         let dir2 = s.normal.cross(&dir1);
+        let (k1, k2) = (mid + radius, mid - radius);
         Some(PrincipalCurvatures {
-            k1: mid + radius,
-            k2: mid - radius,
+            k1,
+            k2,
             dir1,
             dir2,
             normal: s.normal,
+            mean: 0.5 * (k1 + k2),
+            gauss: k1 * k2,
         })
     }
 
     /// Mean curvature (k1 + k2)/2, `None` at singular points.
     pub fn mean_curvature(&self) -> Option<f64> {
-        self.curvature_values().map(|c| c.mean())
+        self.curvature_values().map(|c| c.mean)
     }
 
     /// Gaussian curvature k1·k2, `None` at singular points.
     pub fn gaussian_curvature(&self) -> Option<f64> {
-        self.curvature_values().map(|c| c.gauss())
+        self.curvature_values().map(|c| c.gauss)
     }
 }

@@ -133,7 +133,7 @@ pub fn fairness(
         };
         kmax.push(c.k1.abs().max(c.k2.abs()));
         let w = d.du.cross(&d.dv).norm();
-        let h = c.mean();
+        let h = c.mean;
         w_sum += w;
         h_sum += w * h;
         h2_sum += w * h * h;

@@ -117,10 +117,8 @@ impl RowScratch {
     fn emit(&self, out: &mut Vec<GridCurvature>) {
         out.extend((0..self.point.len()).map(|i| GridCurvature {
             point: self.point[i],
-            values: self.regular[i].then(|| CurvatureValues {
-                normal: self.cross[i] * self.inv_len[i],
-                k1: self.k1[i],
-                k2: self.k2[i],
+            values: self.regular[i].then(|| {
+                CurvatureValues::new(self.cross[i] * self.inv_len[i], self.k1[i], self.k2[i])
             }),
         }));
     }

@@ -59,8 +59,8 @@ fn sphere_patch_curvatures() {
             let sign = if outward { -1.0 } else { 1.0 };
             assert_close(pc.k1, sign / r, 1e-10, "k1");
             assert_close(pc.k2, sign / r, 1e-10, "k2");
-            assert_close(pc.gauss(), 1.0 / (r * r), 1e-10, "K");
-            assert_close(pc.mean().abs(), 1.0 / r, 1e-10, "|H|");
+            assert_close(pc.gauss, 1.0 / (r * r), 1e-10, "K");
+            assert_close(pc.mean.abs(), 1.0 / r, 1e-10, "|H|");
             // normal curvature in any tangent direction is the same
             let dir = d.du * 0.3 + d.dv * 0.7;
             assert_close(
@@ -92,7 +92,7 @@ fn cylinder_curvatures_and_directions() {
             };
             assert_close(pc.k1, kmax, 1e-10, "k1");
             assert_close(pc.k2, kmin, 1e-10, "k2");
-            assert_close(pc.gauss(), 0.0, 1e-10, "K");
+            assert_close(pc.gauss, 0.0, 1e-10, "K");
             // the zero-curvature direction is the axis
             let axis_dir = if curved > 0.0 { pc.dir2 } else { pc.dir1 };
             assert_close(axis_dir.z.abs(), 1.0, 1e-8, "ruling along z");
@@ -123,9 +123,9 @@ fn torus_gauss_and_mean_everywhere() {
             let pc = d.principal_curvatures().unwrap();
             let tube_centre = Point3::new(big * p.x / rho, big * p.y / rho, 0.0);
             let outward = (p - tube_centre).dot(&pc.normal) > 0.0;
-            assert_close(pc.gauss(), k_exact, 1e-10, "K");
+            assert_close(pc.gauss, k_exact, 1e-10, "K");
             assert_close(
-                pc.mean(),
+                pc.mean,
                 if outward { -h_exact } else { h_exact },
                 1e-10,
                 "H",
@@ -155,9 +155,9 @@ fn paraboloid_bicubic_is_exact() {
             let w = 1.0 + 4.0 * x * x + 4.0 * y * y;
             let pc = d.principal_curvatures().unwrap();
             assert!(pc.normal.z > 0.0);
-            assert_close(pc.gauss(), 4.0 / (w * w), 1e-10, "K");
+            assert_close(pc.gauss, 4.0 / (w * w), 1e-10, "K");
             assert_close(
-                pc.mean(),
+                pc.mean,
                 (2.0 + 4.0 * x * x + 4.0 * y * y) / w.powf(1.5),
                 1e-10,
                 "H",
