@@ -102,9 +102,11 @@ pub struct SetParams {
     /// row is turned there to leave the corner along it where the line continues the boundary
     /// (within 45°; see `slave::contact_line_tangents`).
     pub contact_lines: [[Option<[f64; 3]>; 2]; 4],
-    /// Whether the C0 step moves the interior control points with the boundary rows it moves
-    /// (default true): the Coons blend of the boundary's moves (`slave::spread`), so that a
-    /// master that changed shape is followed by the whole slave, not by a strip beside the side.
+    /// Whether the C0 step moves the interior control points with the boundary rows it moves:
+    /// the Coons blend of the boundary's moves (`slave::spread`), so that a master that changed
+    /// shape is followed by the whole slave, not by a strip beside the side. Default false: a
+    /// caller that knows its masters changed turns it on (hier-fair's framework does, for the
+    /// slaves of a master that took a one-hump section).
     pub spread_boundary_move: bool,
 }
 
@@ -125,7 +127,7 @@ impl Default for SetParams {
             kept_sides: [false; 4],
             seam_end_tangents: [false; 4],
             contact_lines: [[None; 2]; 4],
-            spread_boundary_move: true,
+            spread_boundary_move: false,
         }
     }
 }

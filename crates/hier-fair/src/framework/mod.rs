@@ -185,6 +185,9 @@ impl Default for FairParams {
             connect: ConnectParams {
                 set: g_continuity::SetParams {
                     g2_move_factor: FRAMEWORK_G2_MOVE_FACTOR,
+                    // the slaves of a master that took its one-hump section follow it with
+                    // their whole interior ([`spread`]); the framework turns it off elsewhere
+                    spread_boundary_move: true,
                     ..g_continuity::SetParams::default()
                 },
                 max_control_points: MAX_NET,
