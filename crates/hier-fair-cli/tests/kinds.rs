@@ -203,25 +203,28 @@ fn check_and_connect_end_with_a_verdict() {
     ));
 }
 
+/// The subcommands in the order of the workflow (import → check → fair → export, the tools
+/// after).
+const SUBCOMMANDS: [&str; 10] = [
+    "import",
+    "build",
+    "check",
+    "connect",
+    "fair",
+    "export",
+    "demo",
+    "eval",
+    "fair-mesh",
+    "label",
+];
+
 /// `--help` lists the subcommands in the order of the workflow, and the continuity options
 /// their values.
 #[test]
 fn help_follows_the_workflow_and_lists_values() {
     let o = run(&["--help"]);
     let text = String::from_utf8_lossy(&o.stdout);
-    let order = [
-        "import",
-        "build",
-        "check",
-        "connect",
-        "fair",
-        "export",
-        "demo",
-        "eval",
-        "fair-mesh",
-        "label",
-    ];
-    let at: Vec<usize> = order
+    let at: Vec<usize> = SUBCOMMANDS
         .iter()
         .map(|c| {
             text.find(&format!("\n  {c} "))
@@ -317,18 +320,7 @@ fn help_the_contract_and_the_readme_name_the_same_options() {
         ("contract", contract_options()),
         ("README", readme_options()),
     ] {
-        for sub in [
-            "import",
-            "build",
-            "check",
-            "connect",
-            "fair",
-            "export",
-            "demo",
-            "eval",
-            "fair-mesh",
-            "label",
-        ] {
+        for sub in SUBCOMMANDS {
             let documented = options
                 .get(sub)
                 .unwrap_or_else(|| panic!("{sub} has no synopsis in the {doc}"));

@@ -26,9 +26,10 @@ impl Job<'_> {
     /// level the tolerance allows (conflicts and misses go to `problems` and `missed`), the set
     /// and fairing stages run up to it, and the never-worse fallback picks the result.
     ///
-    /// With the boundary's move spread into the interior where [`Job::spreads`]; where that
-    /// result misses a link, the stages run again without, and that result is kept where it
-    /// misses fewer links (module docs). A master whose result took its one-hump section and
+    /// With the boundary's move spread into the interior where the job's `spread` is set (a
+    /// slave that is no master, one of whose masters took its section); where that result
+    /// misses a link, the stages run again without, and that result is kept where it misses
+    /// fewer links (module docs). A master whose result took its one-hump section and
     /// is not fair by every figure runs again without the section.
     pub(super) fn stages(
         &self,
@@ -60,15 +61,15 @@ impl Job<'_> {
         result
     }
 
-    /// [`Job::stages`] with the spread where [`Job::spreads`], and without where that misses
-    /// more links.
+    /// [`Job::stages`] with the spread where the job's `spread` is set, and without where that
+    /// misses more links.
     fn stages_spread(
         &self,
         original: &BSplineSurface,
         problems: &mut Vec<Problem>,
         missed: &mut Vec<(usize, Problem)>,
     ) -> StagesResult {
-        if !self.spreads() {
+        if !self.spread {
             return self.stages_with(original, problems, missed, false);
         }
         let (mut p1, mut m1) = (Vec::new(), Vec::new());
@@ -88,13 +89,6 @@ impl Job<'_> {
         problems.append(&mut p1);
         missed.append(&mut m1);
         first
-    }
-
-    /// Whether this surface's C0 steps spread the boundary's move into the interior (module
-    /// docs): where the settings ask for it, no slave hangs on the surface, and one of its
-    /// masters took its one-hump section in this run.
-    pub(super) fn spreads(&self) -> bool {
-        self.spread
     }
 
     /// How many of this surface's links `s` misses (each measured against its target).
