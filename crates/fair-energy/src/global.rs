@@ -6,7 +6,12 @@
 //! symmetric positive definite for w > 0, solved by a sparse Cholesky factorization with a
 //! fill-reducing order ([`SparseSolver`]).
 //!
-//! Afterwards every displacement is clamped to the ball of radius ε, and a line search along
+//! A rational surface keeps its weights: K is then the quadratic form of [`RationalStiffness`]
+//! (not separable; assembled from its stencils), as in the local scheme.
+//!
+//! Points whose solved displacement leaves the ball of radius ε are held on it (in the
+//! direction they moved) and the others solved again ([`GlobalParams::active_set_rounds`]).
+//! Afterwards every displacement is within the ball of radius ε, and a line search along
 //! d(t) = o + t Δ (Δ the clamped displacement; E(t) = E₀ + 2t Δ·g + t² ΔᵀKΔ is a parabola,
 //! t ∈ [0, 1] keeps every point in its ball) makes sure the energy never exceeds the original.
 //! Optionally the local scheme of [`crate::local`] polishes the result inside the same balls.
@@ -25,9 +30,12 @@ use nurbs_core::{
 };
 
 use crate::error::{EnergyError, Result, check_tolerance};
-use crate::local::{BALL_SHRINK, LocalSettings, NULL_DIAGONAL_REL, StopReason, run_local};
+use crate::local::{
+    BALL_SHRINK, LocalSettings, LocalStiffness, NULL_DIAGONAL_REL, StopReason, run_local,
+};
 use crate::ordering::nested_dissection;
-use crate::stiffness::{MAX_TERMS, SeparableStiffness, kron};
+use crate::rational::RationalStiffness;
+use crate::stiffness::SeparableStiffness;
 
 /// The sparse Cholesky implementation of the global solve.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -73,7 +81,22 @@ pub struct GlobalParams {
     pub solver: SparseSolver,
     /// Local-scheme moves after the solve (inside the same ε-balls). Default 0.
     pub polish_iterations: usize,
+    /// Active-set rounds: after a solve, the points that left their ε-ball are held on its
+    /// surface (in the direction they moved) and the others solved again, until no further
+    /// point leaves or the rounds are spent. Default [`ACTIVE_SET_ROUNDS`]; 0 clamps the first
+    /// solve alone (the scheme before the rounds).
+    pub active_set_rounds: usize,
 }
+
+/// Default [`GlobalParams::active_set_rounds`]: 8. Clamping a solution that left its balls
+/// shortens each offending move on its own, so where the balls bind over a region the clamped
+/// net keeps the unconstrained solve's shape at the region's edge, where the held and the free
+/// points meet. Re-solving the free points against the held ones lets them take the held
+/// points' places into account: the result is the minimum with those points held, its energy
+/// no higher than the single clamp's on the tests' noisy nets (`tests/global.rs`). Each round
+/// holds at least one more point, so the rounds end; eight bounds the cost (one sparse
+/// factorization each).
+pub const ACTIVE_SET_ROUNDS: usize = 8;
 
 impl Default for GlobalParams {
     fn default() -> Self {
@@ -81,6 +104,7 @@ impl Default for GlobalParams {
             deviation_weight: 1e-3,
             solver: SparseSolver::FASTEST,
             polish_iterations: 0,
+            active_set_rounds: ACTIVE_SET_ROUNDS,
         }
     }
 }
@@ -108,8 +132,11 @@ pub struct GlobalReport {
     pub energy_before: f64,
     /// energy after clamping, line search and polishing
     pub energy_after: f64,
-    /// how many points the ε-clamp moved back
+    /// how many points the ε-clamp moved back (held on their balls by the active-set rounds,
+    /// or shortened after the last solve)
     pub clamped_points: usize,
+    /// solves made (1 + the active-set rounds that found a point leaving its ball)
+    pub solves: usize,
     /// the line-search step t ∈ [0, 1] (1 = clamped solution kept as is)
     pub step: f64,
     /// local moves made while polishing
@@ -156,7 +183,9 @@ pub(crate) fn solve(solver: SparseSolver, a: Csc, rhs: DMatrix<f64>) -> Result<D
 const FAER_ORDERING_AMD: bool = false;
 
 /// Fairs `surface` by one global solve, moving only points `mask` frees, each within `tolerance`
-/// (model units) of its original; energy never increases.
+/// (model units) of its original; energy never increases. A rational surface keeps its weights
+/// (the functional is then the quadratic form of [`RationalStiffness`], as for the local
+/// scheme).
 pub fn fair_surface_global(
     surface: &BSplineSurface,
     mask: &ControlMask,
@@ -167,9 +196,22 @@ pub fn fair_surface_global(
     params.check()?;
     mask.check_shape(surface)?;
     if surface.is_rational() {
-        return Err(EnergyError::Rational { what: "surface" });
+        let k = RationalStiffness::thin_plate_shared(surface);
+        global_with(k.as_ref(), surface, mask, tolerance, params)
+    } else {
+        let k = SeparableStiffness::thin_plate(surface.knots_u(), surface.knots_v())?;
+        global_with(&k, surface, mask, tolerance, params)
     }
-    let k = SeparableStiffness::thin_plate(surface.knots_u(), surface.knots_v())?;
+}
+
+/// [`fair_surface_global`] with the functional's matrix `k`.
+fn global_with<K: LocalStiffness>(
+    k: &K,
+    surface: &BSplineSurface,
+    mask: &ControlMask,
+    tolerance: f64,
+    params: &GlobalParams,
+) -> Result<(BSplineSurface, GlobalReport)> {
     let (nu, nv) = (surface.num_u(), surface.num_v());
     let n = nu * nv;
     let origin = surface.control_points();
@@ -177,12 +219,10 @@ pub fn fair_surface_global(
     k.multiply(origin, &mut g);
     let energy_before: f64 = origin.iter().zip(&g).map(|(p, v)| p.coords.dot(v)).sum();
     let free = mask.as_slice();
-    let diag: Vec<f64> = (0..n)
-        .map(|r| k.entry((r / nv, r % nv), (r / nv, r % nv)))
-        .collect();
+    let diag: Vec<f64> = (0..n).map(|r| k.diagonal(r)).collect();
     let diag_cut = NULL_DIAGONAL_REL * diag.iter().cloned().fold(0.0, f64::max);
     let movable: Vec<bool> = (0..n).map(|r| free[r] && diag[r] > diag_cut).collect();
-    let order = nested_dissection(nu, nv, &movable, k.stencil());
+    let order = nested_dissection(nu, nv, &movable, k.half_widths());
     let nf = order.len();
     let mut out = surface.clone();
     let mut report = GlobalReport {
@@ -190,6 +230,7 @@ pub fn fair_surface_global(
         energy_before,
         energy_after: energy_before,
         clamped_points: 0,
+        solves: 0,
         step: 0.0,
         polish_iterations: 0,
         max_control_move: 0.0,
@@ -198,10 +239,14 @@ pub fn fair_surface_global(
         return Ok((out, report));
     }
     let w = params.deviation_weight * order.iter().map(|&r| diag[r]).sum::<f64>() / nf as f64;
-    let (a, rhs) = normal_equations(&k, &order, &movable, w, &g, nv);
-    let delta = solve(params.solver, a, rhs)?;
-    let step_points = clamped_step(&delta, &order, n, tolerance, &mut report.clamped_points);
-    let (t, lin, quad) = line_search(&k, &step_points, &g);
+    let step_points = active_set_step(k, (nu, nv), &movable, origin, w, tolerance, params).map(
+        |(step, solves, held)| {
+            report.solves = solves;
+            report.clamped_points = held;
+            step
+        },
+    )?;
+    let (t, lin, quad) = line_search(k, &step_points, &g);
     report.step = t;
     {
         let points = out.control_points_mut();
@@ -217,7 +262,7 @@ pub fn fair_surface_global(
             max_iterations: params.polish_iterations,
             min_relative_decrease: 0.0,
         };
-        let outcome = run_local(&k, origin, out.control_points_mut(), &movable, settings);
+        let outcome = run_local(k, origin, out.control_points_mut(), &movable, settings);
         if outcome.stop != StopReason::NothingFree {
             report.polish_iterations = outcome.iterations;
             report.energy_after = outcome.energy_after;
@@ -227,29 +272,90 @@ pub fn fair_surface_global(
     Ok((out, report))
 }
 
+/// The displacement Δ of every point (zero where fixed) from the solve and its active-set
+/// rounds ([`GlobalParams::active_set_rounds`]), each within ε · [`BALL_SHRINK`]; with the
+/// number of solves and of points held on their balls. A round solves
+/// (K_ff + w I) δ_f = −(K b)_f over the points still free, b the original net with the held
+/// points displaced: the minimum of E + w Σ_f |δ_f|² with the held points where they are.
+fn active_set_step<K: LocalStiffness>(
+    k: &K,
+    (nu, nv): (usize, usize),
+    movable: &[bool],
+    origin: &[Point3],
+    w: f64,
+    tolerance: f64,
+    params: &GlobalParams,
+) -> Result<(Vec<Point3>, usize, usize)> {
+    let n = movable.len();
+    let bound = tolerance * BALL_SHRINK;
+    let mut free = movable.to_vec();
+    let mut step = vec![Point3::origin(); n];
+    let mut held = 0;
+    let mut solves = 0;
+    loop {
+        // b = o + Δ_held, g = K b
+        let base: Vec<Point3> = (0..n)
+            .map(|r| {
+                if free[r] {
+                    origin[r]
+                } else {
+                    origin[r] + step[r].coords
+                }
+            })
+            .collect();
+        let mut g = vec![Vector3::zeros(); n];
+        k.multiply(&base, &mut g);
+        let order = nested_dissection(nu, nv, &free, k.half_widths());
+        if order.is_empty() {
+            break;
+        }
+        let (a, rhs) = normal_equations(k, &order, &free, w, &g, nv);
+        let delta = solve(params.solver, a, rhs)?;
+        solves += 1;
+        let last = solves > params.active_set_rounds;
+        let mut left = 0;
+        for (c, &r) in order.iter().enumerate() {
+            let v = Vector3::new(delta[(c, 0)], delta[(c, 1)], delta[(c, 2)]);
+            let len = v.norm();
+            if len > bound {
+                // held on its ball, in the direction it moved
+                step[r] = Point3::from(v * (bound / len));
+                free[r] = false;
+                left += 1;
+            } else {
+                step[r] = Point3::from(v);
+            }
+        }
+        held += left;
+        if left == 0 || last {
+            break;
+        }
+    }
+    Ok((step, solves, held))
+}
+
 /// The normal equations (K_ff + w I) δ_f = −g_f over the movable points, unknowns in `order`
 /// (the elimination order): the matrix in compressed columns and one right-hand side per
 /// coordinate.
-fn normal_equations(
-    k: &SeparableStiffness,
+fn normal_equations<K: LocalStiffness>(
+    k: &K,
     order: &[usize],
     movable: &[bool],
     w: f64,
     g: &[Vector3],
     nv: usize,
 ) -> (Csc, DMatrix<f64>) {
-    let (wu, wv) = k.stencil();
-    let mut fa = vec![[0.0; MAX_TERMS]; 2 * wu + 1];
-    let mut fb = vec![[0.0; MAX_TERMS]; 2 * wv + 1];
+    let (nu, (wu, wv)) = (k.shape().0, k.half_widths());
+    let mut stencil = k.new_stencil();
     assemble(order, movable, g, (wu, wv), |r, emit| {
         let (i, j) = (r / nv, r % nv);
-        k.factors_u(i, &mut fa);
-        k.factors_v(j, &mut fb);
-        let ((i0, i1), (j0, j1)) = (k.range_u(i), k.range_v(j));
-        for (a_, fi) in (i0..=i1).zip(&fa) {
-            for (b_, fj) in (j0..=j1).zip(&fb) {
-                let s_ = a_ * nv + b_;
-                emit(s_, kron(fi, fj) + if s_ == r { w } else { 0.0 });
+        k.load(i, j, &mut stencil);
+        let (i0, i1) = (i.saturating_sub(wu), (i + wu).min(nu - 1));
+        let (j0, j1) = (j.saturating_sub(wv), (j + wv).min(nv - 1));
+        for (a, row_i) in (i0..=i1).enumerate() {
+            for (col_j, kij) in (j0..=j1).zip(k.row(&stencil, a)) {
+                let s_ = row_i * nv + col_j;
+                emit(s_, kij + if s_ == r { w } else { 0.0 });
             }
         }
     })
@@ -300,32 +406,8 @@ pub(crate) fn assemble(
     (a, rhs)
 }
 
-/// The clamped displacement Δ as points of the net (zero off `order`): each solved δ shortened
-/// to the ball ε · [`BALL_SHRINK`]; `clamped` counts the shortened ones.
-fn clamped_step(
-    delta: &DMatrix<f64>,
-    order: &[usize],
-    n: usize,
-    tolerance: f64,
-    clamped: &mut usize,
-) -> Vec<Point3> {
-    let mut step_points = vec![Point3::origin(); n];
-    for (c, &r) in order.iter().enumerate() {
-        let v = Vector3::new(delta[(c, 0)], delta[(c, 1)], delta[(c, 2)]);
-        let len = v.norm();
-        let v = if len > tolerance * BALL_SHRINK {
-            *clamped += 1;
-            v * (tolerance * BALL_SHRINK / len)
-        } else {
-            v
-        };
-        step_points[r] = Point3::from(v);
-    }
-    step_points
-}
-
 /// The step t ∈ [0, 1] minimizing E(o + t Δ) = E₀ + 2t Δ·g + t² ΔᵀKΔ, with Δ·g and ΔᵀKΔ.
-fn line_search(k: &SeparableStiffness, step_points: &[Point3], g: &[Vector3]) -> (f64, f64, f64) {
+fn line_search<K: LocalStiffness>(k: &K, step_points: &[Point3], g: &[Vector3]) -> (f64, f64, f64) {
     let mut kd = vec![Vector3::zeros(); step_points.len()];
     k.multiply(step_points, &mut kd);
     let lin: f64 = step_points

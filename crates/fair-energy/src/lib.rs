@@ -33,11 +33,12 @@
 //! Gram integrals ([`stiffness`]). The local scheme ([`local`]) repeatedly moves the free control
 //! point with the largest energy decrease to its optimal position, clamped to a ball of radius ε
 //! around its original. [`global`] minimizes Π + w Σ |d − d_orig|² over all free points with a
-//! sparse Cholesky factorization and then clamps to ε.
+//! sparse Cholesky factorization, holds the points that left their ε-balls on the balls and
+//! solves the others again (active-set rounds, [`ACTIVE_SET_ROUNDS`]).
 //!
-//! Rational surfaces: the local scheme takes them with their weights held fixed — the thin plate
-//! is then a quadratic form through the rational basis functions ([`rational`],
-//! [`RationalStiffness`]). The global variant, the Bézier-spline flow and curve fairing need
+//! Rational surfaces: the local scheme and the global variant take them with their weights held
+//! fixed — the thin plate is then a quadratic form through the rational basis functions
+//! ([`rational`], [`RationalStiffness`]). The Bézier-spline flow and curve fairing need
 //! polynomial input and return [`EnergyError::Rational`] otherwise.
 //!
 //! Bézier-spline surfaces (interior knots of full multiplicity, [H] part ②): [`bezier`] runs the
@@ -79,6 +80,6 @@ pub use joints::C1_JUMP_REL;
 
 pub use curve::{CurveEnergyParams, fair_curve};
 pub use global::{
-    GLOBAL_METHOD, GlobalEnergyFairing, GlobalParams, GlobalReport, SparseSolver,
-    fair_surface_global,
+    ACTIVE_SET_ROUNDS, GLOBAL_METHOD, GlobalEnergyFairing, GlobalParams, GlobalReport,
+    SparseSolver, fair_surface_global,
 };

@@ -183,16 +183,16 @@ fn start_and_run<K: crate::local::LocalStiffness>(
 
 /// The local energy fairing method (`energy`) for the framework.
 ///
-/// Of the workspace's energy methods only this one takes rational surfaces (weights held fixed,
-/// `joint_weight` = 0); `energy-global` ([`crate::GlobalEnergyFairing`]) and `energy-bezier`
-/// ([`crate::BezierSplineFairing`]) refuse them with [`EnergyError::Rational`].
+/// It takes rational surfaces (weights held fixed, `joint_weight` = 0), as `energy-global`
+/// ([`crate::GlobalEnergyFairing`]) does; `energy-bezier` ([`crate::BezierSplineFairing`])
+/// refuses them with [`EnergyError::Rational`].
 #[derive(Debug, Clone, Copy, PartialEq, Default)]
 pub struct LocalEnergyFairing {
     /// its settings
     pub params: EnergyParams,
 }
 
-/// Name of the local method (the one energy method that takes rational surfaces).
+/// Name of the local method.
 pub const LOCAL_METHOD: &str = "energy";
 
 impl SurfaceFairing for LocalEnergyFairing {

@@ -155,3 +155,101 @@ fn bad_input_is_an_error_or_a_report_that_nothing_moved() {
         Err(nurbs_core::Error::FairingFailed { .. })
     ));
 }
+
+/// The quarter cylinder of radius 1 and height 2 (rational, degree 2 around the axis), bicubic
+/// in the other direction and refined so that it has interior control points, with seeded
+/// noise of `amplitude` on its interior points.
+fn noisy_rational_cylinder(seed: u64, amplitude: f64) -> nurbs_core::BSplineSurface {
+    use nurbs_core::Direction;
+    use rand::Rng;
+    let s = nurbs_core::shapes::cylinder(1.0, 2.0)
+        .and_then(|s| s.elevate_degree(Direction::U, 2))
+        .and_then(|s| s.refine(Direction::U, &[0.25, 0.5, 0.75]))
+        .and_then(|s| s.refine(Direction::V, &[0.2, 0.4, 0.6, 0.8]))
+        .expect("cylinder");
+    assert!(s.is_rational());
+    let mut r = nurbs_core::testing::rng(seed);
+    let (nu, nv) = (s.num_u(), s.num_v());
+    let mut out = s.clone();
+    for (q, p) in out.control_points_mut().iter_mut().enumerate() {
+        let (i, j) = (q / nv, q % nv);
+        if i > 0 && j > 0 && i + 1 < nu && j + 1 < nv {
+            *p += Vector3::new(
+                r.random_range(-1.0..1.0),
+                r.random_range(-1.0..1.0),
+                r.random_range(-1.0..1.0),
+            ) * amplitude;
+        }
+    }
+    out
+}
+
+#[test]
+fn a_rational_surface_keeps_its_weights_and_solves_its_own_normal_equations() {
+    let s = noisy_rational_cylinder(7, 0.01);
+    let mask = ControlMask::with_boundary_frame(&s, Frame::Positional);
+    let params = GlobalParams::default();
+    let (out, report) = fair_surface_global(&s, &mask, 1e6, &params).expect("fairs");
+    assert_eq!((report.clamped_points, report.step), (0, 1.0), "{report:?}");
+    let (wa, wb) = (
+        s.weights().expect("rational"),
+        out.weights().expect("rational"),
+    );
+    assert!(wa.iter().zip(wb).all(|(a, b)| a.to_bits() == b.to_bits()));
+    // the residual of (K + w I) δ = −K o with the rational form K
+    let k = fair_energy::RationalStiffness::thin_plate(&s);
+    let nv = s.num_v();
+    let free: Vec<usize> = mask.free_indices().map(|(i, j)| i * nv + j).collect();
+    let w = params.deviation_weight
+        * free
+            .iter()
+            .map(|&r| k.entry((r / nv, r % nv), (r / nv, r % nv)))
+            .sum::<f64>()
+        / free.len() as f64;
+    let mut g = vec![Vector3::zeros(); s.control_points().len()];
+    k.multiply(out.control_points(), &mut g);
+    let scale = g.iter().map(|v| v.norm()).fold(0.0, f64::max).max(1.0);
+    for &r in &free {
+        let residual = g[r] + w * (out.control_points()[r] - s.control_points()[r]);
+        assert!(
+            residual.norm() <= 1e-8 * scale,
+            "residual {:e}",
+            residual.norm()
+        );
+    }
+    assert!(thin_plate_energy(&out) < thin_plate_energy(&s));
+}
+
+#[test]
+fn active_set_rounds_stay_in_the_balls_and_end_no_higher_than_one_clamp() {
+    let mut rounds_used = 0;
+    for seed in 40..46 {
+        // noise of 4e-3 against balls of 1e-3 … 4e-3: some points leave their balls, not all
+        let (_, noisy) = smooth_and_noisy(seed, 16, 3, 0.004);
+        let rational = noisy_rational_cylinder(seed, 0.004);
+        for s in [noisy, rational] {
+            let mask = ControlMask::with_boundary_frame(&s, Frame::Tangential);
+            for eps in [1e-3, 2e-3, 4e-3] {
+                let run = |rounds: usize| {
+                    let params = GlobalParams {
+                        active_set_rounds: rounds,
+                        ..GlobalParams::default()
+                    };
+                    fair_surface_global(&s, &mask, eps, &params).expect("fairs")
+                };
+                let (one, r1) = run(0);
+                let (many, rm) = run(fair_energy::ACTIVE_SET_ROUNDS);
+                assert_contract(&s, &one, &mask, eps);
+                assert_contract(&s, &many, &mask, eps);
+                assert_eq!(r1.solves, 1);
+                assert!(rm.solves <= fair_energy::ACTIVE_SET_ROUNDS + 1);
+                if rm.solves > 1 {
+                    rounds_used += 1;
+                }
+                let (e1, em) = (thin_plate_energy(&one), thin_plate_energy(&many));
+                assert!(em <= e1 * (1.0 + 1e-9), "seed {seed} ε {eps}: {e1} -> {em}");
+            }
+        }
+    }
+    assert!(rounds_used > 0, "no case bound the balls");
+}

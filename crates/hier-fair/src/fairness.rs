@@ -171,14 +171,24 @@ impl FairnessVerdict {
             && self.net_within
     }
 
-    /// Whether this verdict is strictly fairer than `other`'s: fewer faults, else as many and
-    /// fewer curvature extrema gained, else both as many and a peak ratio lower by more than
-    /// `same` (relative; the framework passes the model's relative G2 tolerance: curvatures
-    /// that close are "the same curvature" at a join, and so are two peaks).
+    /// Whether this verdict is strictly fairer than `other`'s: fewer faults; else, where both
+    /// peak beyond [`PEAK_FACTOR`], the lower peak; else fewer curvature extrema gained; else
+    /// a peak ratio lower by more than `same` (relative; the framework passes the model's
+    /// relative G2 tolerance: curvatures that close are "the same curvature" at a join, and so
+    /// are two peaks). A spike is the worse fault: a surface that peaks at 9× its input's with
+    /// two fewer wiggles in its comb is not the fairer one (a sphere corner's setting against
+    /// its faired result, box12_r5 by default).
     pub fn fairer_than(&self, other: &Self, same: f64) -> bool {
         let (a, b) = (self.faults().len(), other.faults().len());
         if a != b {
             return a < b;
+        }
+        let lower = |x: f64, y: f64| x < y * (1.0 - same);
+        if self.peak_ratio.min(other.peak_ratio) > PEAK_FACTOR
+            && (lower(self.peak_ratio, other.peak_ratio)
+                || lower(other.peak_ratio, self.peak_ratio))
+        {
+            return lower(self.peak_ratio, other.peak_ratio);
         }
         if self.extrema_gained != other.extrema_gained {
             return self.extrema_gained < other.extrema_gained;
@@ -271,6 +281,16 @@ mod tests {
         assert!(fair.fairer_than(&spike, 0.005));
         assert!(!spike.fairer_than(&fair, 0.005));
         assert!(!fair.fairer_than(&fair, 0.005));
+        // both beyond the peak bound: the lower spike is fairer, whatever the extrema
+        let high = FairnessVerdict::new(&before, &figures(1.8, 25.0, Some(9), (4, 4)), 0.0);
+        let low = FairnessVerdict::new(&before, &figures(1.2, 25.0, Some(11), (4, 4)), 0.0);
+        assert_eq!(high.faults().len(), low.faults().len());
+        assert!(low.fairer_than(&high, 0.005));
+        assert!(!high.fairer_than(&low, 0.005));
+        // peaks within the bound: the extrema decide
+        let calm = FairnessVerdict::new(&before, &figures(0.3, 25.0, Some(3), (4, 4)), 0.0);
+        let rough = FairnessVerdict::new(&before, &figures(0.25, 25.0, Some(6), (4, 4)), 0.0);
+        assert!(calm.fairer_than(&rough, 0.005));
         let grown = FairnessVerdict::new(&before, &figures(0.2, 10.0, Some(0), (57, 61)), 0.0);
         assert!(!grown.net_within);
         assert_eq!(grown.faults().len(), 1);

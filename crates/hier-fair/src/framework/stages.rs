@@ -399,6 +399,14 @@ impl Job<'_> {
         let mut once_result = None;
         if let Some((faired, stages)) = self.faired_once(plan, run.original, &run.stages[0]) {
             if self.worse_link(plan.labelled, &faired).is_none() {
+                // the setting faired once is judged as the stages' result is
+                if let Some(why) = self.setting_is_fairer(plan, &faired, run.original) {
+                    self.limited(problems, why, None);
+                    return (
+                        plan.connected.clone(),
+                        vec![self.connected_record(plan, &run)],
+                    );
+                }
                 let h = plan.highest.unwrap_or(Continuity::G0);
                 self.limited(
                     problems,
@@ -431,16 +439,9 @@ impl Job<'_> {
         self.least_grown(plan, candidates, &worse, problems)
     }
 
-    /// The faired result `s` (no link worse, none lost, within the tolerance), or — on a surface
-    /// that is no other surface's master, with [`FairParams::prefer_fairer`] — the continuity
-    /// setting alone where the faired result's peak curvature is beyond
-    /// [`crate::fairness::PEAK_FACTOR`] of its input's (a one-hump section's result: where it is
-    /// not fair by any figure of [`crate::fairness`]), the setting meets every link and is fairer
-    /// ([`crate::fairness::FairnessVerdict::fairer_than`]): a fairing stage minimizes its
-    /// method's functional, which on a strongly curved connecting surface need not lower its
-    /// curvature peaks (with 0.5 mm of deviation the thin-plate energy of plate_boss's torus
-    /// fillet drops 4 % while its peak curvature grows 2.6×), nor keep the one hump of a
-    /// fillet's section ([`super::section`]). The choice is reported with both figures.
+    /// The faired result `s` (no link worse, none lost, within the tolerance), or the
+    /// continuity setting alone where [`Job::setting_is_fairer`] says so (reported with both
+    /// figures).
     fn fairer_of(
         &self,
         plan: &StagePlan<'_>,
@@ -448,6 +449,35 @@ impl Job<'_> {
         run: Run<'_>,
         problems: &mut Vec<Problem>,
     ) -> (BSplineSurface, Vec<StageReport>) {
+        match self.setting_is_fairer(plan, &s, run.original) {
+            Some(why) => {
+                self.limited(problems, why, None);
+                (
+                    plan.connected.clone(),
+                    vec![self.connected_record(plan, &run)],
+                )
+            }
+            None => (s, run.stages),
+        }
+    }
+
+    /// Why the continuity setting alone (`plan.connected`) replaces the faired result `s`, or
+    /// `None` to keep `s`. It replaces it only on a surface that is no other surface's master,
+    /// with [`FairParams::prefer_fairer`], where the faired result's peak curvature is beyond
+    /// [`crate::fairness::PEAK_FACTOR`] of its input's (a one-hump section's result: where it
+    /// is not fair by any figure of [`crate::fairness`]), the setting meets every link and is
+    /// fairer ([`crate::fairness::FairnessVerdict::fairer_than`]): a fairing stage minimizes
+    /// its method's functional, which on a strongly curved connecting surface need not lower
+    /// its curvature peaks (with 0.5 mm of deviation the thin-plate energy of plate_boss's
+    /// torus fillet drops 4 % while its peak curvature grows 2.6×; box12_r5's sphere corners
+    /// per role drop 7 % in energy and go from 1.18× to 1.81× in peak), nor keep the one hump
+    /// of a fillet's section ([`super::section`]).
+    fn setting_is_fairer(
+        &self,
+        plan: &StagePlan<'_>,
+        s: &BSplineSurface,
+        original: &BSplineSurface,
+    ) -> Option<String> {
         // a master's result is what its slaves are set against: a master changed here would
         // change their joins (a vertex blend between four fillets kept at their settings missed
         // G2 on all four sides, lofted block a), so masters keep the method's result
@@ -460,14 +490,14 @@ impl Job<'_> {
             || self.worse_link(plan.labelled, &plan.connected).is_some()
             || self.met_links(plan.links, &plan.connected) < plan.links.len()
         {
-            return (s, run.stages);
+            return None;
         }
-        let before = crate::fairness::surface_fairness(self.model, self.surface, run.original);
+        let before = crate::fairness::surface_fairness(self.model, self.surface, original);
         let verdict = |x: &BSplineSurface| {
             let after = crate::fairness::surface_fairness(self.model, self.surface, x);
             crate::fairness::FairnessVerdict::new(&before, &after, self.joint_curvature(x))
         };
-        let faired = verdict(&s);
+        let faired = verdict(s);
         // the one-hump section is judged by every figure (its fairing must keep the hump); any
         // other result by its peak: below that bound the method's own functional decides
         // ([SV] §3.2) — on near-flat fillets (the X-node's, a few 1e-3 /mm) the comb's extrema
@@ -478,27 +508,20 @@ impl Job<'_> {
             faired.peak_ratio <= crate::fairness::PEAK_FACTOR
         };
         if judged_fair {
-            return (s, run.stages);
+            return None;
         }
         let setting = verdict(&plan.connected);
-        if !setting.fairer_than(&faired, self.connect.tolerances.g2_rel) {
-            return (s, run.stages);
-        }
-        self.limited(
-            problems,
-            format!(
-                "fairing dropped, continuity setting kept: it is fairer (peak curvature {:.2}× the input's, {} curvature extrema gained across the boundary; the faired result {:.2}×, {})",
-                setting.peak_ratio,
-                setting.extrema_gained,
-                faired.peak_ratio,
-                faired.extrema_gained
-            ),
-            None,
-        );
-        (
-            plan.connected.clone(),
-            vec![self.connected_record(plan, &run)],
-        )
+        setting
+            .fairer_than(&faired, self.connect.tolerances.g2_rel)
+            .then(|| {
+                format!(
+                    "fairing dropped, continuity setting kept: it is fairer (peak curvature {:.2}× the input's, {} curvature extrema gained across the boundary; the faired result {:.2}×, {})",
+                    setting.peak_ratio,
+                    setting.extrema_gained,
+                    faired.peak_ratio,
+                    faired.extrema_gained
+                )
+            })
     }
 
     /// The stage record of the continuity setting alone (`plan.connected`): the prepare
