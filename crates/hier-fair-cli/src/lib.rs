@@ -20,6 +20,7 @@
 pub mod check;
 pub mod cli;
 pub mod connect;
+pub mod corner_views;
 pub mod eval;
 pub mod exchange;
 pub mod fair;

@@ -206,8 +206,10 @@ fn png(path: &Path, img: &image::RgbImage) -> Result<()> {
 pub const IMAGE_SIZE: (u32, u32) = (900, 700);
 
 /// Writes the pictures into `dir`: zebra and mean-curvature maps before and after (one fixed
-/// view, one colour range for both), and one curvature plot per link (slave and master normal
-/// curvature across the boundary along the link, before light, after dark). Returns the files.
+/// view, one colour range for both), one curvature plot per link (slave and master normal
+/// curvature across the boundary along the link, before light, after dark), one profile plot
+/// across each surface that hangs on masters, and zebra and mean-curvature views zoomed on
+/// each corner patch ([`crate::corner_views`]). Returns the files.
 pub fn write_images(
     dir: &Path,
     original: &Model,
@@ -227,6 +229,14 @@ pub fn write_images(
             written.push(write_profile_plot(dir, original, faired, k, along, unit)?);
         }
     }
+    written.extend(crate::corner_views::write_corner_views(
+        dir,
+        original,
+        faired,
+        unit,
+        &png,
+        ZEBRA_STRIPES,
+    )?);
     Ok(written)
 }
 
@@ -461,7 +471,11 @@ pub fn images_legend() -> String {
      red solid the slave, blue dashed the master: where they coincide the join is G2.\n\
      - `profile_<surface>_<u|v>.png`: the normal curvature along the middle iso-line across each \
      surface that hangs on masters, from side to side (light before, dark after): the comb a \
-     surfacer reads across a fillet; a fair G2 fillet rises once from each side and falls once.\n"
+     surfacer reads across a fillet; a fair G2 fillet rises once from each side and falls once.\n\
+     - `corner_<corner>_zebra_<before|after>.png`, `corner_<corner>_mean_curvature_<before|after>.png`: \
+     each corner patch with the surfaces it hangs on, seen along its middle normal and zoomed on it; \
+     one colour range for both maps (twice the 95th percentile of the corner's |H| before): the \
+     input's curvature at half strength, a spike at a pole or beside a side saturated.\n"
         .to_string()
 }
 

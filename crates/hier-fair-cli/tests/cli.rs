@@ -249,9 +249,28 @@ fn demo_fairs_the_bundled_x_node_and_writes_everything_atomically() {
         "images/mean_curvature_before.png",
         "images/mean_curvature_after.png",
         "images/curvature_corner_u0_on_fillet_w.png",
+        "images/corner_corner_zebra_before.png",
+        "images/corner_corner_zebra_after.png",
+        "images/corner_corner_mean_curvature_before.png",
+        "images/corner_corner_mean_curvature_after.png",
     ] {
         assert!(out.join(f).exists(), "{f} missing");
     }
+    // the corner view is zoomed on the corner: it fills the middle of the picture (the
+    // background is light grey, 236/238/242), and the whole-model view is another picture
+    let zoomed = image::open(out.join("images/corner_corner_zebra_after.png"))
+        .unwrap()
+        .to_rgb8();
+    let (w, h) = zoomed.dimensions();
+    let covered = (w / 3..2 * w / 3)
+        .flat_map(|x| (h / 3..2 * h / 3).map(move |y| (x, y)))
+        .filter(|&(x, y)| zoomed.get_pixel(x, y).0 != [236, 238, 242])
+        .count();
+    assert_eq!(
+        covered as u32,
+        (w / 3) * (h / 3),
+        "the middle third is the model"
+    );
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(out.join("report.json")).unwrap()).unwrap();
     assert_eq!(report["surfaces"].as_array().unwrap().len(), 9);

@@ -19,8 +19,10 @@ type StepResult = (
 );
 
 /// Trials of the lead-in width search: the first at the widest lead-in, each next one scaled by
-/// √(budget/d); the error of the square law shrinks with the width, so the third trial is
-/// usually within the budget and six are a bound, not a typical count.
+/// √((budget − d₀)/(d − d₀)), d₀ the C0 step's deviation (following the masters, which no
+/// lead-in changes; where d₀ alone exceeds the budget the search stops); the error of the
+/// square law shrinks with the width, so the third trial is usually within the budget and six
+/// are a bound, not a typical count.
 pub const LEAD_IN_TRIALS: usize = 6;
 
 /// Factor applied to each predicted width: 0.9, so a prediction that is 20 % optimistic on the
@@ -39,6 +41,30 @@ pub const LEAD_IN_MAX_NARROWING: f64 = 8.0;
 /// knots are 1/192 of the domain apart and the curvature ramp is steeper than any fairing
 /// would keep.
 pub const MIN_LEAD_IN: f64 = 1.0 / 64.0;
+
+/// The lead-in width to try after a trial at width `w` whose C0 step deviated `d0` and whose
+/// last step `d` (the budget `budget`; `met`: it met every link), or `None` to stop.
+fn next_width(w: f64, d0: f64, d: f64, budget: f64, met: bool) -> Option<f64> {
+    let next = if d <= budget {
+        w / LEAD_IN_MISS_NARROWING
+    } else if d0 >= budget {
+        // the C0 step alone takes the budget, so no narrower lead-in brings the result within
+        // it; once the links are met there is nothing a narrower one can give (box12_r5's
+        // sphere corners per role: 0.281 mm at every width), else another width may meet them
+        // (its refinement places other knots: box12_var2's B-spline corner per role met at the
+        // fourth)
+        if met {
+            return None;
+        }
+        let next = w * (budget / d).sqrt() * LEAD_IN_MARGIN;
+        next.clamp(w / LEAD_IN_MAX_NARROWING, w * LEAD_IN_MARGIN)
+    } else {
+        // the square law on the lead-in's own share of the deviation
+        let next = w * ((budget - d0) / (d - d0)).sqrt() * LEAD_IN_MARGIN;
+        next.clamp(w / LEAD_IN_MAX_NARROWING, w * LEAD_IN_MARGIN)
+    };
+    (next >= MIN_LEAD_IN).then_some(next)
+}
 
 impl DryRun {
     /// The deviation of the last step (0 without steps).
@@ -208,6 +234,8 @@ impl Job<'_> {
                 .map_err(|e| format!("inserting knots into {name}: {e}"))?;
             let dry = self.dry_run(&prepared, links, spread)?;
             let (d, met) = (dry.deviation(), dry.met);
+            // the C0 step's deviation: following the masters' sides, whatever the lead-in
+            let d0 = dry.steps.first().map_or(0.0, |s| s.2);
             let (excess, narrowable) = if met {
                 (0.0, false)
             } else {
@@ -223,15 +251,9 @@ impl Job<'_> {
             if within && (met || hopeless || !helped) {
                 break;
             }
-            let next = if within {
-                w / LEAD_IN_MISS_NARROWING
-            } else {
-                let next = w * (budget / d).sqrt() * LEAD_IN_MARGIN;
-                next.clamp(w / LEAD_IN_MAX_NARROWING, w * LEAD_IN_MARGIN)
-            };
-            if next < MIN_LEAD_IN {
+            let Some(next) = next_width(w, d0, d, budget, met) else {
                 break;
-            }
+            };
             width = Some(next);
         }
         let needed = trials
@@ -326,5 +348,27 @@ fn step_variants(set: g_continuity::SetParams, step: Continuity) -> Vec<g_contin
             ..set
         }],
         _ => Vec::new(),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_next_lead_in_follows_the_lead_ins_own_deviation() {
+        // within the budget but missed: half as wide
+        assert_eq!(next_width(0.4, 0.0, 0.1, 0.2, false), Some(0.2));
+        // the square law on the share beyond the C0 step: (0.2 − 0.1)/(0.5 − 0.1) = 1/4
+        let w = next_width(0.4, 0.1, 0.5, 0.2, false).unwrap();
+        assert!((w - 0.4 * 0.5 * LEAD_IN_MARGIN).abs() < 1e-15, "{w}");
+        // the C0 step alone beyond the budget: met, nothing to gain; missed, another width
+        assert_eq!(next_width(0.4, 0.3, 0.3, 0.2, true), None);
+        let w = next_width(0.4, 0.3, 0.3, 0.2, false).unwrap();
+        assert!((w - 0.4 * (0.2f64 / 0.3).sqrt() * LEAD_IN_MARGIN).abs() < 1e-15);
+        // never narrower than MIN_LEAD_IN, never more than LEAD_IN_MAX_NARROWING at once
+        assert_eq!(next_width(1.5 * MIN_LEAD_IN, 0.0, 100.0, 0.2, false), None);
+        let w = next_width(0.4, 0.0, 1e6, 0.2, false).unwrap();
+        assert_eq!(w, 0.4 / LEAD_IN_MAX_NARROWING);
     }
 }

@@ -82,7 +82,7 @@ pub use dry_run::{
 };
 pub use group::GroupFair;
 use group::group_stage;
-pub use growth::worse_than;
+pub use growth::{NEGLIGIBLE_GROWTH, worse_than};
 pub(crate) use growth::{growth_order, growth_text, growths};
 pub use job::{JOIN_SAMPLES, UNCHANGED_RELATIVE};
 pub(crate) use masks::lies_on_side;
@@ -93,7 +93,10 @@ pub use report::{
     ENERGY_RISE_WHY, FairModelReport, LinkFair, Problem, ProblemKind, Progress, Stage, StageReport,
     SurfaceFair,
 };
-use report::{edge_reports, found_edge_reports, link_reports, unmet_problems, worse_edge_problems};
+use report::{
+    edge_reports, found_edge_reports, link_reports, unmet_problems, worse_edge_problems,
+    worse_link_problems,
+};
 pub use seams::LINKED_SEAM_FRACTION;
 pub use section::{MIN_FREE_RAMP, MIN_RAMP, SECTION_TRIALS};
 pub use slivers::SLIVER_MOVE_SHARE;
@@ -265,6 +268,8 @@ pub fn fair_model_with(
     out.links.truncate(given.links.len());
     let unmet = unmet_problems(model, &report.links);
     report.problems.extend(unmet);
+    let worse = worse_link_problems(model, &out, &report.links);
+    report.problems.extend(worse);
     let after_edges = measure_edges(&out, &edges);
     report
         .edges

@@ -338,7 +338,11 @@ pub(super) fn unmet_problems(model: &Model, links: &[LinkFair]) -> Vec<Problem> 
                 let parts = [
                     (m.g0 / t.g0, format!("gap {:.3e}", m.g0)),
                     (
-                        m.g1_deg.map_or(0.0, |a| a / t.g1_deg),
+                        if l.target >= Continuity::G1 {
+                            m.g1_deg.map_or(0.0, |a| a / t.g1_deg)
+                        } else {
+                            0.0
+                        },
                         format!("angle {:.3e}°", m.g1_deg.unwrap_or(0.0)),
                     ),
                     (
@@ -404,6 +408,52 @@ pub(super) fn edge_reports(
             )
         })
         .collect()
+}
+
+/// A `limited` problem for every link that leaves worse than it came in up to its target — a
+/// larger gap or angle, or a larger curvature difference across a join that came in tangent
+/// ([`super::worse_than`]) — naming why where the slave came out as it went in: its master
+/// moved at the join after it (the slave kept at its input continuity, a conflict), which a
+/// master's stages cannot foresee. `given` is the input model, `out` the result.
+pub(super) fn worse_link_problems(given: &Model, out: &Model, links: &[LinkFair]) -> Vec<Problem> {
+    let t = given.tolerances.continuity();
+    let mut problems = Vec::new();
+    for l in links {
+        let (Some(before), Some(after)) = (&l.before, &l.after) else {
+            continue;
+        };
+        let tangent = before.g1_deg.is_some_and(|g| g <= t.g1_deg);
+        let target = if tangent {
+            l.target
+        } else {
+            l.target.min(Continuity::G1)
+        };
+        let Some(worse) = super::worse_than(before, after, target, &t) else {
+            continue;
+        };
+        let link = &given.links[l.link];
+        let slave = &given.surfaces[link.slave];
+        let kept = out
+            .surfaces
+            .get(link.slave)
+            .is_some_and(|s| s.surface == slave.surface);
+        let why = if kept {
+            format!(
+                "its master {} moved at the join, and the slave was kept as it was",
+                given.surfaces[link.master].name
+            )
+        } else {
+            "no stage of the slave could keep it".to_string()
+        };
+        problems.push(Problem {
+            kind: ProblemKind::Limited,
+            surface: slave.name.clone(),
+            link: Some(l.label.clone()),
+            message: format!("the link leaves worse than it came in, {worse}: {why}"),
+            amount: None,
+        });
+    }
+    problems
 }
 
 /// A `limited` problem for every shared edge that leaves worse than it came.
