@@ -19,6 +19,27 @@
 //! assert!(report.energy_after < report.energy_before);
 //! ```
 //!
+//! The same on a surface read from the JSON format of `docs/model-format.md` (a biquadratic
+//! 4 × 4 patch whose four middle points are lifted unevenly), through nurbs-core's checked
+//! runner (the `greiner` method):
+//!
+//! ```
+//! use fair_curvature::GreinerFairing;
+//! use nurbs_core::{ControlMask, FairingProblem, Frame};
+//! let json = r#"{"degree_u": 2, "degree_v": 2,
+//!     "knots_u": [0, 0, 0, 0.5, 1, 1, 1], "knots_v": [0, 0, 0, 0.5, 1, 1, 1],
+//!     "control_points": [
+//!       [[0, 0, 0], [0, 1, 0], [0, 2, 0], [0, 3, 0]],
+//!       [[1, 0, 0], [1, 1, 0.3], [1, 2, -0.1], [1, 3, 0]],
+//!       [[2, 0, 0], [2, 1, -0.2], [2, 2, 0.25], [2, 3, 0]],
+//!       [[3, 0, 0], [3, 1, 0], [3, 2, 0], [3, 3, 0]]]}"#;
+//! let s = &nurbs_core::io::surfaces_from_json(json).unwrap()[0];
+//! let mask = ControlMask::with_boundary_frame(s, Frame::Positional);
+//! let (faired, report) = FairingProblem::new(s, &mask, 0.1).solve(&GreinerFairing::default()).unwrap();
+//! assert!(report.energy_after < report.energy_before);
+//! assert_eq!(faired.control_points()[0], s.control_points()[0]); // the boundary stays
+//! ```
+//!
 //! - [`TargetCurvatureFairing`] (`curvature`, [SV] §5.2 after [SSV08]): the curvature of the
 //!   isocurves of a sample grid is smoothed ([`polyline`]), the samples follow it in one
 //!   least-squares integration from both ends with a soft pull towards the original

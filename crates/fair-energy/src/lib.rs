@@ -28,6 +28,27 @@
 //! assert!(faired.control_points().iter().all(|p| p.z.abs() < 1e-5));
 //! ```
 //!
+//! The same on a surface read from the JSON format of `docs/model-format.md` (a biquadratic
+//! 4 × 4 patch whose four middle points are lifted unevenly), through nurbs-core's checked
+//! runner (the `energy` method):
+//!
+//! ```
+//! use fair_energy::LocalEnergyFairing;
+//! use nurbs_core::{ControlMask, FairingProblem, Frame};
+//! let json = r#"{"degree_u": 2, "degree_v": 2,
+//!     "knots_u": [0, 0, 0, 0.5, 1, 1, 1], "knots_v": [0, 0, 0, 0.5, 1, 1, 1],
+//!     "control_points": [
+//!       [[0, 0, 0], [0, 1, 0], [0, 2, 0], [0, 3, 0]],
+//!       [[1, 0, 0], [1, 1, 0.3], [1, 2, -0.1], [1, 3, 0]],
+//!       [[2, 0, 0], [2, 1, -0.2], [2, 2, 0.25], [2, 3, 0]],
+//!       [[3, 0, 0], [3, 1, 0], [3, 2, 0], [3, 3, 0]]]}"#;
+//! let s = &nurbs_core::io::surfaces_from_json(json).unwrap()[0];
+//! let mask = ControlMask::with_boundary_frame(s, Frame::Positional);
+//! let (faired, report) = FairingProblem::new(s, &mask, 0.1).solve(&LocalEnergyFairing::default()).unwrap();
+//! assert!(report.energy_after < report.energy_before);
+//! assert_eq!(faired.control_points()[0], s.control_points()[0]); // the boundary stays
+//! ```
+//!
 //! The functional is the linearized thin-plate energy Π = ∬ |X_uu|² + 2|X_uv|² + |X_vv|² du dv
 //! (curves ∫ |x''|² + β |x'''|²), a quadratic form in the control points built from nurbs-core's
 //! Gram integrals ([`stiffness`]). The local scheme ([`local`]) repeatedly moves the free control

@@ -26,6 +26,27 @@
 //! assert!(after.g1_deg.unwrap() < 0.01);
 //! ```
 //!
+//! Two surfaces read from the JSON format of `docs/model-format.md`: the link named by a
+//! [`SideLink`] (the slave's side, its master, the target) and measured with
+//! [`SideLink::measure`] — the slave passed by name, so the order of the two surfaces cannot
+//! be mixed up ([`measure_link`] takes the master first):
+//!
+//! ```
+//! use g_continuity::{MeasureParams, SideLink};
+//! use nurbs_core::{Continuity, Side, io::surfaces_from_json};
+//! // a flat master over x ∈ [0, 1] and a slave over x ∈ [1, 2] that starts on its edge x = 1
+//! // and rises with slope 0.1 (a kink of 5.7°)
+//! let json = r#"[
+//!   {"degree_u": 1, "degree_v": 1, "control_points": [[[0, 0, 0], [0, 1, 0]], [[1, 0, 0], [1, 1, 0]]]},
+//!   {"degree_u": 1, "degree_v": 1, "control_points": [[[1, 0, 0], [1, 1, 0]], [[2, 0, 0.1], [2, 1, 0.1]]]}
+//! ]"#;
+//! let s = surfaces_from_json(json).unwrap();
+//! let link = SideLink { side: Side::U0, master: &s[0], target: Continuity::G1, range: None };
+//! let m = link.measure(&s[1], &MeasureParams::default()).unwrap();
+//! assert!(m.g0 < 1e-12);
+//! assert!((m.g1_deg.unwrap() - 0.1f64.atan().to_degrees()).abs() < 1e-6);
+//! ```
+//!
 //! The crate depends on nurbs-core only; it knows nothing of models or hierarchy order (that is
 //! hier-fair's job). References (keys in brackets) are listed in `docs/references.md`.
 
