@@ -272,16 +272,28 @@ pub fn export(input: &Path, output: &Path) -> Result<String> {
     ))
 }
 
+/// Share of the model's G0 tolerance a STEP trim edge may lie from its loop's points when it is
+/// fitted as a cubic ([`nurbs_io::write_step_faces_within`]): a half, so that two neighbouring
+/// faces' edges, each fitted, still touch within G0; the points lie on the surface, so the
+/// edge does too within that half. The loops were thinned to the G0 tolerance on import.
+pub const EDGE_FIT_SHARE: f64 = 0.5;
+
 /// The model as the text of the CAD file `output` names by its extension: STEP (`.step`,
-/// `.stp`: AP214, each surface a B-spline face bounded by its trim loops, or by its boundary
-/// curves where it has none) or IGES.
+/// `.stp`: AP214, each surface a B-spline face bounded by its trim loops — each edge a cubic
+/// within [`EDGE_FIT_SHARE`] of the G0 tolerance of its points — or by its boundary curves
+/// where it has none) or IGES.
 pub fn cad_text(model: &Model, output: &Path) -> Result<String> {
     if is_step(output) {
         let name = output
             .file_name()
             .map_or_else(|| "model.step".into(), |n| n.to_string_lossy().into_owned());
-        nurbs_io::write_step_faces(&faces(model), written_unit(model), &name)
-            .map_err(|e| anyhow!("{e}"))
+        nurbs_io::write_step_faces_within(
+            &faces(model),
+            written_unit(model),
+            &name,
+            EDGE_FIT_SHARE * model.tolerances.g0,
+        )
+        .map_err(|e| anyhow!("{e}"))
     } else {
         iges_text(model, output)
     }

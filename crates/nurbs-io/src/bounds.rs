@@ -481,6 +481,64 @@ pub fn polyline(points: &[Point3]) -> Result<BSplineCurve, nurbs_core::Error> {
     BSplineCurve::new(KnotVector::new(1, knots)?, points.to_vec(), None)
 }
 
+/// Fewest spans a fitted edge starts from (cubic, one span: four control points).
+const FIT_FIRST_SPANS: usize = 1;
+
+/// A trim edge through `points` as compact as `tolerance` allows: a cubic B-spline on uniform
+/// knots, chord-length parameters, its end points the edge's (so that the edges meeting at a
+/// vertex still meet), with the spans doubled until every point lies within `tolerance` of the
+/// curve at its parameter; the [`polyline`] where `tolerance` is 0, where the edge has too few
+/// points, or where the fit would need more than half as many control points as the polyline
+/// has (no gain).
+pub fn fitted_edge(points: &[Point3], tolerance: f64) -> Result<BSplineCurve, nurbs_core::Error> {
+    let n = points.len();
+    if !(tolerance > 0.0) || n < 8 {
+        return polyline(points);
+    }
+    let mut t = vec![0.0];
+    for w in points.windows(2) {
+        t.push(t[t.len() - 1] + (w[1] - w[0]).norm());
+    }
+    let total = t[n - 1];
+    if !(total > 0.0) {
+        return polyline(points);
+    }
+    let params: Vec<f64> = t.iter().map(|x| x / total).collect();
+    let mut spans = FIT_FIRST_SPANS;
+    loop {
+        let count = spans + 3;
+        if 2 * count > n {
+            return polyline(points);
+        }
+        let knots = KnotVector::clamped_uniform(3, count)?;
+        // the template's interior points are the data points nearest their Greville fractions;
+        // they are free, only the two ends are kept
+        let template: Vec<Point3> = knots
+            .greville()
+            .iter()
+            .map(|&g| points[params.partition_point(|&p| p < g).min(n - 1)])
+            .collect();
+        let mut free = vec![true; count];
+        free[0] = false;
+        free[count - 1] = false;
+        let mut ends = template;
+        ends[0] = points[0];
+        ends[count - 1] = points[n - 1];
+        let start = BSplineCurve::new(knots, ends, None)?;
+        if let Ok((curve, report)) = nurbs_core::fit::fit_curve(
+            &start,
+            &free,
+            &params,
+            points,
+            &nurbs_core::fit::FitParams::default(),
+        ) && report.max_error <= tolerance
+        {
+            return Ok(curve);
+        }
+        spans *= 2;
+    }
+}
+
 /// Distance from `x` to the polyline through `pts`.
 pub fn distance_to_polyline(x: &Point3, pts: &[Point3]) -> f64 {
     if pts.len() == 1 {

@@ -38,6 +38,8 @@ pub mod writer;
 pub use bounds::{Face, FaceBounds, face_bounds};
 pub use error::IgesError;
 pub use reader::{IgesCurve, IgesFile, IgesSurface, read_iges};
-pub use step::{StepError, StepFace, StepFile, read_step, write_step, write_step_faces};
+pub use step::{
+    StepError, StepFace, StepFile, read_step, write_step, write_step_faces, write_step_faces_within,
+};
 pub use structure::{StructureReport, check_structure};
 pub use writer::{IgesWriteParams, write_iges, write_iges_faces};

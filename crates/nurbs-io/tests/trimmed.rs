@@ -200,3 +200,83 @@ fn a_face_without_trim_keeps_its_box() {
     assert!(!iges.contains("\n144,"));
     assert_eq!(read_iges(iges.as_bytes()).unwrap().trimmed_entities, 0);
 }
+
+/// A circle of radius `r` about (`c`, `c`) at height 0 through `n` points, counterclockwise.
+fn circle(c: f64, r: f64, n: usize) -> Vec<Point3> {
+    (0..n)
+        .map(|k| {
+            let a = std::f64::consts::TAU * k as f64 / n as f64;
+            Point3::new(c + r * a.cos(), c + r * a.sin(), 0.0)
+        })
+        .collect()
+}
+
+/// A trim edge of 400 points along a circle of radius 3 fitted within 0.5 µm: a cubic of far
+/// fewer control points, its ends the edge's, every point within the tolerance of it (at its
+/// chord-length parameter, an upper bound of the distance); 0 keeps the polyline; an edge of a
+/// few points stays a polyline.
+#[test]
+fn a_trim_edge_is_fitted_within_its_tolerance() {
+    let mut pts = circle(5.0, 3.0, 400);
+    pts.truncate(201); // half the circle: an open edge
+    let tol = 5e-4;
+    let c = nurbs_io::bounds::fitted_edge(&pts, tol).unwrap();
+    assert_eq!(c.degree(), 3);
+    assert!(
+        c.control_points().len() <= 40,
+        "{} points",
+        c.control_points().len()
+    );
+    assert_eq!(c.control_points()[0], pts[0]);
+    assert_eq!(*c.control_points().last().unwrap(), pts[200]);
+    let dense: Vec<Point3> = (0..=2000).map(|k| c.point(k as f64 / 2000.0)).collect();
+    for p in &pts {
+        let d = distance_to_polyline(p, &dense);
+        assert!(d <= tol + 1e-6, "a point {d:.2e} from the curve");
+    }
+    assert_eq!(
+        nurbs_io::bounds::fitted_edge(&pts, 0.0).unwrap().degree(),
+        1
+    );
+    assert_eq!(
+        nurbs_io::bounds::fitted_edge(&pts[..5], tol)
+            .unwrap()
+            .degree(),
+        1
+    );
+}
+
+/// A plane with a round hole of 400 points written with fitted edges: a file a fraction of the
+/// polyline's size, the hole read back within the tolerance of the circle.
+#[test]
+fn fitted_edges_make_a_compact_file_that_reads_back_within_the_tolerance() {
+    let s = plane(0.0);
+    let trim = vec![square(5.0, 4.5, 0.0), circle(5.0, 3.0, 400)];
+    let faces = [Face {
+        name: "round hole",
+        surface: &s,
+        trim: &trim,
+    }];
+    let tol = 5e-4;
+    let plain = nurbs_io::write_step_faces(&faces, "mm", "hole.step").unwrap();
+    let fitted = nurbs_io::write_step_faces_within(&faces, "mm", "hole.step", tol).unwrap();
+    let points = |t: &str| t.matches("CARTESIAN_POINT").count();
+    assert!(
+        4 * points(&fitted) < points(&plain),
+        "{} points against {}",
+        points(&fitted),
+        points(&plain)
+    );
+    let back = read_step(&fitted).unwrap();
+    let hole = &back.faces[0].trim[1];
+    let worst = hole
+        .iter()
+        .map(|p| ((p.x - 5.0).hypot(p.y - 5.0) - 3.0).abs())
+        .fold(0.0, f64::max);
+    // the fit's tolerance, plus the polyline's own chord error on the circle (r (1 − cos(π/400)))
+    let chord = 3.0 * (1.0 - (std::f64::consts::PI / 400.0).cos());
+    assert!(
+        worst <= tol + chord,
+        "the hole reads back {worst:.2e} off the circle"
+    );
+}

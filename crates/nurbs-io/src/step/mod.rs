@@ -44,7 +44,7 @@ mod surfaces;
 mod writer;
 
 pub use lexer::{Instance, Value, parse_instances};
-pub use writer::{write_step, write_step_faces};
+pub use writer::{write_step, write_step_faces, write_step_faces_within};
 
 use nurbs_core::{BSplineSurface, Point3};
 

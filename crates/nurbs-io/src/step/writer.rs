@@ -36,8 +36,24 @@ pub fn write_step_faces(
     units: &str,
     name: &str,
 ) -> Result<String, nurbs_core::Error> {
+    write_step_faces_within(faces, units, name, 0.0)
+}
+
+/// [`write_step_faces`] with each trim edge a cubic B-spline through its points within
+/// `edge_tolerance` (model units, at the points; [`crate::bounds::fitted_edge`]) instead of a
+/// polyline: an edge of 200 points along a circle becomes a curve of a few dozen control
+/// points. 0 keeps the polylines.
+pub fn write_step_faces_within(
+    faces: &[Face<'_>],
+    units: &str,
+    name: &str,
+    edge_tolerance: f64,
+) -> Result<String, nurbs_core::Error> {
     use std::fmt::Write as _;
-    let mut w = StepWriter::default();
+    let mut w = StepWriter {
+        edge_tolerance,
+        ..StepWriter::default()
+    };
     let mut ids = Vec::new();
     for f in faces {
         ids.push(w.face(f)?);
@@ -92,6 +108,8 @@ pub fn write_step_faces(
 #[derive(Default)]
 struct StepWriter {
     lines: Vec<String>,
+    /// the trim edges' fit tolerance (0: polylines)
+    edge_tolerance: f64,
 }
 
 fn refs(ids: &[usize]) -> String {
@@ -331,7 +349,7 @@ impl StepWriter {
             .collect();
         let mut edges = Vec::new();
         for e in &b.edges {
-            let cid = self.curve(&crate::bounds::polyline(&e.points)?);
+            let cid = self.curve(&crate::bounds::fitted_edge(&e.points, self.edge_tolerance)?);
             edges.push(self.add(format!(
                 "EDGE_CURVE('',#{},#{},#{cid},.T.)",
                 vertices[e.start], vertices[e.end]
