@@ -64,8 +64,11 @@ pub fn write_corner_views(
             .name
             .replace(|c: char| !c.is_ascii_alphanumeric() && c != '_', "_");
         for (when, model) in [("before", original), ("after", faired)] {
-            let surfaces: Vec<&BSplineSurface> =
-                around.iter().map(|&i| &model.surfaces[i].surface).collect();
+            // (a model whose run merged slivers may hold fewer surfaces than the input)
+            let surfaces: Vec<&BSplineSurface> = around
+                .iter()
+                .filter_map(|&i| model.surfaces.get(i).map(|s| &s.surface))
+                .collect();
             let path = dir.join(format!("corner_{name}_zebra_{when}.png"));
             png(
                 &path,
