@@ -472,13 +472,33 @@ pub fn polyline(points: &[Point3]) -> Result<BSplineCurve, nurbs_core::Error> {
         t.push(t[t.len() - 1] + (w[1] - w[0]).norm());
     }
     let total = t[t.len() - 1];
+    // a point whose chord-length parameter equals its predecessor's — repeated, or nearer to
+    // it than the parameter resolves (a loop of pr1db.stp's I-DEAS faces in parameter space:
+    // 0.5861111111136063 twice after a jump across its seam) — would be a knot of multiplicity
+    // 2, which a degree-1 curve cannot carry: it is dropped (the end point stays, in place of
+    // its predecessor if that one coincides with it)
+    let n = points.len();
+    let mut kept: Vec<Point3> = Vec::with_capacity(n);
     let mut knots = vec![0.0];
-    knots.extend(t.iter().map(|x| x / total));
-    if let Some(last) = knots.last_mut() {
-        *last = 1.0;
+    for (k, p) in points.iter().enumerate() {
+        let x = if k + 1 == n { 1.0 } else { t[k] / total };
+        match knots.last() {
+            Some(&last) if !kept.is_empty() && x <= last => {
+                if k + 1 == n {
+                    kept.pop();
+                    knots.pop();
+                    kept.push(*p);
+                    knots.push(1.0);
+                }
+            }
+            _ => {
+                kept.push(*p);
+                knots.push(x);
+            }
+        }
     }
     knots.push(1.0);
-    BSplineCurve::new(KnotVector::new(1, knots)?, points.to_vec(), None)
+    BSplineCurve::new(KnotVector::new(1, knots)?, kept, None)
 }
 
 /// Fewest spans a fitted edge starts from (cubic, one span: four control points).

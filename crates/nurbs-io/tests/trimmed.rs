@@ -280,3 +280,33 @@ fn fitted_edges_make_a_compact_file_that_reads_back_within_the_tolerance() {
         "the hole reads back {worst:.2e} off the circle"
     );
 }
+
+/// A loop that repeats a point in a row (as one of pr1db.stp's faces does) is written: the
+/// repeated point is dropped (a degree-1 curve cannot carry a double knot), in IGES and STEP.
+#[test]
+fn a_loop_repeating_a_point_is_written() {
+    let s = plane(0.0);
+    let mut outer = square(5.0, 4.5, 0.0);
+    outer.insert(2, outer[1]);
+    let trim = vec![outer];
+    let faces = [Face {
+        name: "repeated",
+        surface: &s,
+        trim: &trim,
+    }];
+    let iges = nurbs_io::write_iges_faces(&faces, &[], &IgesWriteParams::default()).unwrap();
+    assert_eq!(read_iges(iges.as_bytes()).unwrap().surfaces.len(), 1);
+    let step = nurbs_io::write_step_faces(&faces, "mm", "r.step").unwrap();
+    assert_eq!(read_step(&step).unwrap().faces.len(), 1);
+    let c = nurbs_io::bounds::polyline(&[trim[0][0], trim[0][1], trim[0][2], trim[0][3]]).unwrap();
+    assert_eq!(c.control_points().len(), 3);
+    // a point nearer its predecessor than the chord-length parameter resolves, after a long
+    // chord (a jump across a seam in parameter space)
+    let far = Point3::new(1000.0, 0.0, 0.0);
+    let near = Point3::new(1000.0 + 1e-14, 0.0, 0.0);
+    let c =
+        nurbs_io::bounds::polyline(&[Point3::origin(), far, near, Point3::new(1000.0, 5.0, 0.0)])
+            .unwrap();
+    assert_eq!(c.control_points().len(), 3);
+    assert_eq!(c.control_points()[2], Point3::new(1000.0, 5.0, 0.0));
+}
