@@ -303,3 +303,66 @@ fn a_closed_b_spline_face_with_closed_edges_is_whole() {
         assert!((p.x.hypot(p.y) - 2.0).abs() < 1e-9, "{p:?}");
     }
 }
+
+/// The entity instances of `text` whose type is `kind`, as (id, parameters) text.
+fn instances<'a>(text: &'a str, kind: &str) -> Vec<&'a str> {
+    let key = format!("= {kind}(");
+    text.lines().filter(|l| l.contains(&key)).collect()
+}
+
+/// The closed faces the writer bounds by their parameter boxes, as ISO 10303-42 bounds them:
+/// a corner shared with another corner is one VERTEX_POINT, a collapsed side (a pole) has no
+/// edge, and a side that coincides with its opposite side is one EDGE_CURVE used both ways (a
+/// seam). Each file reads back as the whole surface, and every real in it has its decimal point
+/// (ISO 10303-21 §6.4.4: the file's accuracy, 1e-7, was written "1E-7").
+#[test]
+fn closed_faces_are_written_with_shared_vertices_and_seams_used_twice() {
+    use nurbs_core::shapes::{arc, revolve_curve, torus};
+    use nurbs_core::{BSplineCurve, KnotVector, Vector3};
+    let o = Point3::origin();
+    // pole to pole through the x axis, turned a full turn about z
+    let meridian = arc(o, Vector3::x(), Vector3::z(), 3.0, -FRAC_PI_2, FRAC_PI_2).unwrap();
+    let sphere = revolve_curve(&meridian, o, Vector3::z(), 0.0, TAU).unwrap();
+    let line = BSplineCurve::new(
+        KnotVector::bezier(1).unwrap(),
+        vec![Point3::new(2.0, 0.0, 0.0), Point3::new(2.0, 0.0, 7.0)],
+        None,
+    )
+    .unwrap();
+    let cylinder = revolve_curve(&line, o, Vector3::z(), 0.0, TAU).unwrap();
+    let ring = torus(5.0, 1.5).unwrap();
+    // (name, surface, vertices, edge curves, oriented edges in the loop)
+    let cases = [
+        ("sphere", &sphere, 2, 1, 2),
+        ("cylinder", &cylinder, 2, 3, 4),
+        ("torus", &ring, 1, 2, 4),
+    ];
+    for (name, s, vertices, curves, oriented) in cases {
+        let text = nurbs_io::write_step(&[(name, s)], "mm", "closed.step").unwrap();
+        assert_eq!(instances(&text, "VERTEX_POINT").len(), vertices, "{name}");
+        assert_eq!(instances(&text, "EDGE_CURVE").len(), curves, "{name}");
+        assert_eq!(instances(&text, "ORIENTED_EDGE").len(), oriented, "{name}");
+        assert!(text.contains("LENGTH_MEASURE(1.E-7)"), "{name}");
+        for token in text.split(|c: char| !(c.is_ascii_alphanumeric() || "+-.".contains(c))) {
+            let numeric = token.starts_with(|c: char| c.is_ascii_digit() || c == '-');
+            if let Some((mantissa, _)) = token.split_once('E').filter(|_| numeric) {
+                assert!(mantissa.contains('.'), "{name}: real {token} has no decimal point");
+            }
+        }
+        let back = read_step(&text).unwrap();
+        assert_eq!(back.faces.len(), 1, "{name}");
+        let (u0, u1) = s.domain_u();
+        let (v0, v1) = s.domain_v();
+        let f = &back.faces[0].surface;
+        let (fu0, fu1) = f.domain_u();
+        let (fv0, fv1) = f.domain_v();
+        for a in 0..=8 {
+            for b in 0..=8 {
+                let (x, y) = (a as f64 / 8.0, b as f64 / 8.0);
+                let p = s.point(u0 + (u1 - u0) * x, v0 + (v1 - v0) * y);
+                let q = f.point(fu0 + (fu1 - fu0) * x, fv0 + (fv1 - fv0) * y);
+                assert!((p - q).norm() < 1e-9, "{name} at ({x}, {y}): {}", (p - q).norm());
+            }
+        }
+    }
+}

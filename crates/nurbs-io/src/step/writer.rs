@@ -6,6 +6,24 @@ use nurbs_core::{BSplineCurve, BSplineSurface, KnotVector, Point3};
 
 use crate::bounds::Face;
 
+/// The distance below which two points of a written file are one point, in the model's unit:
+/// the file's `distance_accuracy_value` (UNCERTAINTY_MEASURE_WITH_UNIT, ISO 10303-43), the
+/// value Open CASCADE's writer declares too. Corners this close share a vertex and sides this
+/// close are one edge ([`StepWriter::box_bound`]).
+pub const DISTANCE_ACCURACY: f64 = 1e-7;
+
+/// Whether two boundary curves are one curve: the same knots and weights, and control points
+/// within [`DISTANCE_ACCURACY`] (so, by the convex hull property, the curves too).
+fn same_curve(a: &BSplineCurve, b: &BSplineCurve) -> bool {
+    a.knots().knots() == b.knots().knots()
+        && a.weights() == b.weights()
+        && a.control_points().len() == b.control_points().len()
+        && a.control_points()
+            .iter()
+            .zip(b.control_points())
+            .all(|(p, q)| (p - q).norm() <= DISTANCE_ACCURACY)
+}
+
 /// Writes named surfaces as an AP214 STEP file, each a face bounded by its parameter box: as
 /// [`write_step_faces`] with no trim.
 pub fn write_step(
@@ -64,7 +82,8 @@ pub fn write_step_faces_within(
     let angle = w.add("( NAMED_UNIT(*) PLANE_ANGLE_UNIT() SI_UNIT($,.RADIAN.) )".into());
     let solid = w.add("( NAMED_UNIT(*) SI_UNIT($,.STERADIAN.) SOLID_ANGLE_UNIT() )".into());
     let uncertainty = w.add(format!(
-        "UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE(1.E-07),#{length},'distance_accuracy_value','confusion accuracy')"
+        "UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE({}),#{length},'distance_accuracy_value','confusion accuracy')",
+        real(DISTANCE_ACCURACY)
     ));
     let context = w.add(format!(
         "( GEOMETRIC_REPRESENTATION_CONTEXT(3) GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT((#{uncertainty})) GLOBAL_UNIT_ASSIGNED_CONTEXT((#{length},#{angle},#{solid})) REPRESENTATION_CONTEXT('Context #1','3D Context with UNIT and UNCERTAINTY') )"
@@ -123,13 +142,19 @@ fn escape(s: &str) -> String {
     s.replace('\'', "''")
 }
 
-/// A real as STEP writes it: always with a decimal point, round-trip exact.
+/// A real as STEP writes it, round-trip exact and always with a decimal point before any
+/// exponent (ISO 10303-21 §6.4.4: REAL = [sign] digit {digit} "." {digit} ["E" [sign] digit
+/// {digit}]; Rust writes 1e-7 as "1e-7", which is no STEP real).
 fn real(x: f64) -> String {
     let s = format!("{x:?}");
-    if s.contains('.') || s.contains('e') || s.contains("inf") || s.contains("NaN") {
-        s.replace('e', "E")
-    } else {
-        format!("{s}.")
+    if s.contains("inf") || s.contains("NaN") {
+        return s;
+    }
+    match s.split_once('e') {
+        Some((mantissa, exponent)) if mantissa.contains('.') => format!("{mantissa}E{exponent}"),
+        Some((mantissa, exponent)) => format!("{mantissa}.E{exponent}"),
+        None if s.contains('.') => s,
+        None => format!("{s}."),
     }
 }
 
@@ -284,7 +309,14 @@ impl StepWriter {
         }
     }
 
-    /// The outer bound of `s`'s parameter box: its four boundary curves.
+    /// The outer bound of `s`'s parameter box: its four boundary curves, as ISO 10303-42
+    /// bounds a closed face. Corners within [`DISTANCE_ACCURACY`] of each other are one
+    /// VERTEX_POINT (a sphere's pole, a closed side's two ends), so that the loop is closed in
+    /// its topology and not only in space; a side collapsed to a point (a pole) has no edge; and
+    /// a side that coincides with its opposite side (a seam: a full cylinder, a sphere between
+    /// its poles) is the same EDGE_CURVE used both ways, which readers take as a seam and give
+    /// its two p-curves — written as two separate edges along one curve, the loop of a sphere
+    /// enclosed nothing and read back with zero area.
     fn box_bound(&mut self, s: &BSplineSurface) -> Result<usize, nurbs_core::Error> {
         // the boundary: u0 (v increasing), v1 (u increasing), u1 (v decreasing), v0 (u
         // decreasing): a loop around the face, the corners its vertices
@@ -296,38 +328,54 @@ impl StepWriter {
             s.point(u1, v1),
             s.point(u1, v0),
         ];
-        let vids: Vec<usize> = corners
-            .iter()
-            .map(|p| {
-                let pt = self.point(p);
-                self.add(format!("VERTEX_POINT('',#{pt})"))
-            })
-            .collect();
+        let mut vids: Vec<usize> = Vec::with_capacity(4);
+        for (k, p) in corners.iter().enumerate() {
+            let same = (0..k).find(|&j| (corners[j] - p).norm() <= DISTANCE_ACCURACY);
+            let id = match same {
+                Some(j) => vids[j],
+                None => {
+                    let pt = self.point(p);
+                    self.add(format!("VERTEX_POINT('',#{pt})"))
+                }
+            };
+            vids.push(id);
+        }
         let sides = [
             (nurbs_core::Direction::U, u0, 0, 1, true),
             (nurbs_core::Direction::V, v1, 1, 2, true),
             (nurbs_core::Direction::U, u1, 3, 2, false),
             (nurbs_core::Direction::V, v0, 0, 3, false),
         ];
+        // each side's curve and EDGE_CURVE (None: collapsed)
+        let mut written: Vec<(BSplineCurve, Option<usize>)> = Vec::with_capacity(4);
         let mut edges = Vec::new();
-        for (dir, t, a, b, forward) in sides {
+        for (k, (dir, t, a, b, forward)) in sides.into_iter().enumerate() {
             let c = s.isocurve(dir, t)?;
-            if (corners[a] - corners[b]).norm() <= 1e-12 * s.size().max(1.0)
-                && c.control_points()
-                    .iter()
-                    .all(|p| (p - corners[a]).norm() <= 1e-12 * s.size().max(1.0))
-            {
-                continue; // a side collapsed to a point (a pole): no edge
+            let collapsed = c
+                .control_points()
+                .iter()
+                .all(|p| (p - corners[a]).norm() <= DISTANCE_ACCURACY);
+            let seam = k
+                .checked_sub(2)
+                .and_then(|o| written[o].1.filter(|_| same_curve(&written[o].0, &c)));
+            let e = match (collapsed, seam) {
+                (true, _) => None,
+                (false, Some(e)) => Some(e),
+                (false, None) => {
+                    let cid = self.curve(&c);
+                    Some(self.add(format!(
+                        "EDGE_CURVE('',#{},#{},#{cid},.T.)",
+                        vids[a], vids[b]
+                    )))
+                }
+            };
+            if let Some(e) = e {
+                edges.push(self.add(format!(
+                    "ORIENTED_EDGE('',*,*,#{e},{})",
+                    if forward { ".T." } else { ".F." }
+                )));
             }
-            let cid = self.curve(&c);
-            let e = self.add(format!(
-                "EDGE_CURVE('',#{},#{},#{cid},.T.)",
-                vids[a], vids[b]
-            ));
-            edges.push(self.add(format!(
-                "ORIENTED_EDGE('',*,*,#{e},{})",
-                if forward { ".T." } else { ".F." }
-            )));
+            written.push((c, e));
         }
         let lp = self.add(format!("EDGE_LOOP('',({}))", refs(&edges)));
         Ok(self.add(format!("FACE_OUTER_BOUND('',#{lp},.T.)")))
