@@ -149,9 +149,29 @@ impl<'a> SurfaceProjector<'a> {
         let starts = params.starts.max(1).min(order.len());
         order.select_nth_unstable_by(starts - 1, |a, b| a.0.total_cmp(&b.0));
         order[..starts].sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
-        let picks: Vec<(f64, f64)> = order[..starts]
+        // the starts are distinct points: the samples of a collapsed row are one point (a
+        // pole), where the tangent along the row vanishes and Newton cannot leave it, so that
+        // three starts there found the pole 0.19 mm from a point on the sphere beside it
+        let same = |a: usize, b: usize| (grid[a] - grid[b]).norm() <= self.eps;
+        let repeated = (1..starts).any(|i| (0..i).any(|j| same(order[i].1, order[j].1)));
+        let chosen: Vec<usize> = if repeated {
+            order.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)));
+            let mut chosen: Vec<usize> = Vec::with_capacity(starts);
+            for &(_, k) in order.iter() {
+                if chosen.len() == starts {
+                    break;
+                }
+                if !chosen.iter().any(|&c| same(c, k)) {
+                    chosen.push(k);
+                }
+            }
+            chosen
+        } else {
+            order[..starts].iter().map(|&(_, k)| k).collect()
+        };
+        let picks: Vec<(f64, f64)> = chosen
             .iter()
-            .map(|&(_, k)| (us[k / nvs], vs[k % nvs]))
+            .map(|&k| (us[k / nvs], vs[k % nvs]))
             .collect();
         let mut best: Option<SurfaceProjection> = None;
         for start in picks {

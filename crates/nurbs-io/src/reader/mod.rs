@@ -59,8 +59,19 @@ const ON_SURFACE_RELATIVE: f64 = 1e-5;
 /// of the fillet that bounds it (a 2 µm gap along the fillet's contact line); 257 samples make
 /// that (16/256)² smaller, 10⁻⁷ of the domain (10 nm).
 const FACE_BOX_SAMPLES: usize = 257;
-/// Points sampled along each member of a plane's boundary curve.
+/// Points sampled along each member of a plane's boundary curve before the halving by sag
+/// ([`BOUNDARY_SAG_RELATIVE`]).
 const BOUNDARY_SAMPLES: usize = 17;
+/// A boundary's samples lie within this fraction of the curve's size of its chords (each member
+/// of a boundary, its intervals halved until they do): 10⁻⁷ is 10⁻⁵ mm on a curve of 100 mm, a
+/// hundredth of the 10⁻³ mm G0 tolerance a model is usually measured at, so that the loop the
+/// command line thins to a share of that tolerance is the curve and not its chords; on a curve
+/// of a metre it is still a tenth of it.
+const BOUNDARY_SAG_RELATIVE: f64 = 1e-7;
+/// Halvings of one interval at most ([`BOUNDARY_SAG_RELATIVE`]): 2¹² pieces of each of the first
+/// samples' intervals, a bound of memory on a curve that no sampling follows (a member with a
+/// cusp); a circle of radius 25 from 16 first chords reaches its sag within 9.
+const MAX_SAG_HALVINGS: usize = 12;
 /// Nesting limit of transformation matrices that reference further matrices.
 const MAX_TRANSFORM_CHAIN: usize = 32;
 
