@@ -281,7 +281,8 @@ pub const EDGE_FIT_SHARE: f64 = 0.5;
 /// The model as the text of the CAD file `output` names by its extension: STEP (`.step`,
 /// `.stp`: AP214, each surface a B-spline face bounded by its trim loops — each edge a cubic
 /// within [`EDGE_FIT_SHARE`] of the G0 tolerance of its points — or by its boundary curves
-/// where it has none) or IGES.
+/// where it has none) or IGES (each trim loop composite curves of cubic pieces between its
+/// corners, within the same share, in model and parameter space).
 pub fn cad_text(model: &Model, output: &Path) -> Result<String> {
     if is_step(output) {
         let name = output
@@ -336,6 +337,7 @@ pub fn iges_text(model: &Model, output: &Path) -> Result<String> {
             .file_name()
             .map_or_else(|| "model.igs".into(), |n| n.to_string_lossy().into_owned()),
         date: iges_date_now(),
+        edge_tolerance: EDGE_FIT_SHARE * model.tolerances.g0,
         ..IgesWriteParams::default()
     };
     write_iges_faces(&faces(model), &[], &params).map_err(|e| anyhow!("{e}"))

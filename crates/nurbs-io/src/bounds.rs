@@ -3,8 +3,9 @@
 //! counterclockwise in (u, v), inner loops clockwise: the face's normal is S_u × S_v), split into
 //! edges at its sharpest corners, the edges densified until their chords lie on the surface, and
 //! the vertices and seam edges a loop visits twice shared. The STEP writer writes the edges as
-//! degree-1 B-spline edge curves, the IGES writer each loop as one degree-1 curve (126) of a
-//! curve on surface (142) under a trimmed surface (144).
+//! B-spline edge curves ([`fitted_edge`]), the IGES writer each loop as a curve on surface (142)
+//! under a trimmed surface (144), its model-space and parameter-space curves composites (102) of
+//! one fitted piece per edge.
 //!
 //! The trim points lie on the surface they were imported with; after fairing, the surface has
 //! moved by up to its deviation tolerance, and the foot of each point on the written surface

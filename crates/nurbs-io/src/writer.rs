@@ -1,4 +1,6 @@
-//! The IGES writer: a valid IGES 5.3 file with entities 128 (surfaces) and 126 (curves), numbers
+//! The IGES writer: a valid IGES 5.3 file with entities 128 (surfaces) and 126 (curves), trimmed
+//! faces as 144 over their 128 with 142 curves on surface (their curves 126, or composites 102
+//! of 126 pieces between the loop's corners), numbers
 //! in full double precision (shortest representation that reads back to the same bits), names in
 //! the directory entry labels (8 characters; longer names are cut and numbered by subscript).
 
@@ -27,6 +29,11 @@ pub struct IgesWriteParams {
     pub date: String,
     /// author
     pub author: String,
+    /// How far (model units) a trim curve may lie from its loop's points: each loop is then
+    /// written as composite curves (102) of cubic pieces between its corners fitted within
+    /// this ([`crate::bounds::fitted_edge`]), in model and parameter space; 0 (the default)
+    /// writes each loop as one degree-1 curve through its points.
+    pub edge_tolerance: f64,
 }
 
 impl Default for IgesWriteParams {
@@ -37,6 +44,7 @@ impl Default for IgesWriteParams {
             file_name: "model.igs".into(),
             date: "20260101.000000".into(),
             author: "hier-fair".into(),
+            edge_tolerance: 0.0,
         }
     }
 }
@@ -223,10 +231,11 @@ pub fn write_iges(
 
 /// Writes faces and curves (entity 126) with their names as an IGES 5.3 file. A face without
 /// trim is its surface (entity 128); a face with trim loops is a trimmed surface (144) over its
-/// 128 whose boundaries are curves on the surface (142, model space preferred), each loop's
-/// model-space curve a closed degree-1 126 through its points on the surface
-/// ([`crate::bounds::face_bounds`]: moved to their feet on the surface, turned, densified), the
-/// outer loop the outer boundary and the others inner boundaries.
+/// 128 whose boundaries are curves on the surface (142, parameter space preferred), each loop's
+/// curves through its points on the surface ([`crate::bounds::face_bounds`]: moved to their
+/// feet on the surface, turned, densified) — one closed degree-1 126, or with
+/// [`IgesWriteParams::edge_tolerance`] composites (102) of fitted pieces — the outer loop the
+/// outer boundary and the others inner boundaries.
 pub fn write_iges_faces(
     faces: &[Face<'_>],
     curves: &[(&str, &BSplineCurve)],
@@ -240,7 +249,7 @@ pub fn write_iges_faces(
     let labels = labels(&names);
     let mut entities = Vec::new();
     for (k, f) in faces.iter().enumerate() {
-        push_face(&mut entities, f, &labels[k])?;
+        push_face(&mut entities, f, &labels[k], params.edge_tolerance)?;
     }
     for (k, (name, c)) in curves.iter().enumerate() {
         let l = &labels[faces.len() + k];
@@ -267,6 +276,7 @@ fn push_face(
     entities: &mut Vec<Entity>,
     f: &Face<'_>,
     label: &(String, usize),
+    edge_tolerance: f64,
 ) -> Result<(), IgesError> {
     let what = format!("surface {}", f.name);
     let bounds = crate::bounds::face_bounds(f.surface, f.trim);
@@ -286,24 +296,33 @@ fn push_face(
     let surface = de(entities) - 2;
     let mut boundaries = Vec::new();
     for k in 0..bounds.loops.len() {
-        let mut pts = bounds.loop_points(k);
+        let pts = bounds.loop_points(k);
         let mut uv: Vec<Point3> = crate::bounds::loop_params(f.surface, &pts)
             .into_iter()
             .map(|(u, v)| Point3::new(u, v, 0.0))
             .collect();
-        pts.push(pts[0]);
         uv.push(uv[0]);
-        let curve = |points: &[Point3]| {
-            crate::bounds::polyline(points).map_err(|source| IgesError::Write {
-                what: what.clone(),
-                detail: format!("trim loop {k}: {source}"),
-            })
+        let fail = |source: nurbs_core::Error| IgesError::Write {
+            what: what.clone(),
+            detail: format!("trim loop {k}: {source}"),
         };
-        let (model, parametric) = (curve(&pts)?, curve(&uv)?);
-        let c = de(entities);
-        entities.push(part(126, curve_params(&model, &what)?));
-        let b = de(entities);
-        entities.push(part(126, curve_params(&parametric, &what)?));
+        let (model, parametric) = if edge_tolerance > 0.0 {
+            let pieces = loop_pieces(f.surface, &bounds, &uv, edge_tolerance).map_err(fail)?;
+            (
+                push_curve(entities, &pieces.0, &what)?,
+                push_curve(entities, &pieces.1, &what)?,
+            )
+        } else {
+            let mut closed = pts.clone();
+            closed.push(pts[0]);
+            let model = crate::bounds::polyline(&closed).map_err(fail)?;
+            let parametric = crate::bounds::polyline(&uv).map_err(fail)?;
+            (
+                push_curve(entities, &[model], &what)?,
+                push_curve(entities, &[parametric], &what)?,
+            )
+        };
+        let (c, b) = (model, parametric);
         boundaries.push(de(entities));
         // CRTN 0 (unspecified), the surface, the parameter-space curve, the model-space curve,
         // PREF 1 (parameter space: the kernel need not project onto a closed surface's seam)
@@ -326,6 +345,78 @@ fn push_face(
         status: INDEPENDENT,
     });
     Ok(())
+}
+
+/// Pushes a trim curve made of `pieces` in order: the one 126, or each piece's 126 and the
+/// composite (102, [IGES] §4.4) over them; returns the directory number of the curve.
+fn push_curve(
+    entities: &mut Vec<Entity>,
+    pieces: &[BSplineCurve],
+    what: &str,
+) -> Result<usize, IgesError> {
+    let mut members = Vec::with_capacity(pieces.len());
+    for c in pieces {
+        members.push(2 * entities.len() + 1);
+        entities.push(part(126, curve_params(c, what)?));
+    }
+    if members.len() == 1 {
+        return Ok(members[0]);
+    }
+    let mut p = vec!["102".to_string(), members.len().to_string()];
+    p.extend(members.iter().map(|m| m.to_string()));
+    entities.push(part(102, p));
+    Ok(2 * entities.len() - 1)
+}
+
+/// A closed loop's pieces in model and in parameter space: `uv` (the loop's parameters in
+/// order, closed: its last the first) split at the face's vertices and at the two ends of a
+/// run along a collapsed side (a pole: two parameters, one point), each piece fitted within
+/// `tolerance` — in parameter space within `tolerance` over the largest first derivative of the
+/// surface at the loop's points (√2 of it: a parameter error (δu, δv) moves the point by at most
+/// |S_u| |δu| + |S_v| |δv|). A run along a pole has no model-space piece.
+fn loop_pieces(
+    surface: &BSplineSurface,
+    bounds: &crate::bounds::FaceBounds,
+    uv: &[Point3],
+    tolerance: f64,
+) -> Result<(Vec<BSplineCurve>, Vec<BSplineCurve>), nurbs_core::Error> {
+    let same = crate::bounds::SAME_POINT_RELATIVE * surface.size().max(f64::MIN_POSITIVE);
+    let mut eval = surface.evaluator();
+    let mut images = Vec::with_capacity(uv.len());
+    let mut speed: f64 = 0.0;
+    for q in uv {
+        let d = eval.derivatives(q.x, q.y);
+        speed = speed.max(d.du.norm()).max(d.dv.norm());
+        images.push(d.point);
+    }
+    let n = uv.len();
+    let mut cuts = vec![0];
+    for i in 1..n - 1 {
+        let vertex = bounds.vertices.iter().any(|v| (v - images[i]).norm() <= same);
+        let pole_next = (images[i + 1] - images[i]).norm() <= same;
+        let pole_before = (images[i] - images[i - 1]).norm() <= same;
+        if vertex || pole_next || pole_before {
+            cuts.push(i);
+        }
+    }
+    cuts.push(n - 1);
+    cuts.dedup();
+    let tol_uv = tolerance / (std::f64::consts::SQRT_2 * speed.max(f64::MIN_POSITIVE));
+    let (mut model, mut parametric) = (Vec::new(), Vec::new());
+    for w in cuts.windows(2) {
+        let (a, b) = (w[0], w[1]);
+        parametric.push(crate::bounds::fitted_edge(&uv[a..=b], tol_uv)?);
+        let mut run: Vec<Point3> = Vec::with_capacity(b - a + 1);
+        for p in &images[a..=b] {
+            if run.last().is_none_or(|q| (q - p).norm() > same) {
+                run.push(*p);
+            }
+        }
+        if run.len() >= 2 {
+            model.push(crate::bounds::fitted_edge(&run, tolerance)?);
+        }
+    }
+    Ok((model, parametric))
 }
 
 /// A trimmed surface's part (126, 142): dependent, unlabelled.

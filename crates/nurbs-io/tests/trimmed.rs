@@ -281,6 +281,47 @@ fn fitted_edges_make_a_compact_file_that_reads_back_within_the_tolerance() {
     );
 }
 
+/// The same face through IGES with fitted trim curves: each loop composite curves (102) of
+/// pieces between its corners, in model and parameter space; the file a fraction of the
+/// polyline one's size and structurally valid, the hole read back within the tolerance of the
+/// circle and the outer square on its square (its corners kept).
+#[test]
+fn fitted_iges_loops_are_composites_that_read_back_within_the_tolerance() {
+    let s = plane(0.0);
+    let trim = vec![square(5.0, 4.5, 0.0), circle(5.0, 3.0, 400)];
+    let faces = [Face {
+        name: "round hole",
+        surface: &s,
+        trim: &trim,
+    }];
+    let tol = 5e-4;
+    let plain = nurbs_io::write_iges_faces(&faces, &[], &IgesWriteParams::default()).unwrap();
+    let params = IgesWriteParams {
+        edge_tolerance: tol,
+        ..IgesWriteParams::default()
+    };
+    let fitted = nurbs_io::write_iges_faces(&faces, &[], &params).unwrap();
+    check_structure(fitted.as_bytes()).unwrap();
+    assert!(
+        4 * fitted.len() < plain.len(),
+        "{} bytes against {}",
+        fitted.len(),
+        plain.len()
+    );
+    assert!(fitted.lines().any(|l| l.starts_with("102,")), "no composite");
+    let back = read_iges(fitted.as_bytes()).unwrap();
+    let loops = back.surfaces[0].trim_loops();
+    assert_eq!(loops.len(), 2);
+    let chord = 3.0 * (1.0 - (std::f64::consts::PI / 400.0).cos());
+    let worst = loops[1]
+        .iter()
+        .map(|p| ((p.x - 5.0).hypot(p.y - 5.0) - 3.0).abs())
+        .fold(0.0, f64::max);
+    assert!(worst <= tol + chord, "the hole reads back {worst:.2e} off the circle");
+    let d = off_polyline(&loops[0], &trim[0]);
+    assert!(d <= ON_POLYLINE_RELATIVE * 10.0, "{d:.3e} off the square");
+}
+
 /// A loop that repeats a point in a row (as one of pr1db.stp's faces does) is written: the
 /// repeated point is dropped (a degree-1 curve cannot carry a double knot), in IGES and STEP.
 #[test]
