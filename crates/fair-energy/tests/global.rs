@@ -2,7 +2,7 @@
 
 mod common;
 
-use common::{assert_contract, smooth_and_noisy};
+use common::{assert_contract, smooth_and_noisy, with_interior_noise};
 use fair_energy::{
     EnergyError, GlobalEnergyFairing, GlobalParams, SeparableStiffness, SparseSolver,
     fair_surface_global,
@@ -35,25 +35,15 @@ fn unclamped_solution_solves_the_normal_equations() {
             let (out, report) = fair_surface_global(&s, &mask, 1e6, &params).expect("fairs");
             assert_eq!((report.clamped_points, report.step), (0, 1.0), "{report:?}");
             let k = SeparableStiffness::thin_plate(s.knots_u(), s.knots_v()).expect("stiffness");
-            let nv = s.num_v();
-            let free: Vec<usize> = mask.free_indices().map(|(i, j)| i * nv + j).collect();
-            let w = params.deviation_weight
-                * free
-                    .iter()
-                    .map(|&r| k.entry((r / nv, r % nv), (r / nv, r % nv)))
-                    .sum::<f64>()
-                / free.len() as f64;
-            let mut g = vec![Vector3::zeros(); s.control_points().len()];
-            k.multiply(out.control_points(), &mut g);
-            let scale = g.iter().map(|v| v.norm()).fold(0.0, f64::max).max(1.0);
-            for &r in &free {
-                let residual = g[r] + w * (out.control_points()[r] - s.control_points()[r]);
-                assert!(
-                    residual.norm() <= 1e-8 * scale,
-                    "{solver:?} seed {seed}: residual {:e}",
-                    residual.norm()
-                );
-            }
+            assert_solves_normal_equations(
+                &s,
+                &out,
+                &mask,
+                &params,
+                &|a, b| k.entry(a, b),
+                &|x, g| k.multiply(x, g),
+                &format!("{solver:?} seed {seed}"),
+            );
         }
     }
 }
@@ -161,27 +151,48 @@ fn bad_input_is_an_error_or_a_report_that_nothing_moved() {
 /// noise of `amplitude` on its interior points.
 fn noisy_rational_cylinder(seed: u64, amplitude: f64) -> nurbs_core::BSplineSurface {
     use nurbs_core::Direction;
-    use rand::Rng;
     let s = nurbs_core::shapes::cylinder(1.0, 2.0)
         .and_then(|s| s.elevate_degree(Direction::U, 2))
         .and_then(|s| s.refine(Direction::U, &[0.25, 0.5, 0.75]))
         .and_then(|s| s.refine(Direction::V, &[0.2, 0.4, 0.6, 0.8]))
         .expect("cylinder");
     assert!(s.is_rational());
-    let mut r = nurbs_core::testing::rng(seed);
-    let (nu, nv) = (s.num_u(), s.num_v());
-    let mut out = s.clone();
-    for (q, p) in out.control_points_mut().iter_mut().enumerate() {
-        let (i, j) = (q / nv, q % nv);
-        if i > 0 && j > 0 && i + 1 < nu && j + 1 < nv {
-            *p += Vector3::new(
-                r.random_range(-1.0..1.0),
-                r.random_range(-1.0..1.0),
-                r.random_range(-1.0..1.0),
-            ) * amplitude;
-        }
+    with_interior_noise(&s, seed, amplitude)
+}
+
+/// Asserts that `out` solves the normal equations of the global step from `s`,
+/// (K + w I) δ = −K o on the free points of `mask` (w the deviation weight of `params` times the
+/// mean diagonal entry of K over them), to 1e-8 of the largest K·x entry: K given by its
+/// `entry` and its `multiply`.
+#[track_caller]
+fn assert_solves_normal_equations(
+    s: &nurbs_core::BSplineSurface,
+    out: &nurbs_core::BSplineSurface,
+    mask: &ControlMask,
+    params: &GlobalParams,
+    entry: &dyn Fn((usize, usize), (usize, usize)) -> f64,
+    multiply: &dyn Fn(&[nurbs_core::Point3], &mut [Vector3]),
+    label: &str,
+) {
+    let nv = s.num_v();
+    let free: Vec<usize> = mask.free_indices().map(|(i, j)| i * nv + j).collect();
+    let w = params.deviation_weight
+        * free
+            .iter()
+            .map(|&r| entry((r / nv, r % nv), (r / nv, r % nv)))
+            .sum::<f64>()
+        / free.len() as f64;
+    let mut g = vec![Vector3::zeros(); s.control_points().len()];
+    multiply(out.control_points(), &mut g);
+    let scale = g.iter().map(|v| v.norm()).fold(0.0, f64::max).max(1.0);
+    for &r in &free {
+        let residual = g[r] + w * (out.control_points()[r] - s.control_points()[r]);
+        assert!(
+            residual.norm() <= 1e-8 * scale,
+            "{label}: residual {:e}",
+            residual.norm()
+        );
     }
-    out
 }
 
 #[test]
@@ -198,25 +209,15 @@ fn a_rational_surface_keeps_its_weights_and_solves_its_own_normal_equations() {
     assert!(wa.iter().zip(wb).all(|(a, b)| a.to_bits() == b.to_bits()));
     // the residual of (K + w I) δ = −K o with the rational form K
     let k = fair_energy::RationalStiffness::thin_plate(&s);
-    let nv = s.num_v();
-    let free: Vec<usize> = mask.free_indices().map(|(i, j)| i * nv + j).collect();
-    let w = params.deviation_weight
-        * free
-            .iter()
-            .map(|&r| k.entry((r / nv, r % nv), (r / nv, r % nv)))
-            .sum::<f64>()
-        / free.len() as f64;
-    let mut g = vec![Vector3::zeros(); s.control_points().len()];
-    k.multiply(out.control_points(), &mut g);
-    let scale = g.iter().map(|v| v.norm()).fold(0.0, f64::max).max(1.0);
-    for &r in &free {
-        let residual = g[r] + w * (out.control_points()[r] - s.control_points()[r]);
-        assert!(
-            residual.norm() <= 1e-8 * scale,
-            "residual {:e}",
-            residual.norm()
-        );
-    }
+    assert_solves_normal_equations(
+        &s,
+        &out,
+        &mask,
+        &params,
+        &|a, b| k.entry(a, b),
+        &|x, g| k.multiply(x, g),
+        "rational cylinder",
+    );
     assert!(thin_plate_energy(&out) < thin_plate_energy(&s));
 }
 

@@ -4,16 +4,15 @@
 
 mod common;
 
-use common::assert_contract;
+use common::{assert_contract, with_interior_noise};
 use fair_energy::{
     EnergyParams, LocalEnergyFairing, LocalStart, RationalStiffness, SeparableStiffness,
     fair_surface,
 };
 use nurbs_core::energy::{max_deviation, thin_plate_energy};
 use nurbs_core::shapes::{cylinder, sphere_patch, torus};
-use nurbs_core::testing::{assert_close, random_surface, rng};
-use nurbs_core::{BSplineSurface, ControlMask, Direction, FairingProblem, Frame, Vector3};
-use rand::Rng;
+use nurbs_core::testing::{assert_close, random_surface};
+use nurbs_core::{BSplineSurface, ControlMask, Direction, FairingProblem, Frame};
 
 /// Relative agreement of xᵀ K x with the quadrature energy: both sum the same Gauss points, so
 /// only rounding separates them.
@@ -57,24 +56,6 @@ fn refined_cylinder() -> BSplineSurface {
         .expect("refine");
     assert!(s.is_rational());
     s
-}
-
-/// `s` with seeded noise of `amplitude` on every coordinate of its interior control points.
-fn with_interior_noise(s: &BSplineSurface, seed: u64, amplitude: f64) -> BSplineSurface {
-    let mut r = rng(seed);
-    let (nu, nv) = (s.num_u(), s.num_v());
-    let mut out = s.clone();
-    for (q, p) in out.control_points_mut().iter_mut().enumerate() {
-        let (i, j) = (q / nv, q % nv);
-        if i > 0 && j > 0 && i + 1 < nu && j + 1 < nv {
-            *p += Vector3::new(
-                r.random_range(-1.0..1.0),
-                r.random_range(-1.0..1.0),
-                r.random_range(-1.0..1.0),
-            ) * amplitude;
-        }
-    }
-    out
 }
 
 /// Every weight of `b` has the bits of the same weight of `a`.

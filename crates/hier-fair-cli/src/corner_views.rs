@@ -75,20 +75,31 @@ pub fn write_corner_views(
                 &render::render(&surfaces, &view, Shading::Zebra { stripes }),
             )?;
             written.push(path);
-            let map = render::render(&surfaces, &view, Shading::MeanCurvature { range });
-            let map = hier_fair::plots::with_colour_bar(
-                &map,
-                range,
-                &format!("H (1/{unit})"),
-                render::curvature_colour,
-            )
-            .map_err(|e| anyhow::anyhow!(e))?;
+            let map = mean_curvature_map(&surfaces, &view, range, unit)?;
             let path = dir.join(format!("corner_{name}_mean_curvature_{when}.png"));
             png(&path, &map)?;
             written.push(path);
         }
     }
     Ok(written)
+}
+
+/// The mean-curvature map of `surfaces` seen through `view`, blue – white – red over ±`range`
+/// (1/`unit`), with its colour bar at the right.
+pub(crate) fn mean_curvature_map(
+    surfaces: &[&BSplineSurface],
+    view: &View,
+    range: f64,
+    unit: &str,
+) -> Result<image::RgbImage> {
+    let map = render::render(surfaces, view, Shading::MeanCurvature { range });
+    hier_fair::plots::with_colour_bar(
+        &map,
+        range,
+        &format!("H (1/{unit})"),
+        render::curvature_colour,
+    )
+    .map_err(|e| anyhow::anyhow!(e))
 }
 
 /// The view of a corner: along its normal at the middle of its domain (into the surface),

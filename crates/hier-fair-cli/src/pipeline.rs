@@ -340,15 +340,10 @@ fn write_maps(
             written.push(path);
         }
         let path = dir.join(format!("mean_curvature_{name}.png"));
-        let map = render::render(surfaces, &view, Shading::MeanCurvature { range });
-        let map = hier_fair::plots::with_colour_bar(
-            &map,
-            range,
-            &format!("H (1/{unit})"),
-            render::curvature_colour,
-        )
-        .map_err(|e| anyhow::anyhow!(e))?;
-        png(&path, &map)?;
+        png(
+            &path,
+            &crate::corner_views::mean_curvature_map(surfaces, &view, range, unit)?,
+        )?;
         written.push(path);
     }
     Ok(written)

@@ -7,9 +7,12 @@
 //! shared edge wider or more kinked.
 
 use hier_fair::{FairParams, Model, RoleMethods, fair_model};
-use nurbs_core::{BSplineSurface, KnotVector, Point3};
 use proptest::prelude::*;
-use serde_json::{Value, json};
+use serde_json::json;
+
+#[path = "common/nets.rs"]
+mod nets;
+use nets::{patch, surface_json};
 
 /// One random case: the primary's degree and net, each slave's degree and net, and each
 /// slave's offsets at its join — value (mm), slope and curvature across — and its target.
@@ -47,41 +50,6 @@ fn slave_height(s: &Slave, at: f64, x: f64, y: f64) -> f64 {
     let d = (x - at).abs();
     let outward = if x >= at { 1.0 } else { -1.0 };
     m + s.gap + (outward * m1 + s.slope) * d + 0.5 * (m2 + s.curvature) * d * d
-}
-
-/// A degree (p, q) net of nu × nv points over [x0, x1] × [0, 20], its points on `h` at the
-/// Greville abscissae.
-fn patch(
-    (p, q): (usize, usize),
-    (nu, nv): (usize, usize),
-    (x0, x1): (f64, f64),
-    h: &dyn Fn(f64, f64) -> f64,
-) -> BSplineSurface {
-    let ku = KnotVector::clamped_uniform(p, nu).unwrap();
-    let kv = KnotVector::clamped_uniform(q, nv).unwrap();
-    let (gu, gv) = (ku.greville(), kv.greville());
-    let mut pts = Vec::new();
-    for &a in &gu {
-        for &b in &gv {
-            let (x, y) = (x0 + (x1 - x0) * a, 20.0 * b);
-            pts.push(Point3::new(x, y, h(x, y)));
-        }
-    }
-    BSplineSurface::new(ku, kv, pts, None).unwrap()
-}
-
-fn surface_json(s: &BSplineSurface) -> Value {
-    let nv = s.num_v();
-    let rows: Vec<Vec<[f64; 3]>> = s
-        .control_points()
-        .chunks(nv)
-        .map(|r| r.iter().map(|p| [p.x, p.y, p.z]).collect())
-        .collect();
-    json!({
-        "degree_u": s.degree_u(), "degree_v": s.degree_v(),
-        "knots_u": s.knots_u().knots(), "knots_v": s.knots_v().knots(),
-        "control_points": rows,
-    })
 }
 
 /// The model of a case: the primary over [0, 20], slave `a` over [20, 30] (its side u0 on the

@@ -4,8 +4,11 @@
 //! in the joint polish with an index below zero).
 
 use hier_fair::{FairParams, Model, RoleMethods, fair_model};
-use nurbs_core::{BSplineSurface, KnotVector, Point3};
-use serde_json::{Value, json};
+use serde_json::json;
+
+#[path = "common/nets.rs"]
+mod nets;
+use nets::{patch, surface_json};
 
 /// The height field both surfaces sample: a master over x ∈ [0, 20], the slave over [20, 30]
 /// with its own curvature across the join (so that G2 must be set) but the same value and slope
@@ -19,51 +22,13 @@ fn slave_height(x: f64, y: f64) -> f64 {
     master_height(20.0, y) + 0.4 * d + 0.03 * d * d
 }
 
-/// A degree (p, q) net of nu × nv points over [x0, x1] × [0, 20], its points on the height field
-/// at the Greville abscissae.
-fn patch(
-    (p, q): (usize, usize),
-    (nu, nv): (usize, usize),
-    (x0, x1): (f64, f64),
-    h: fn(f64, f64) -> f64,
-) -> BSplineSurface {
-    let ku = KnotVector::clamped_uniform(p, nu).unwrap();
-    let kv = KnotVector::clamped_uniform(q, nv).unwrap();
-    let greville = |k: &KnotVector, i: usize, d: usize| {
-        k.knots()[i + 1..=i + d].iter().sum::<f64>() / d as f64
-    };
-    let mut pts = Vec::new();
-    for i in 0..nu {
-        for j in 0..nv {
-            let x = x0 + (x1 - x0) * greville(&ku, i, p);
-            let y = 20.0 * greville(&kv, j, q);
-            pts.push(Point3::new(x, y, h(x, y)));
-        }
-    }
-    BSplineSurface::new(ku, kv, pts, None).unwrap()
-}
-
-fn surface_json(s: &BSplineSurface) -> Value {
-    let nv = s.num_v();
-    let rows: Vec<Vec<[f64; 3]>> = s
-        .control_points()
-        .chunks(nv)
-        .map(|r| r.iter().map(|p| [p.x, p.y, p.z]).collect())
-        .collect();
-    json!({
-        "degree_u": s.degree_u(), "degree_v": s.degree_v(),
-        "knots_u": s.knots_u().knots(), "knots_v": s.knots_v().knots(),
-        "control_points": rows,
-    })
-}
-
 #[test]
 fn small_slaves_in_g2_links_are_faired_and_never_worse() {
-    let master = patch((3, 3), (6, 6), (0.0, 20.0), master_height);
+    let master = patch((3, 3), (6, 6), (0.0, 20.0), &master_height);
     let mut runs = 0;
     for (p, nu) in [(1, 2), (1, 3), (2, 3), (3, 4)] {
         for (q, nv) in [(1, 2), (2, 3), (2, 4)] {
-            let slave = patch((p, q), (nu, nv), (20.0, 30.0), slave_height);
+            let slave = patch((p, q), (nu, nv), (20.0, 30.0), &slave_height);
             let model = json!({
                 "units": "mm",
                 "surfaces": [

@@ -169,10 +169,7 @@ impl<'a> SurfaceProjector<'a> {
         } else {
             order[..starts].iter().map(|&(_, k)| k).collect()
         };
-        let picks: Vec<(f64, f64)> = chosen
-            .iter()
-            .map(|&k| (us[k / nvs], vs[k % nvs]))
-            .collect();
+        let picks: Vec<(f64, f64)> = chosen.iter().map(|&k| (us[k / nvs], vs[k % nvs])).collect();
         let mut best: Option<SurfaceProjection> = None;
         for start in picks {
             let candidate = self.project_from(point, start);

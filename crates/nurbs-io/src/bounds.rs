@@ -198,9 +198,21 @@ pub fn loop_params(surface: &BSplineSurface, points: &[Point3]) -> Vec<(f64, f64
     refined
 }
 
+/// Whether the loop's step from `a` to `b` in parameter space is a jump across a closed
+/// surface's seam: more than half the domain in either direction between two neighbouring
+/// loop points, which lie a densified chord apart on the surface (a walk that reaches the end
+/// of the domain starts again at its other end).
+pub fn is_seam_jump(surface: &BSplineSurface, a: (f64, f64), b: (f64, f64)) -> bool {
+    let (u0, u1) = surface.domain_u();
+    let (v0, v1) = surface.domain_v();
+    (b.0 - a.0).abs() > 0.5 * (u1 - u0) || (b.1 - a.1).abs() > 0.5 * (v1 - v0)
+}
+
 /// Pushes the parameters strictly between `a` and `b` that keep the image of the segment a–b
-/// within `tol` of its chord (`depth` halvings left).
-fn halve_params(
+/// within `tol` of its chord (`depth` halvings left). A jump across a seam
+/// ([`is_seam_jump`]) is not halved: its midpoint in parameter space lies across the face,
+/// and halving towards it drew a detour of 64 points over the face and back into the loop.
+pub(crate) fn halve_params(
     surface: &BSplineSurface,
     a: (f64, f64),
     b: (f64, f64),
@@ -208,6 +220,9 @@ fn halve_params(
     depth: usize,
     out: &mut Vec<(f64, f64)>,
 ) {
+    if is_seam_jump(surface, a, b) {
+        return;
+    }
     let m = (0.5 * (a.0 + b.0), 0.5 * (a.1 + b.1));
     let chord =
         Point3::from((surface.point(a.0, a.1).coords + surface.point(b.0, b.1).coords) * 0.5);
@@ -502,15 +517,15 @@ pub fn polyline(points: &[Point3]) -> Result<BSplineCurve, nurbs_core::Error> {
     BSplineCurve::new(KnotVector::new(1, knots)?, kept, None)
 }
 
-/// Fewest spans a fitted edge starts from (cubic, one span: four control points).
-const FIT_FIRST_SPANS: usize = 1;
-
-/// A trim edge through `points` as compact as `tolerance` allows: a cubic B-spline on uniform
-/// knots, chord-length parameters, its end points the edge's (so that the edges meeting at a
-/// vertex still meet), with the spans doubled until every point lies within `tolerance` of the
-/// curve at its parameter; the [`polyline`] where `tolerance` is 0, where the edge has too few
-/// points, or where the fit would need more than half as many control points as the polyline
-/// has (no gain).
+/// A trim edge through `points` as compact as `tolerance` allows: a cubic B-spline at
+/// chord-length parameters, its end points the edge's (so that the edges meeting at a vertex
+/// still meet), from one span, each span holding a point farther than `tolerance` from the curve
+/// at its parameter halved and the curve fitted again — so that knots gather where the edge
+/// turns fast (a kink between two faces' boundaries meeting at a few degrees, which no number
+/// of uniform spans follows within a fraction of a micrometre short of one span per point) —
+/// until every point lies within `tolerance`; the [`polyline`] where `tolerance` is 0, where
+/// the edge has too few points, or where the fit would need more than half as many control
+/// points as the polyline has (no gain).
 pub fn fitted_edge(points: &[Point3], tolerance: f64) -> Result<BSplineCurve, nurbs_core::Error> {
     let n = points.len();
     if !(tolerance > 0.0) || n < 8 {
@@ -525,16 +540,20 @@ pub fn fitted_edge(points: &[Point3], tolerance: f64) -> Result<BSplineCurve, nu
         return polyline(points);
     }
     let params: Vec<f64> = t.iter().map(|x| x / total).collect();
-    let mut spans = FIT_FIRST_SPANS;
+    // the distinct knots: one span to start with
+    let mut breaks = vec![0.0, 1.0];
     loop {
-        let count = spans + 3;
+        let count = breaks.len() + 2;
         if 2 * count > n {
             return polyline(points);
         }
-        let knots = KnotVector::clamped_uniform(3, count)?;
+        let mut knots = vec![0.0; 3];
+        knots.extend(&breaks);
+        knots.extend([1.0; 3]);
+        let knots = KnotVector::new(3, knots)?;
         // the template's interior points are the data points nearest their Greville fractions;
         // they are free, only the two ends are kept
-        let template: Vec<Point3> = knots
+        let mut ends: Vec<Point3> = knots
             .greville()
             .iter()
             .map(|&g| points[params.partition_point(|&p| p < g).min(n - 1)])
@@ -542,21 +561,48 @@ pub fn fitted_edge(points: &[Point3], tolerance: f64) -> Result<BSplineCurve, nu
         let mut free = vec![true; count];
         free[0] = false;
         free[count - 1] = false;
-        let mut ends = template;
         ends[0] = points[0];
         ends[count - 1] = points[n - 1];
         let start = BSplineCurve::new(knots, ends, None)?;
-        if let Ok((curve, report)) = nurbs_core::fit::fit_curve(
+        let fit = nurbs_core::fit::fit_curve(
             &start,
             &free,
             &params,
             points,
             &nurbs_core::fit::FitParams::default(),
-        ) && report.max_error <= tolerance
-        {
-            return Ok(curve);
+        );
+        // the spans to halve: those holding a point beyond the tolerance (every span where the
+        // system had no solution)
+        let mut halve = vec![fit.is_err(); breaks.len() - 1];
+        if let Ok((curve, report)) = &fit {
+            if report.max_error <= tolerance {
+                return Ok(curve.clone());
+            }
+            for (x, p) in params.iter().zip(points) {
+                if (curve.point(*x) - p).norm() > tolerance {
+                    let span = breaks
+                        .partition_point(|&b| b <= *x)
+                        .clamp(1, breaks.len() - 1);
+                    halve[span - 1] = true;
+                }
+            }
         }
-        spans *= 2;
+        let mut next = Vec::with_capacity(2 * breaks.len());
+        for (k, w) in breaks.windows(2).enumerate() {
+            next.push(w[0]);
+            // a half with no point of its own would leave the system without a solution
+            let mid = 0.5 * (w[0] + w[1]);
+            let holds = |a: f64, b: f64| params.iter().any(|&x| x > a && x < b);
+            if halve[k] && holds(w[0], mid) && holds(mid, w[1]) {
+                next.push(mid);
+            }
+        }
+        next.push(1.0);
+        if next.len() == breaks.len() {
+            // nothing left to halve: the points are too few for the turns
+            return polyline(points);
+        }
+        breaks = next;
     }
 }
 

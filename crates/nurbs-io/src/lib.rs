@@ -30,6 +30,7 @@ pub mod error;
 pub mod offset;
 pub mod params;
 pub mod reader;
+mod seam;
 pub mod step;
 pub mod structure;
 pub mod units;

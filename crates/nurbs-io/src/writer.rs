@@ -295,34 +295,31 @@ fn push_face(
     let de = |entities: &Vec<Entity>| 2 * entities.len() + 1;
     let surface = de(entities) - 2;
     let mut boundaries = Vec::new();
-    for k in 0..bounds.loops.len() {
-        let pts = bounds.loop_points(k);
-        let mut uv: Vec<Point3> = crate::bounds::loop_params(f.surface, &pts)
-            .into_iter()
-            .map(|(u, v)| Point3::new(u, v, 0.0))
-            .collect();
-        uv.push(uv[0]);
-        let fail = |source: nurbs_core::Error| IgesError::Write {
+    let loops = loops_with_params(f.surface, &bounds);
+    let params: Vec<Vec<Point3>> = loops.iter().map(|l| l.1.clone()).collect();
+    let seam = crate::seam::close_winding_loops(f.surface, &params);
+    // the seam boundary first (the outer one), then every loop it does not replace
+    let order: Vec<Option<usize>> = match &seam {
+        Some(b) => std::iter::once(None)
+            .chain((0..loops.len()).filter(|k| !b.loops.contains(k)).map(Some))
+            .collect(),
+        None => (0..loops.len()).map(Some).collect(),
+    };
+    for k in order {
+        let pieces = match (k, &seam) {
+            (Some(k), _) => {
+                let (pts, uv) = &loops[k];
+                loop_curves(f.surface, &bounds, pts, uv, edge_tolerance)
+            }
+            (None, Some(b)) => seam_pieces(f.surface, &b.uv, &b.cuts, edge_tolerance),
+            (None, None) => continue,
+        };
+        let (model, parametric) = pieces.map_err(|source| IgesError::Write {
             what: what.clone(),
-            detail: format!("trim loop {k}: {source}"),
-        };
-        let (model, parametric) = if edge_tolerance > 0.0 {
-            let pieces = loop_pieces(f.surface, &bounds, &uv, edge_tolerance).map_err(fail)?;
-            (
-                push_curve(entities, &pieces.0, &what)?,
-                push_curve(entities, &pieces.1, &what)?,
-            )
-        } else {
-            let mut closed = pts.clone();
-            closed.push(pts[0]);
-            let model = crate::bounds::polyline(&closed).map_err(fail)?;
-            let parametric = crate::bounds::polyline(&uv).map_err(fail)?;
-            (
-                push_curve(entities, &[model], &what)?,
-                push_curve(entities, &[parametric], &what)?,
-            )
-        };
-        let (c, b) = (model, parametric);
+            detail: format!("trim loop {k:?}: {source}"),
+        })?;
+        let c = push_curve(entities, &model, &what)?;
+        let b = push_curve(entities, &parametric, &what)?;
         boundaries.push(de(entities));
         // CRTN 0 (unspecified), the surface, the parameter-space curve, the model-space curve,
         // PREF 1 (parameter space: the kernel need not project onto a closed surface's seam)
@@ -368,19 +365,31 @@ fn push_curve(
     Ok(2 * entities.len() - 1)
 }
 
-/// A closed loop's pieces in model and in parameter space: `uv` (the loop's parameters in
-/// order, closed: its last the first) split at the face's vertices and at the two ends of a
-/// run along a collapsed side (a pole: two parameters, one point), each piece fitted within
-/// `tolerance` — in parameter space within `tolerance` over the largest first derivative of the
-/// surface at the loop's points (√2 of it: a parameter error (δu, δv) moves the point by at most
-/// |S_u| |δu| + |S_v| |δv|). A run along a pole has no model-space piece.
+/// A closed loop's pieces in model and in parameter space, each fitted within `tolerance`
+/// ([`crate::bounds::fitted_edge`]): the loop's points `pts` (on the surface, in order) split
+/// at the face's vertices, and its parameters `uv` (closed: the last the first) split at the
+/// vertices' images, at the ends of a run along a collapsed side (a pole: two parameters, one
+/// point) and at the ends of a jump across a seam ([`crate::bounds::is_seam_jump`]), fitted
+/// within `tolerance` over √2 times the largest first derivative of the surface at the loop's
+/// points (a parameter error (δu, δv) moves the point by at most |S_u| |δu| + |S_v| |δv|).
 fn loop_pieces(
     surface: &BSplineSurface,
     bounds: &crate::bounds::FaceBounds,
+    pts: &[Point3],
     uv: &[Point3],
     tolerance: f64,
 ) -> Result<(Vec<BSplineCurve>, Vec<BSplineCurve>), nurbs_core::Error> {
     let same = crate::bounds::SAME_POINT_RELATIVE * surface.size().max(f64::MIN_POSITIVE);
+    let at_vertex = |p: &Point3| bounds.vertices.iter().any(|v| (v - p).norm() <= same);
+    let mut closed = pts.to_vec();
+    closed.push(pts[0]);
+    let cuts: Vec<usize> = (0..closed.len())
+        .filter(|&i| i == 0 || i + 1 == closed.len() || at_vertex(&closed[i]))
+        .collect();
+    let mut model = Vec::with_capacity(cuts.len());
+    for w in cuts.windows(2) {
+        model.push(crate::bounds::fitted_edge(&closed[w[0]..=w[1]], tolerance)?);
+    }
     let mut eval = surface.evaluator();
     let mut images = Vec::with_capacity(uv.len());
     let mut speed: f64 = 0.0;
@@ -390,24 +399,92 @@ fn loop_pieces(
         images.push(d.point);
     }
     let n = uv.len();
+    let jump = |i: usize, j: usize| {
+        crate::bounds::is_seam_jump(surface, (uv[i].x, uv[i].y), (uv[j].x, uv[j].y))
+    };
     let mut cuts = vec![0];
     for i in 1..n - 1 {
-        let vertex = bounds.vertices.iter().any(|v| (v - images[i]).norm() <= same);
-        let pole_next = (images[i + 1] - images[i]).norm() <= same;
-        let pole_before = (images[i] - images[i - 1]).norm() <= same;
-        if vertex || pole_next || pole_before {
+        let pole = (images[i + 1] - images[i]).norm() <= same
+            || (images[i] - images[i - 1]).norm() <= same;
+        if at_vertex(&images[i]) || pole || jump(i - 1, i) || jump(i, i + 1) {
             cuts.push(i);
         }
     }
     cuts.push(n - 1);
     cuts.dedup();
     let tol_uv = tolerance / (std::f64::consts::SQRT_2 * speed.max(f64::MIN_POSITIVE));
+    let mut parametric = Vec::with_capacity(cuts.len());
+    for w in cuts.windows(2) {
+        parametric.push(crate::bounds::fitted_edge(&uv[w[0]..=w[1]], tol_uv)?);
+    }
+    Ok((model, parametric))
+}
+
+/// Each loop of `bounds` as its points in order and their parameters on `surface` (u, v, 0),
+/// closed: the last parameter the first.
+fn loops_with_params(
+    surface: &BSplineSurface,
+    bounds: &crate::bounds::FaceBounds,
+) -> Vec<(Vec<Point3>, Vec<Point3>)> {
+    (0..bounds.loops.len())
+        .map(|k| {
+            let pts = bounds.loop_points(k);
+            let mut uv: Vec<Point3> = crate::bounds::loop_params(surface, &pts)
+                .into_iter()
+                .map(|(u, v)| Point3::new(u, v, 0.0))
+                .collect();
+            uv.push(uv[0]);
+            (pts, uv)
+        })
+        .collect()
+}
+
+/// The model-space and parameter-space curves of one loop: its points `pts` and parameters
+/// `uv` (closed) as [`loop_pieces`] fits them, or each one degree-1 curve where `tolerance` is 0.
+fn loop_curves(
+    surface: &BSplineSurface,
+    bounds: &crate::bounds::FaceBounds,
+    pts: &[Point3],
+    uv: &[Point3],
+    tolerance: f64,
+) -> Result<(Vec<BSplineCurve>, Vec<BSplineCurve>), nurbs_core::Error> {
+    if tolerance > 0.0 {
+        return loop_pieces(surface, bounds, pts, uv, tolerance);
+    }
+    let mut closed = pts.to_vec();
+    closed.push(pts[0]);
+    Ok((
+        vec![crate::bounds::polyline(&closed)?],
+        vec![crate::bounds::polyline(uv)?],
+    ))
+}
+
+/// The pieces of a seam boundary ([`crate::seam`]): its parameters `uv` cut at `cuts`, each
+/// run in parameter space and its image in model space fitted within `tolerance` as
+/// [`loop_pieces`] fits them (polylines where it is 0).
+fn seam_pieces(
+    surface: &BSplineSurface,
+    uv: &[Point3],
+    cuts: &[usize],
+    tolerance: f64,
+) -> Result<(Vec<BSplineCurve>, Vec<BSplineCurve>), nurbs_core::Error> {
+    let same = crate::bounds::SAME_POINT_RELATIVE * surface.size().max(f64::MIN_POSITIVE);
+    let mut eval = surface.evaluator();
+    let mut speed: f64 = 0.0;
+    let images: Vec<Point3> = uv
+        .iter()
+        .map(|q| {
+            let d = eval.derivatives(q.x, q.y);
+            speed = speed.max(d.du.norm()).max(d.dv.norm());
+            d.point
+        })
+        .collect();
+    let tol_uv = tolerance / (std::f64::consts::SQRT_2 * speed.max(f64::MIN_POSITIVE));
     let (mut model, mut parametric) = (Vec::new(), Vec::new());
     for w in cuts.windows(2) {
-        let (a, b) = (w[0], w[1]);
-        parametric.push(crate::bounds::fitted_edge(&uv[a..=b], tol_uv)?);
-        let mut run: Vec<Point3> = Vec::with_capacity(b - a + 1);
-        for p in &images[a..=b] {
+        parametric.push(crate::bounds::fitted_edge(&uv[w[0]..=w[1]], tol_uv)?);
+        let mut run: Vec<Point3> = Vec::with_capacity(w[1] - w[0] + 1);
+        for p in &images[w[0]..=w[1]] {
             if run.last().is_none_or(|q| (q - p).norm() > same) {
                 run.push(*p);
             }

@@ -346,7 +346,10 @@ fn closed_faces_are_written_with_shared_vertices_and_seams_used_twice() {
         for token in text.split(|c: char| !(c.is_ascii_alphanumeric() || "+-.".contains(c))) {
             let numeric = token.starts_with(|c: char| c.is_ascii_digit() || c == '-');
             if let Some((mantissa, _)) = token.split_once('E').filter(|_| numeric) {
-                assert!(mantissa.contains('.'), "{name}: real {token} has no decimal point");
+                assert!(
+                    mantissa.contains('.'),
+                    "{name}: real {token} has no decimal point"
+                );
             }
         }
         let back = read_step(&text).unwrap();
@@ -361,7 +364,11 @@ fn closed_faces_are_written_with_shared_vertices_and_seams_used_twice() {
                 let (x, y) = (a as f64 / 8.0, b as f64 / 8.0);
                 let p = s.point(u0 + (u1 - u0) * x, v0 + (v1 - v0) * y);
                 let q = f.point(fu0 + (fu1 - fu0) * x, fv0 + (fv1 - fv0) * y);
-                assert!((p - q).norm() < 1e-9, "{name} at ({x}, {y}): {}", (p - q).norm());
+                assert!(
+                    (p - q).norm() < 1e-9,
+                    "{name} at ({x}, {y}): {}",
+                    (p - q).norm()
+                );
             }
         }
     }

@@ -246,6 +246,38 @@ fn a_trim_edge_is_fitted_within_its_tolerance() {
     );
 }
 
+/// An edge of 400 points with a kink of 10° in its middle (two faces' boundaries meeting at a
+/// small angle, not a corner of the loop): knots gather at the kink and the edge is a cubic of
+/// a few dozen control points within the tolerance, where uniform spans would have needed one
+/// per point and written the polyline.
+#[test]
+fn a_kinked_edge_is_fitted_with_knots_at_its_kink() {
+    let turn = 10f64.to_radians();
+    let pts: Vec<Point3> = (0..400)
+        .map(|k| {
+            let s = k as f64 / 10.0 - 20.0;
+            if s <= 0.0 {
+                Point3::new(s, 0.0, 0.0)
+            } else {
+                Point3::new(s * turn.cos(), s * turn.sin(), 0.0)
+            }
+        })
+        .collect();
+    let tol = 5e-4;
+    let c = nurbs_io::bounds::fitted_edge(&pts, tol).unwrap();
+    assert_eq!(c.degree(), 3);
+    assert!(
+        c.control_points().len() <= 60,
+        "{} points",
+        c.control_points().len()
+    );
+    let dense: Vec<Point3> = (0..=20000).map(|k| c.point(k as f64 / 20000.0)).collect();
+    for p in &pts {
+        let d = distance_to_polyline(p, &dense);
+        assert!(d <= tol + 1e-6, "a point {d:.2e} from the curve");
+    }
+}
+
 /// A plane with a round hole of 400 points written with fitted edges: a file a fraction of the
 /// polyline's size, the hole read back within the tolerance of the circle.
 #[test]
@@ -308,7 +340,10 @@ fn fitted_iges_loops_are_composites_that_read_back_within_the_tolerance() {
         fitted.len(),
         plain.len()
     );
-    assert!(fitted.lines().any(|l| l.starts_with("102,")), "no composite");
+    assert!(
+        fitted.lines().any(|l| l.starts_with("102,")),
+        "no composite"
+    );
     let back = read_iges(fitted.as_bytes()).unwrap();
     let loops = back.surfaces[0].trim_loops();
     assert_eq!(loops.len(), 2);
@@ -317,9 +352,70 @@ fn fitted_iges_loops_are_composites_that_read_back_within_the_tolerance() {
         .iter()
         .map(|p| ((p.x - 5.0).hypot(p.y - 5.0) - 3.0).abs())
         .fold(0.0, f64::max);
-    assert!(worst <= tol + chord, "the hole reads back {worst:.2e} off the circle");
+    assert!(
+        worst <= tol + chord,
+        "the hole reads back {worst:.2e} off the circle"
+    );
     let d = off_polyline(&loops[0], &trim[0]);
     assert!(d <= ON_POLYLINE_RELATIVE * 10.0, "{d:.3e} off the square");
+}
+
+/// A loop on a full cylinder that crosses its seam: the walk in parameter space jumps from one
+/// end of the turn to the other once each way, and nothing is drawn across the face between
+/// (halving the jump drew a detour of 64 points over the face and back): every parameter's
+/// image lies on the loop.
+#[test]
+fn a_loop_across_a_seam_jumps_without_a_detour() {
+    use nurbs_core::shapes::revolve_curve;
+    let line = nurbs_core::BSplineCurve::new(
+        nurbs_core::KnotVector::bezier(1).unwrap(),
+        vec![Point3::new(4.0, 0.0, 0.0), Point3::new(4.0, 0.0, 10.0)],
+        None,
+    )
+    .unwrap();
+    let s = revolve_curve(
+        &line,
+        Point3::origin(),
+        Vector3::z(),
+        0.0,
+        std::f64::consts::TAU,
+    )
+    .unwrap();
+    // angles −30°…30° (across the seam at 0), heights 2…6, 20 points a side
+    let at = |deg: f64, z: f64| {
+        let a = deg.to_radians();
+        Point3::new(4.0 * a.cos(), 4.0 * a.sin(), z)
+    };
+    let mut pts = Vec::new();
+    for k in 0..20 {
+        pts.push(at(-30.0 + 3.0 * k as f64, 2.0));
+    }
+    for k in 0..20 {
+        pts.push(at(30.0, 2.0 + 0.2 * k as f64));
+    }
+    for k in 0..20 {
+        pts.push(at(30.0 - 3.0 * k as f64, 6.0));
+    }
+    for k in 0..20 {
+        pts.push(at(-30.0, 6.0 - 0.2 * k as f64));
+    }
+    let uv = nurbs_io::bounds::loop_params(&s, &pts);
+    let mut jumps = 0;
+    for (k, &(u, v)) in uv.iter().enumerate() {
+        let p = s.point(u, v);
+        let off = (p.z.clamp(2.0, 6.0) - p.z).abs()
+            + (p.coords.xy().norm() - 4.0).abs()
+            + (p.y.atan2(p.x).to_degrees().abs() - 30.0).max(0.0);
+        assert!(
+            off <= 1e-6,
+            "parameter {k} ({u}, {v}) images off the loop: {p:?}"
+        );
+        let next = uv[(k + 1) % uv.len()];
+        if nurbs_io::bounds::is_seam_jump(&s, (u, v), next) {
+            jumps += 1;
+        }
+    }
+    assert_eq!(jumps, 2, "one jump each way across the seam");
 }
 
 /// A loop that repeats a point in a row (as one of pr1db.stp's faces does) is written: the

@@ -93,3 +93,21 @@ pub fn joined_bicubic(kink: f64) -> BSplineSurface {
     }
     s
 }
+
+/// `s` with seeded noise of `amplitude` on every coordinate of its interior control points.
+pub fn with_interior_noise(s: &BSplineSurface, seed: u64, amplitude: f64) -> BSplineSurface {
+    let mut r = nurbs_core::testing::rng(seed);
+    let (nu, nv) = (s.num_u(), s.num_v());
+    let mut out = s.clone();
+    for (q, p) in out.control_points_mut().iter_mut().enumerate() {
+        let (i, j) = (q / nv, q % nv);
+        if i > 0 && j > 0 && i + 1 < nu && j + 1 < nv {
+            *p += nurbs_core::Vector3::new(
+                r.random_range(-1.0..1.0),
+                r.random_range(-1.0..1.0),
+                r.random_range(-1.0..1.0),
+            ) * amplitude;
+        }
+    }
+    out
+}

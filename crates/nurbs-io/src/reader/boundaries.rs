@@ -353,7 +353,10 @@ impl Reader<'_> {
 fn sample_within_sag(curve: &BSplineCurve, samples: usize) -> Vec<Point3> {
     let pts = curve.control_points();
     let (lo, hi) = pts.iter().fold(
-        (Point3::from([f64::INFINITY; 3]), Point3::from([f64::NEG_INFINITY; 3])),
+        (
+            Point3::from([f64::INFINITY; 3]),
+            Point3::from([f64::NEG_INFINITY; 3]),
+        ),
         |(lo, hi), p| (lo.inf(p), hi.sup(p)),
     );
     let tol = BOUNDARY_SAG_RELATIVE * (hi - lo).norm();
@@ -386,7 +389,11 @@ fn halve(
     let off = |t: f64| {
         let p = curve.point(t);
         let w = p - a.1;
-        let s = if len2 > 0.0 { (w.dot(&chord) / len2).clamp(0.0, 1.0) } else { 0.0 };
+        let s = if len2 > 0.0 {
+            (w.dot(&chord) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
         (w - chord * s).norm()
     };
     let h = b.0 - a.0;
@@ -428,6 +435,9 @@ mod tests {
         assert!(worst <= tol, "sag {worst} beyond {tol}");
         let needed = std::f64::consts::TAU / (8.0 * tol / r).sqrt();
         let chords = (pts.len() - 1) as f64;
-        assert!(chords >= needed && chords <= 4.0 * needed, "{chords} chords, {needed} needed");
+        assert!(
+            chords >= needed && chords <= 4.0 * needed,
+            "{chords} chords, {needed} needed"
+        );
     }
 }
