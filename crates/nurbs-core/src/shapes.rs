@@ -157,18 +157,26 @@ pub const FULL_TURN_SLACK: f64 = 1e-4;
 /// a full turn and [`FULL_TURN_SLACK`]) as rational quadratic Bézier segments of at most 90° joined with double knots
 /// ([NB] A7.1): control coefficients (a, b) with cos θ = Σ R_k a_k, sin θ = Σ R_k b_k exactly, and
 /// the knots running from `start` to `end` (the parameter is not the angle inside a segment,
-/// but the ends are).
+/// but the ends are). A sweep past a full turn (within the slack) is a full turn: the knots
+/// still run to `end`, the arc closes exactly on its start.
 pub fn unit_arc(start: f64, end: f64) -> Result<UnitArc> {
     let sweep = end - start;
     // a kernel writes a closed surface's terminate angle with a small overshoot (OCCT:
-    // 6.28320989 for 2π, 4e-6 relative); the surface then overlaps itself by that much
+    // 6.28320989 for 2π, 4e-6 relative): a sweep past a full turn can only be a full turn, so
+    // the arc is one, closed exactly — overlapping itself by the excess (0.6 µm on a pipe of
+    // radius 25), a closed surface had two boundary curves 0.6 µm apart and no seam, and
+    // Open CASCADE called its face exported to STEP with the seam used both ways invalid
     if !(sweep > 0.0 && sweep <= std::f64::consts::TAU * (1.0 + FULL_TURN_SLACK)) {
         return Err(crate::error::Error::Degenerate {
             detail: format!("arc sweep {sweep} rad from {start} to {end}, expected in (0, 2π]"),
         });
     }
-    let segments = (sweep / std::f64::consts::FRAC_PI_2 - 1e-9).ceil().max(1.0) as usize;
-    let step = sweep / segments as f64;
+    let full = sweep > std::f64::consts::TAU;
+    let turn = sweep.min(std::f64::consts::TAU);
+    let segments = (turn / std::f64::consts::FRAC_PI_2 - 1e-9).ceil().max(1.0) as usize;
+    // the angle and the knot of each segment's end
+    let step = turn / segments as f64;
+    let knot_step = sweep / segments as f64;
     let w = (step / 2.0).cos();
     let mut pts = vec![(start.cos(), start.sin())];
     let mut weights = vec![1.0];
@@ -179,11 +187,16 @@ pub fn unit_arc(start: f64, end: f64) -> Result<UnitArc> {
         // the tangents at the segment's ends meet at distance 1 / cos(step / 2) on the bisector
         pts.push((mid.cos() / w, mid.sin() / w));
         weights.push(w);
-        let b = if k + 1 == segments { end } else { b };
-        pts.push((b.cos(), b.sin()));
+        let last = k + 1 == segments;
+        pts.push(match (last, full) {
+            (true, true) => pts[0],
+            (true, false) => (end.cos(), end.sin()),
+            _ => (b.cos(), b.sin()),
+        });
         weights.push(1.0);
-        if k + 1 < segments {
-            knots.extend([b, b]);
+        if !last {
+            let kb = start + (k + 1) as f64 * knot_step;
+            knots.extend([kb, kb]);
         }
     }
     knots.extend([end; 3]);

@@ -262,6 +262,24 @@ fn arcs_of_every_sweep_are_exact() {
     assert!(nurbs_core::shapes::unit_arc(0.0, 7.0).is_err());
 }
 
+/// A full turn written with its rounding past 2π (Open CASCADE writes 6.28320989) is a closed
+/// circle: its knots run to the written end, its last point is its first bit for bit (it
+/// overlapped itself by 2.5e-5 rad), and every point lies on the circle.
+#[test]
+fn a_turn_past_two_pi_closes_exactly() {
+    let end = 6.28320989;
+    let (kv, pts, w) = nurbs_core::shapes::unit_arc(0.0, end).unwrap();
+    assert_eq!(kv.domain(), (0.0, end));
+    assert_eq!(pts[0], pts[pts.len() - 1]);
+    let points = pts.iter().map(|&(a, b)| Point3::new(a, b, 0.0)).collect();
+    let c = nurbs_core::BSplineCurve::new(kv, points, Some(w)).unwrap();
+    for k in 0..=400 {
+        let p = c.point(end * k as f64 / 400.0);
+        assert!((p.coords.norm() - 1.0).abs() < 1e-12, "{p:?}");
+    }
+    assert_eq!(c.point(end), c.point(0.0));
+}
+
 /// A line parallel to an oblique axis turned about it is a cylinder (every point at the
 /// distance, curvatures 1/r and 0); a half circle with its ends on the axis is a sphere with two
 /// poles (curvature 1/r in every direction).
