@@ -199,13 +199,20 @@ pub fn loop_params(surface: &BSplineSurface, points: &[Point3]) -> Vec<(f64, f64
 }
 
 /// Whether the loop's step from `a` to `b` in parameter space is a jump across a closed
-/// surface's seam: more than half the domain in either direction between two neighbouring
-/// loop points, which lie a densified chord apart on the surface (a walk that reaches the end
-/// of the domain starts again at its other end).
+/// surface's seam: more than half the domain in either direction (a walk that reaches the end
+/// of the domain starts again at its other end), between points nearer each other on the
+/// surface than either is to the image of the step's middle — which lies across the face for a
+/// jump, and on the chord for a long straight step of a coarse loop (a plane's triangle, whose
+/// corners are its only points).
 pub fn is_seam_jump(surface: &BSplineSurface, a: (f64, f64), b: (f64, f64)) -> bool {
     let (u0, u1) = surface.domain_u();
     let (v0, v1) = surface.domain_v();
-    (b.0 - a.0).abs() > 0.5 * (u1 - u0) || (b.1 - a.1).abs() > 0.5 * (v1 - v0)
+    if !((b.0 - a.0).abs() > 0.5 * (u1 - u0) || (b.1 - a.1).abs() > 0.5 * (v1 - v0)) {
+        return false;
+    }
+    let (pa, pb) = (surface.point(a.0, a.1), surface.point(b.0, b.1));
+    let pm = surface.point(0.5 * (a.0 + b.0), 0.5 * (a.1 + b.1));
+    (pa - pb).norm() < (pa - pm).norm()
 }
 
 /// Pushes the parameters strictly between `a` and `b` that keep the image of the segment a–b

@@ -418,6 +418,48 @@ fn a_loop_across_a_seam_jumps_without_a_detour() {
     assert_eq!(jumps, 2, "one jump each way across the seam");
 }
 
+/// A plane with coarse loops of a few corners, each with one step longer than half the domain:
+/// no seam (a plane is not closed), so the loops stay an outer and an inner boundary — a long
+/// straight step is no jump across a seam.
+#[test]
+fn coarse_loops_on_a_plane_are_not_taken_for_seam_jumps() {
+    let s = plane(0.0);
+    let p = |x: f64, y: f64| Point3::new(x, y, 0.0);
+    let outer = vec![
+        p(0.5, 0.5),
+        p(9.5, 0.5),
+        p(9.5, 4.0),
+        p(5.0, 4.5),
+        p(0.5, 4.0),
+    ];
+    let inner = vec![
+        p(1.0, 1.0),
+        p(1.0, 3.0),
+        p(4.0, 3.5),
+        p(7.0, 3.0),
+        p(7.0, 1.0),
+    ];
+    for (a, b) in [((0.5, 0.5), (9.5, 0.5)), ((1.0, 1.0), (7.0, 1.0))] {
+        assert!(!nurbs_io::bounds::is_seam_jump(&s, a, b));
+    }
+    let trim = vec![outer, inner];
+    let faces = [Face {
+        name: "coarse",
+        surface: &s,
+        trim: &trim,
+    }];
+    let params = IgesWriteParams {
+        edge_tolerance: 5e-4,
+        ..IgesWriteParams::default()
+    };
+    let text = nurbs_io::write_iges_faces(&faces, &[], &params).unwrap();
+    let p144 = text
+        .lines()
+        .find(|l| l.starts_with("144,"))
+        .expect("a 144 entity");
+    assert_eq!(p144.split(',').nth(3), Some("1"), "{p144}");
+}
+
 /// A loop that repeats a point in a row (as one of pr1db.stp's faces does) is written: the
 /// repeated point is dropped (a degree-1 curve cannot carry a double knot), in IGES and STEP.
 #[test]
