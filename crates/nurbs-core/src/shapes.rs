@@ -105,12 +105,27 @@ pub fn sphere_octant(r: f64) -> Result<BSplineSurface> {
 
 /// A cylinder of radius `r` about the z axis, height `h`, a quarter turn (u along z, v around).
 pub fn cylinder(r: f64, h: f64) -> Result<BSplineSurface> {
+    cylinder_around(r, h, unit_quarter())
+}
+
+/// A full cylinder of radius `r` about the z axis, height `h` (u along z on [0, 1], v a full
+/// turn from the x axis): closed in v, its seam the generator through (r, 0).
+pub fn full_cylinder(r: f64, h: f64) -> Result<BSplineSurface> {
+    cylinder_around(r, h, unit_circle())
+}
+
+/// The segment from (r, 0) to (r, h) in the (ρ, z) plane turned along the unit arc `around`.
+fn cylinder_around(
+    r: f64,
+    h: f64,
+    around: (KnotVector, Vec<(f64, f64)>, Vec<f64>),
+) -> Result<BSplineSurface> {
     let profile = (
         KnotVector::bezier(1)?,
         vec![(r, 0.0), (r, h)],
         vec![1.0, 1.0],
     );
-    revolve(profile, unit_quarter())
+    revolve(profile, around)
 }
 
 /// The full torus about the z axis with major radius `major` and tube radius `minor`: u runs

@@ -159,8 +159,6 @@ fn along_seam(surface: &BSplineSurface, a: Point3, b: Point3) -> Vec<Point3> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nurbs_core::shapes::revolve_curve;
-    use nurbs_core::{BSplineCurve, KnotVector, Vector3};
 
     /// A full cylinder of radius 4 (u along the axis, z = 10 u; v around) and a band of it
     /// between the circles z = 2 and z = 6, each a loop of 90 points: the two loops wind once
@@ -168,20 +166,7 @@ mod tests {
     /// counterclockwise, enclosing the band's parameter rectangle 0.4 × (v1 − v0).
     #[test]
     fn two_circles_on_a_cylinder_close_through_the_seam() {
-        let line = BSplineCurve::new(
-            KnotVector::bezier(1).unwrap(),
-            vec![Point3::new(4.0, 0.0, 0.0), Point3::new(4.0, 0.0, 10.0)],
-            None,
-        )
-        .unwrap();
-        let s = revolve_curve(
-            &line,
-            Point3::origin(),
-            Vector3::z(),
-            0.0,
-            std::f64::consts::TAU,
-        )
-        .unwrap();
+        let s = nurbs_core::shapes::full_cylinder(4.0, 10.0).unwrap();
         let circle = |z: f64| -> Vec<Point3> {
             (0..90)
                 .map(|k| {

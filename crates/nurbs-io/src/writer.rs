@@ -386,18 +386,8 @@ fn loop_pieces(
     let cuts: Vec<usize> = (0..closed.len())
         .filter(|&i| i == 0 || i + 1 == closed.len() || at_vertex(&closed[i]))
         .collect();
-    let mut model = Vec::with_capacity(cuts.len());
-    for w in cuts.windows(2) {
-        model.push(crate::bounds::fitted_edge(&closed[w[0]..=w[1]], tolerance)?);
-    }
-    let mut eval = surface.evaluator();
-    let mut images = Vec::with_capacity(uv.len());
-    let mut speed: f64 = 0.0;
-    for q in uv {
-        let d = eval.derivatives(q.x, q.y);
-        speed = speed.max(d.du.norm()).max(d.dv.norm());
-        images.push(d.point);
-    }
+    let model = fitted_runs(&closed, &cuts, tolerance)?;
+    let (images, tol_uv) = images_and_uv_tolerance(surface, uv, tolerance);
     let n = uv.len();
     let jump = |i: usize, j: usize| {
         crate::bounds::is_seam_jump(surface, (uv[i].x, uv[i].y), (uv[j].x, uv[j].y))
@@ -412,12 +402,41 @@ fn loop_pieces(
     }
     cuts.push(n - 1);
     cuts.dedup();
+    Ok((model, fitted_runs(uv, &cuts, tol_uv)?))
+}
+
+/// The images of the parameters `uv` on `surface`, and the parameter-space tolerance that keeps
+/// them within `tolerance`: over √2 times the largest first derivative there (a parameter error
+/// (δu, δv) moves the point by at most |S_u| |δu| + |S_v| |δv|).
+fn images_and_uv_tolerance(
+    surface: &BSplineSurface,
+    uv: &[Point3],
+    tolerance: f64,
+) -> (Vec<Point3>, f64) {
+    let mut eval = surface.evaluator();
+    let mut speed: f64 = 0.0;
+    let images = uv
+        .iter()
+        .map(|q| {
+            let d = eval.derivatives(q.x, q.y);
+            speed = speed.max(d.du.norm()).max(d.dv.norm());
+            d.point
+        })
+        .collect();
     let tol_uv = tolerance / (std::f64::consts::SQRT_2 * speed.max(f64::MIN_POSITIVE));
-    let mut parametric = Vec::with_capacity(cuts.len());
-    for w in cuts.windows(2) {
-        parametric.push(crate::bounds::fitted_edge(&uv[w[0]..=w[1]], tol_uv)?);
-    }
-    Ok((model, parametric))
+    (images, tol_uv)
+}
+
+/// The runs of `points` between consecutive `cuts` (both ends included), each fitted within
+/// `tolerance` ([`crate::bounds::fitted_edge`]; a polyline where it is 0).
+fn fitted_runs(
+    points: &[Point3],
+    cuts: &[usize],
+    tolerance: f64,
+) -> Result<Vec<BSplineCurve>, nurbs_core::Error> {
+    cuts.windows(2)
+        .map(|w| crate::bounds::fitted_edge(&points[w[0]..=w[1]], tolerance))
+        .collect()
 }
 
 /// Each loop of `bounds` as its points in order and their parameters on `surface` (u, v, 0),
@@ -469,20 +488,10 @@ fn seam_pieces(
     tolerance: f64,
 ) -> Result<(Vec<BSplineCurve>, Vec<BSplineCurve>), nurbs_core::Error> {
     let same = crate::bounds::SAME_POINT_RELATIVE * surface.size().max(f64::MIN_POSITIVE);
-    let mut eval = surface.evaluator();
-    let mut speed: f64 = 0.0;
-    let images: Vec<Point3> = uv
-        .iter()
-        .map(|q| {
-            let d = eval.derivatives(q.x, q.y);
-            speed = speed.max(d.du.norm()).max(d.dv.norm());
-            d.point
-        })
-        .collect();
-    let tol_uv = tolerance / (std::f64::consts::SQRT_2 * speed.max(f64::MIN_POSITIVE));
-    let (mut model, mut parametric) = (Vec::new(), Vec::new());
+    let (images, tol_uv) = images_and_uv_tolerance(surface, uv, tolerance);
+    let parametric = fitted_runs(uv, cuts, tol_uv)?;
+    let mut model = Vec::with_capacity(cuts.len());
     for w in cuts.windows(2) {
-        parametric.push(crate::bounds::fitted_edge(&uv[w[0]..=w[1]], tol_uv)?);
         let mut run: Vec<Point3> = Vec::with_capacity(w[1] - w[0] + 1);
         for p in &images[w[0]..=w[1]] {
             if run.last().is_none_or(|q| (q - p).norm() > same) {

@@ -317,19 +317,13 @@ fn instances<'a>(text: &'a str, kind: &str) -> Vec<&'a str> {
 /// (ISO 10303-21 §6.4.4: the file's accuracy, 1e-7, was written "1E-7").
 #[test]
 fn closed_faces_are_written_with_shared_vertices_and_seams_used_twice() {
-    use nurbs_core::shapes::{arc, revolve_curve, torus};
-    use nurbs_core::{BSplineCurve, KnotVector, Vector3};
+    use nurbs_core::Vector3;
+    use nurbs_core::shapes::{arc, full_cylinder, revolve_curve, torus};
     let o = Point3::origin();
     // pole to pole through the x axis, turned a full turn about z
     let meridian = arc(o, Vector3::x(), Vector3::z(), 3.0, -FRAC_PI_2, FRAC_PI_2).unwrap();
     let sphere = revolve_curve(&meridian, o, Vector3::z(), 0.0, TAU).unwrap();
-    let line = BSplineCurve::new(
-        KnotVector::bezier(1).unwrap(),
-        vec![Point3::new(2.0, 0.0, 0.0), Point3::new(2.0, 0.0, 7.0)],
-        None,
-    )
-    .unwrap();
-    let cylinder = revolve_curve(&line, o, Vector3::z(), 0.0, TAU).unwrap();
+    let cylinder = full_cylinder(2.0, 7.0).unwrap();
     let ring = torus(5.0, 1.5).unwrap();
     // (name, surface, vertices, edge curves, oriented edges in the loop)
     let cases = [

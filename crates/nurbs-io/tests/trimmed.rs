@@ -278,12 +278,20 @@ fn a_kinked_edge_is_fitted_with_knots_at_its_kink() {
     }
 }
 
+/// The plane of [`plane`] trimmed to a 9 × 9 square with a round hole of radius 3 through 400
+/// points.
+fn round_hole() -> (BSplineSurface, Vec<Vec<Point3>>) {
+    (
+        plane(0.0),
+        vec![square(5.0, 4.5, 0.0), circle(5.0, 3.0, 400)],
+    )
+}
+
 /// A plane with a round hole of 400 points written with fitted edges: a file a fraction of the
 /// polyline's size, the hole read back within the tolerance of the circle.
 #[test]
 fn fitted_edges_make_a_compact_file_that_reads_back_within_the_tolerance() {
-    let s = plane(0.0);
-    let trim = vec![square(5.0, 4.5, 0.0), circle(5.0, 3.0, 400)];
+    let (s, trim) = round_hole();
     let faces = [Face {
         name: "round hole",
         surface: &s,
@@ -319,8 +327,7 @@ fn fitted_edges_make_a_compact_file_that_reads_back_within_the_tolerance() {
 /// circle and the outer square on its square (its corners kept).
 #[test]
 fn fitted_iges_loops_are_composites_that_read_back_within_the_tolerance() {
-    let s = plane(0.0);
-    let trim = vec![square(5.0, 4.5, 0.0), circle(5.0, 3.0, 400)];
+    let (s, trim) = round_hole();
     let faces = [Face {
         name: "round hole",
         surface: &s,
@@ -366,21 +373,7 @@ fn fitted_iges_loops_are_composites_that_read_back_within_the_tolerance() {
 /// image lies on the loop.
 #[test]
 fn a_loop_across_a_seam_jumps_without_a_detour() {
-    use nurbs_core::shapes::revolve_curve;
-    let line = nurbs_core::BSplineCurve::new(
-        nurbs_core::KnotVector::bezier(1).unwrap(),
-        vec![Point3::new(4.0, 0.0, 0.0), Point3::new(4.0, 0.0, 10.0)],
-        None,
-    )
-    .unwrap();
-    let s = revolve_curve(
-        &line,
-        Point3::origin(),
-        Vector3::z(),
-        0.0,
-        std::f64::consts::TAU,
-    )
-    .unwrap();
+    let s = nurbs_core::shapes::full_cylinder(4.0, 10.0).unwrap();
     // angles −30°…30° (across the seam at 0), heights 2…6, 20 points a side
     let at = |deg: f64, z: f64| {
         let a = deg.to_radians();

@@ -386,8 +386,7 @@ fn halve(
 ) {
     let chord = b.1 - a.1;
     let len2 = chord.norm_squared();
-    let off = |t: f64| {
-        let p = curve.point(t);
+    let off = |p: Point3| {
         let w = p - a.1;
         let s = if len2 > 0.0 {
             (w.dot(&chord) / len2).clamp(0.0, 1.0)
@@ -397,10 +396,13 @@ fn halve(
         (w - chord * s).norm()
     };
     let h = b.0 - a.0;
-    let far = [0.25, 0.5, 0.75].iter().any(|&f| off(a.0 + f * h) > tol);
+    let m = a.0 + 0.5 * h;
+    let pm = (m, curve.point(m));
+    let far = off(pm.1) > tol
+        || [0.25, 0.75]
+            .iter()
+            .any(|&f| off(curve.point(a.0 + f * h)) > tol);
     if far && depth < MAX_SAG_HALVINGS {
-        let m = 0.5 * (a.0 + b.0);
-        let pm = (m, curve.point(m));
         halve(curve, a, pm, tol, depth + 1, out);
         halve(curve, pm, b, tol, depth + 1, out);
     } else {
