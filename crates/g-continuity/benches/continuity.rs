@@ -70,6 +70,7 @@ fn benches(c: &mut Criterion) {
         master: &master,
         target: Continuity::G2,
         range: None,
+        g2_zones: [0.0; 2],
     }];
     let connect = ConnectParams::default();
     c.bench_function("joint_polish_one_side_30x30", |b| {

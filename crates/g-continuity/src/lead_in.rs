@@ -133,12 +133,14 @@ mod tests {
                 master: &plane,
                 target: Continuity::G2,
                 range: None,
+                g2_zones: [0.0; 2],
             },
             SideLink {
                 side: Side::U1,
                 master: &plane,
                 target: Continuity::G2,
                 range: None,
+                g2_zones: [0.0; 2],
             },
         ];
         let (s, r) = with_lead_in(&cyl, &links, 0.2).unwrap();

@@ -19,7 +19,7 @@
 //! let before = measure_link(&master, &slave, Side::U0, &MeasureParams::default()).unwrap();
 //! assert!(before.g0 < 1e-12 && before.g1_deg.unwrap() > 9.9);
 //! // set G1 along the slave's side u = 0: only its first two control rows move
-//! let link = SideLink { side: Side::U0, master: &master, target: Continuity::G1, range: None };
+//! let link = SideLink { side: Side::U0, master: &master, target: Continuity::G1, range: None, g2_zones: [0.0; 2] };
 //! let (set, report) = connect_slave(&slave, &[link], &ConnectParams::default()).unwrap();
 //! assert!(report.sides[0].met);
 //! let after = measure_link(&master, &set, Side::U0, &MeasureParams::default()).unwrap();
@@ -41,7 +41,7 @@
 //!   {"degree_u": 1, "degree_v": 1, "control_points": [[[1, 0, 0], [1, 1, 0]], [[2, 0, 0.1], [2, 1, 0.1]]]}
 //! ]"#;
 //! let s = surfaces_from_json(json).unwrap();
-//! let link = SideLink { side: Side::U0, master: &s[0], target: Continuity::G1, range: None };
+//! let link = SideLink { side: Side::U0, master: &s[0], target: Continuity::G1, range: None, g2_zones: [0.0; 2] };
 //! let m = link.measure(&s[1], &MeasureParams::default()).unwrap();
 //! assert!(m.g0 < 1e-12);
 //! assert!((m.g1_deg.unwrap() - 0.1f64.atan().to_degrees()).abs() < 1e-6);

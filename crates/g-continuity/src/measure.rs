@@ -124,6 +124,9 @@ pub struct SampleMeasure {
     /// master normal curvature in the direction n_s × T, signed w.r.t. the slave normal;
     /// reported only
     pub kappa_master_across: Option<f64>,
+    /// inside a vertex zone of the link ([`crate::SideLink::g2_zones`]): its curvatures count
+    /// with the vertex figures, and no decision takes them
+    pub in_zone: bool,
 }
 
 /// Continuity of one link: the worst sample of each measure.
@@ -158,12 +161,16 @@ pub struct LinkMeasure {
     pub g2_abs_across: Option<f64>,
     /// parameter of the largest interior relative difference across
     pub worst_g2_across_t: Option<f64>,
-    /// larger normal angle of the two end samples, the side's vertices (degrees); `None` when
-    /// neither has both normals; reported only
+    /// larger normal angle of the two end samples, the side's vertices, and of the samples of
+    /// its vertex zones (degrees); `None` when none has both normals; reported only
     pub vertex_g1_deg: Option<f64>,
-    /// larger relative curvature difference in the direction n_s × T of the two end samples;
-    /// `None` when neither has both curvatures; reported only
+    /// larger relative curvature difference in the direction n_s × T of the two end samples and
+    /// of the samples of the vertex zones; `None` when none has both curvatures; reported only
     pub vertex_g2_rel: Option<f64>,
+    /// lengths along the side (model units, the polyline through the samples) of the vertex
+    /// zones at its start and end ([`crate::SideLink::g2_zones`]; 0: none), whose curvature
+    /// figures count with [`Self::vertex_g2_rel`]
+    pub vertex_zones: [f64; 2],
     /// samples where a normal (slave or master) is undefined
     pub undefined_normals: usize,
     /// samples where a normal curvature is undefined
@@ -264,7 +271,23 @@ pub fn measure_link_on(
     range: Option<(f64, f64)>,
     params: &MeasureParams,
 ) -> Result<LinkMeasure> {
+    measure_link_zoned(master, slave, side, range, [0.0; 2], params)
+}
+
+/// [`measure_link_on`] with vertex zones ([`crate::SideLink::g2_zones`]): the samples inside a
+/// zone count as vertex samples — their curvature differences go to the vertex figures, not to
+/// [`LinkMeasure::g2_rel`], [`LinkMeasure::g2_abs`] or the figures across — while their gap and
+/// normal angle count as everywhere.
+pub fn measure_link_zoned(
+    master: &BSplineSurface,
+    slave: &BSplineSurface,
+    side: Side,
+    range: Option<(f64, f64)>,
+    zones: [f64; 2],
+    params: &MeasureParams,
+) -> Result<LinkMeasure> {
     let ts = uniform_part_params(slave, side, range, params.samples)?;
+    let domain = crate::sampling::side_part(slave, side, range);
     let flat = flat_cut_off(slave, params)?;
     let collapsed = is_collapsed(slave, side);
     let mut m = LinkMeasure::unmeasured(side, &ts, collapsed);
@@ -274,8 +297,47 @@ pub fn measure_link_on(
     } else {
         relative_orientation(&pairs)
     };
-    measure_normals(&mut m, &pairs, orientation, flat);
+    let zoned = |t: f64| crate::slave::in_zones(t, domain, zones);
+    measure_normals(&mut m, &pairs, orientation, flat, &zoned);
+    m.vertex_zones = zone_lengths(slave, side, domain, zones, &ts);
     Ok(m)
+}
+
+/// The lengths of the vertex zones `zones` (along-side parameter lengths at the start and end of
+/// `domain`) on `slave`'s `side`: the polyline through the zone's end points and the samples
+/// `ts` inside it.
+fn zone_lengths(
+    slave: &BSplineSurface,
+    side: Side,
+    (a, b): (f64, f64),
+    zones: [f64; 2],
+    ts: &[f64],
+) -> [f64; 2] {
+    let length = |from: f64, to: f64| {
+        let mut params = vec![from];
+        params.extend(ts.iter().copied().filter(|&t| t > from && t < to));
+        params.push(to);
+        let points: Vec<nurbs_core::Point3> = params
+            .iter()
+            .map(|&t| {
+                let (u, v) = side.params(slave, t);
+                slave.point(u, v)
+            })
+            .collect();
+        points.windows(2).map(|w| (w[1] - w[0]).norm()).sum()
+    };
+    [
+        if zones[0] > 0.0 {
+            length(a, (a + zones[0]).min(b))
+        } else {
+            0.0
+        },
+        if zones[1] > 0.0 {
+            length((b - zones[1]).max(a), b)
+        } else {
+            0.0
+        },
+    ]
 }
 
 /// The flatness cut-off of a measurement: [`MeasureParams::flat_curvature`], or the curvature
@@ -314,6 +376,7 @@ impl LinkMeasure {
             worst_g2_across_t: None,
             vertex_g1_deg: None,
             vertex_g2_rel: None,
+            vertex_zones: [0.0; 2],
             undefined_normals: 0,
             undefined_curvatures: 0,
             detail: Vec::with_capacity(ts.len()),
@@ -358,6 +421,7 @@ fn measure_gaps(
             kappa_master: None,
             kappa_slave_across: None,
             kappa_master_across: None,
+            in_zone: false,
         });
         pairs.push((ds, dm));
     }
@@ -385,6 +449,27 @@ fn curvature_difference(ks: f64, km: f64, flat: f64) -> (f64, f64) {
     (rel, abs)
 }
 
+impl LinkMeasure {
+    /// Records the relative and absolute curvature difference across the boundary `(rel, abs)`
+    /// of the sample at `t`: with the vertex figure where the sample is a `vertex` (an end or in
+    /// a vertex zone), else with the interior's figures across.
+    fn record_across(&mut self, t: f64, vertex: bool, (rel, abs): (f64, f64)) {
+        if vertex {
+            if self.vertex_g2_rel.is_none_or(|r| rel > r) {
+                self.vertex_g2_rel = Some(rel);
+            }
+            return;
+        }
+        if self.g2_abs_across.is_none_or(|a| abs > a) {
+            self.g2_abs_across = Some(abs);
+        }
+        if self.g2_rel_across.is_none_or(|r| rel > r) {
+            self.g2_rel_across = Some(rel);
+            self.worst_g2_across_t = Some(t);
+        }
+    }
+}
+
 /// The second pass of a measurement: the normal angle and the normal curvatures of every
 /// sample of `m` from its derivatives `pairs`, the master's normal turned by `orientation`,
 /// curvatures below `flat` counting as zero in the relative difference; the checker's figures
@@ -394,12 +479,16 @@ fn measure_normals(
     pairs: &[(SurfaceDerivatives, SurfaceDerivatives)],
     orientation: f64,
     flat: f64,
+    zoned: &dyn Fn(f64) -> bool,
 ) {
     let (side, collapsed) = (m.side, m.collapsed);
     let last = pairs.len().saturating_sub(1);
-    for (k, ((ds, dm), sample)) in pairs.iter().zip(m.detail.iter_mut()).enumerate() {
+    let mut detail = std::mem::take(&mut m.detail);
+    for (k, ((ds, dm), sample)) in pairs.iter().zip(detail.iter_mut()).enumerate() {
         let t = sample.t;
-        let vertex = k == 0 || k == last;
+        let in_zone = zoned(t);
+        sample.in_zone = in_zone;
+        let vertex = k == 0 || k == last || in_zone;
         let normals = if collapsed {
             None
         } else {
@@ -429,20 +518,7 @@ fn measure_normals(
                     let km = km * orientation;
                     sample.kappa_slave_across = Some(ks);
                     sample.kappa_master_across = Some(km);
-                    let (rel, abs) = curvature_difference(ks, km, flat);
-                    if vertex {
-                        if m.vertex_g2_rel.is_none_or(|r| rel > r) {
-                            m.vertex_g2_rel = Some(rel);
-                        }
-                    } else {
-                        if m.g2_abs_across.is_none_or(|a| abs > a) {
-                            m.g2_abs_across = Some(abs);
-                        }
-                        if m.g2_rel_across.is_none_or(|r| rel > r) {
-                            m.g2_rel_across = Some(rel);
-                            m.worst_g2_across_t = Some(t);
-                        }
-                    }
+                    m.record_across(t, vertex, curvature_difference(ks, km, flat));
                 }
                 let dir = cross_derivative(ds, side);
                 match (ds.normal_curvature(&dir), dm.normal_curvature(&dir)) {
@@ -451,6 +527,9 @@ fn measure_normals(
                         sample.kappa_slave = Some(ks);
                         sample.kappa_master = Some(km);
                         let (rel, abs) = curvature_difference(ks, km, flat);
+                        if in_zone {
+                            continue;
+                        }
                         if m.g2_abs.is_none_or(|a| abs > a) {
                             m.g2_abs = Some(abs);
                         }
@@ -464,197 +543,8 @@ fn measure_normals(
             }
         }
     }
+    m.detail = detail;
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-    use nalgebra::DMatrix;
-    use nurbs_core::testing::assert_close;
-    use nurbs_core::{Continuity, KnotVector, Point3};
-
-    /// The bicubic Bézier patch over [0, 1]² of the polynomial map `f` (of degree ≤ 3 in each
-    /// parameter; exact up to rounding): its values on the uniform 4 × 4 grid interpolated.
-    fn bicubic_of(f: impl Fn(f64, f64) -> Point3) -> BSplineSurface {
-        const BINOMIAL: [f64; 4] = [1.0, 3.0, 3.0, 1.0];
-        let bernstein = DMatrix::from_fn(4, 4, |i, k| {
-            let s = i as f64 / 3.0;
-            BINOMIAL[k] * s.powi(k as i32) * (1.0 - s).powi(3 - k as i32)
-        });
-        let inverse = bernstein.try_inverse().unwrap();
-        let values: Vec<Point3> = (0..16)
-            .map(|k| f((k / 4) as f64 / 3.0, (k % 4) as f64 / 3.0))
-            .collect();
-        let points = (0..16)
-            .map(|k| {
-                let (a, b) = (k / 4, k % 4);
-                let mut p = Vector3::zeros();
-                for i in 0..4 {
-                    for j in 0..4 {
-                        p += values[4 * i + j].coords * inverse[(a, i)] * inverse[(b, j)];
-                    }
-                }
-                Point3::from(p)
-            })
-            .collect();
-        let k = KnotVector::bezier(3).unwrap();
-        BSplineSurface::new(k.clone(), k, points, None).unwrap()
-    }
-
-    /// The graph z = a·y² + b·x·y over y ≤ 0, x ∈ [0, 1]: u runs from the side u = 0 on the x
-    /// axis down to y = −1.
-    fn twisted_master(a: f64, b: f64) -> BSplineSurface {
-        bicubic_of(|u, v| Point3::new(v, -u, a * u * u - b * v * u))
-    }
-
-    /// The graph z = c·y² + b·x·y over y ≥ 0 with a skewed parametrization: x = v + u,
-    /// y = ε u, so that S_u = (1, ε, ·) runs at an angle of about ε radians to the side u = 0
-    /// on the x axis.
-    fn skewed_slave(c: f64, b: f64, eps: f64) -> BSplineSurface {
-        bicubic_of(|u, v| {
-            let (x, y) = (v + u, eps * u);
-            Point3::new(x, y, c * y * y + b * x * y)
-        })
-    }
-
-    #[test]
-    fn the_across_figure_shows_a_jump_the_skewed_parametric_figure_hides() {
-        // both graphs share the boundary (the x axis) and the tangent plane along it (z_y = b x
-        // on both sides): G1 exactly; across (along y) the master is flat (z_yy = 0) and the
-        // slave curves (z_yy = 0.2). S_u of the slave runs at 0.03 rad to the boundary, where
-        // both surfaces share the twist b: along S_u the curvatures differ by sin²(0.03)·0.2
-        // against 2·0.03·b of the shared twist, a relative 0.1·0.03/(0.1·0.03 + 1) ≈ 0.003,
-        // inside a class-A tolerance of 0.005
-        let (b, eps) = (1.0, 0.03);
-        let master = twisted_master(0.0, b);
-        let slave = skewed_slave(0.1, b, eps);
-        let m = measure_link(&master, &slave, Side::U0, &MeasureParams::default()).unwrap();
-        assert_close(m.g0, 0.0, 1e-9, "gap");
-        assert_close(m.g1_deg.unwrap(), 0.0, 1e-6, "angle");
-        let parametric = m.g2_rel.unwrap();
-        assert_close(parametric, 0.1 * eps / (0.1 * eps + b), 1e-3, "along S_u");
-        assert!(parametric < 0.005, "the parametric figure meets 0.005");
-        // the decisions are the parametric figure's: the link is met
-        assert!(m.meets(Continuity::G2, 1e-3, 0.01, 0.005));
-        assert!(m.excess(Continuity::G2, 1e-3, 0.01, 0.005) <= 1.0);
-        // across the boundary: κ_s = 0.2/(1 + b²x²)^(3/2) against 0, whatever the
-        // parametrization; largest at the vertex x = 0, in the interior at the next sample
-        assert_close(m.g2_rel_across.unwrap(), 1.0, 1e-9, "across");
-        let across = |x: f64| 0.2 / (1.0 + b * b * x * x).powf(1.5);
-        assert_close(
-            m.g2_abs_across.unwrap(),
-            across(0.01),
-            1e-9,
-            "|κs − κm| across",
-        );
-        assert_close(m.vertex_g2_rel.unwrap(), 1.0, 1e-9, "at the vertices");
-        let first = &m.detail[0];
-        // (signed w.r.t. the slave's normal S_u × S_v, which points down)
-        assert_close(
-            first.kappa_slave_across.unwrap(),
-            -across(0.0),
-            1e-9,
-            "κs at x = 0",
-        );
-        assert_close(first.kappa_master_across.unwrap(), 0.0, 1e-9, "κm at x = 0");
-    }
-
-    #[test]
-    fn one_surface_split_with_a_skewed_parametrization_reads_g2_both_ways() {
-        // the same graph z = 0.1 y² + x y on both sides of the x axis
-        let (c, b, eps) = (0.1, 1.0, 0.03);
-        let master = twisted_master(c, b);
-        let slave = skewed_slave(c, b, eps);
-        let m = measure_link(&master, &slave, Side::U0, &MeasureParams::default()).unwrap();
-        assert_close(m.g0, 0.0, 1e-9, "gap");
-        assert_close(m.g1_deg.unwrap(), 0.0, 1e-6, "angle");
-        assert_close(m.vertex_g1_deg.unwrap(), 0.0, 1e-6, "vertex angle");
-        assert!(m.g2_rel.unwrap() < 1e-6, "parametric {:?}", m.g2_rel);
-        assert!(
-            m.g2_rel_across.unwrap() < 1e-6,
-            "across {:?}",
-            m.g2_rel_across
-        );
-        assert!(
-            m.g2_abs_across.unwrap() < 1e-6,
-            "across {:?}",
-            m.g2_abs_across
-        );
-        assert!(
-            m.vertex_g2_rel.unwrap() < 1e-6,
-            "vertices {:?}",
-            m.vertex_g2_rel
-        );
-        assert_eq!((m.undefined_normals, m.undefined_curvatures), (0, 0));
-        // and two planes, one of them parametrized at 0.03 rad to the side
-        let m = measure_link(
-            &twisted_master(0.0, 0.0),
-            &skewed_slave(0.0, 0.0, eps),
-            Side::U0,
-            &MeasureParams::default(),
-        )
-        .unwrap();
-        assert_eq!((m.g2_rel, m.g2_abs), (Some(0.0), Some(0.0)));
-        assert_eq!((m.g2_rel_across, m.g2_abs_across), (Some(0.0), Some(0.0)));
-    }
-
-    #[test]
-    fn the_vertex_figures_are_the_two_end_samples() {
-        // master z = a y² (y ≤ 0); slave z = (c0 + c1 x) y² + g x³ (y ≥ 0): a gap g x³ and a
-        // normal angle ≈ 3 g x² along the side, and a curvature jump across, all largest at the
-        // vertex x = 1; S_u is perpendicular to the side, so both directions agree. K = 11
-        // samples, the interior's worst at x = 0.9
-        let (a, c0, c1, g) = (0.05, 0.1, 0.4, 1e-4);
-        let master = bicubic_of(|u, v| Point3::new(v, -u, a * u * u));
-        let slave = bicubic_of(|u, v| Point3::new(v, u, (c0 + c1 * v) * u * u + g * v.powi(3)));
-        let params = MeasureParams {
-            samples: 11,
-            ..MeasureParams::default()
-        };
-        let m = measure_link(&master, &slave, Side::U0, &params).unwrap();
-        assert_eq!(m.detail.len(), 11, "detail holds every sample");
-        let angle = |x: f64| (3.0 * g * x * x).atan().to_degrees();
-        let rel = |x: f64| 1.0 - a / (c0 + c1 * x);
-        let abs = |x: f64| 2.0 * (c0 + c1 * x - a);
-        // the framework's figures: every sample, the vertex x = 1 included
-        assert_close(m.g0, g, 1e-9, "gap");
-        assert_close(m.g1_deg.unwrap(), angle(1.0), 1e-6, "angle");
-        assert_close(m.worst_g1_t.unwrap(), 1.0, 1e-12, "angle at");
-        assert_close(m.g2_rel.unwrap(), rel(1.0), 1e-6, "relative");
-        assert_close(m.worst_g2_t.unwrap(), 1.0, 1e-12, "relative at");
-        // the checker's: the interior across, the vertices apart
-        assert_close(m.g2_rel_across.unwrap(), rel(0.9), 1e-6, "interior across");
-        assert_close(
-            m.worst_g2_across_t.unwrap(),
-            0.9,
-            1e-12,
-            "interior across at",
-        );
-        assert_close(
-            m.g2_abs_across.unwrap(),
-            abs(0.9),
-            1e-6,
-            "interior |κs − κm|",
-        );
-        assert_close(m.vertex_g1_deg.unwrap(), angle(1.0), 1e-6, "vertex angle");
-        assert_close(m.vertex_g2_rel.unwrap(), rel(1.0), 1e-6, "vertex relative");
-        // the decision is the framework's: a tolerance between the interior's and the
-        // vertex's figure is missed
-        let between = 0.5 * (rel(0.9) + rel(1.0));
-        assert!(!m.meets(Continuity::G2, 2.0 * g, 1.0, between));
-        // two samples: both are vertices, no interior
-        let params = MeasureParams {
-            samples: 2,
-            ..MeasureParams::default()
-        };
-        let m = measure_link(&master, &slave, Side::U0, &params).unwrap();
-        assert_eq!((m.g2_rel_across, m.g2_abs_across), (None, None));
-        assert_close(
-            m.vertex_g2_rel.unwrap(),
-            rel(1.0),
-            1e-6,
-            "vertex relative, K = 2",
-        );
-        assert_close(m.g2_rel.unwrap(), rel(1.0), 1e-6, "relative, K = 2");
-    }
-}
+mod tests;

@@ -136,7 +136,16 @@ pub fn solve_row_in(
     movable: &[bool],
     params: &SetParams,
 ) -> Result<RowMove> {
-    solve_row_with(master, slave, side, range, step, movable, params, &[])
+    solve_row_with(
+        master,
+        slave,
+        side,
+        (range, [0.0; 2]),
+        step,
+        movable,
+        params,
+        &[],
+    )
 }
 
 /// A corner of a side's boundary where the neighbouring side carries G2: the boundary curve's
@@ -169,13 +178,15 @@ pub(crate) fn solve_row_with(
     master: &BSplineSurface,
     slave: &BSplineSurface,
     side: Side,
-    range: Option<(f64, f64)>,
+    (range, zones): (Option<(f64, f64)>, [f64; 2]),
     step: Continuity,
     movable: &[bool],
     params: &SetParams,
     corners: &[CornerCurvature<'_>],
 ) -> Result<RowMove> {
-    let ranged: Option<Vec<f64>> = range.map(|_| {
+    // the G2 rows leave out the samples of the link's vertex zones ([`crate::SideLink::g2_zones`])
+    let zoned = step == Continuity::G2 && zones.iter().any(|&z| z > 0.0);
+    let ranged: Option<Vec<f64>> = (range.is_some() || zoned).then(|| {
         let (x, y) = crate::sampling::side_part(slave, side, range);
         let mut ts: Vec<f64> = vec![x];
         ts.extend(
@@ -184,6 +195,17 @@ pub(crate) fn solve_row_with(
                 .filter(|&t| t > x && t < y),
         );
         ts.push(y);
+        if zoned {
+            let outside: Vec<f64> = ts
+                .iter()
+                .copied()
+                .filter(|&t| !crate::slave::in_zones(t, (x, y), zones))
+                .collect();
+            // zones that leave no sample relax nothing (the caller keeps them short)
+            if !outside.is_empty() {
+                ts = outside;
+            }
+        }
         ts
     });
     let samples = ranged.as_deref();
@@ -483,7 +505,7 @@ mod tests {
                 &plane,
                 &slave,
                 Side::U0,
-                None,
+                (None, [0.0; 2]),
                 Continuity::G0,
                 &movable,
                 &params,

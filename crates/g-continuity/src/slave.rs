@@ -54,7 +54,7 @@ mod status;
 mod step;
 
 pub use connect::connect_slave;
-pub use prepare::prepare_slave;
+pub use prepare::{ZONE_KNOTS, prepare_slave};
 pub use refine::{
     KNOT_MERGE_RELATIVE, REFINE_KNOTS_FACTOR, REFINE_MIN_GAIN, REFINE_MIN_KNOTS, REFINE_PATIENCE,
     new_breakpoints, new_knots,
@@ -101,6 +101,14 @@ pub struct SideLink<'a> {
     /// the trim; the row equations, measures and refinement then use samples of that part only,
     /// and the control points whose along-side support misses it do not move.
     pub range: Option<(f64, f64)>,
+    /// Vertex zones: the lengths, in the along-side parameter, of the stretches at the start
+    /// and at the end of the link's part within which its G2 is relaxed (`[0.0; 2]`: none). At
+    /// a corner where the neighbouring side's master disagrees in curvature with this one, no
+    /// surface is G2 to both at that point ([SV] §3.3); the G2 rows of the samples inside a
+    /// zone are not set and the G2 figures the decisions take leave them out — they are
+    /// reported apart as the vertex figures ([`LinkMeasure::vertex_g2_rel`]). G0 and G1 hold
+    /// everywhere.
+    pub g2_zones: [f64; 2],
 }
 
 impl SideLink<'_> {
@@ -112,8 +120,28 @@ impl SideLink<'_> {
 
     /// Measures the link on `slave` (over its range).
     pub fn measure(&self, slave: &BSplineSurface, params: &MeasureParams) -> Result<LinkMeasure> {
-        crate::measure::measure_link_on(self.master, slave, self.side, self.range, params)
+        crate::measure::measure_link_zoned(
+            self.master,
+            slave,
+            self.side,
+            self.range,
+            self.g2_zones,
+            params,
+        )
     }
+
+    /// Whether the along-side parameter `t` lies in one of the link's vertex zones
+    /// ([`SideLink::g2_zones`]) on `slave`.
+    pub fn in_zone(&self, slave: &BSplineSurface, t: f64) -> bool {
+        let (a, b) = self.domain(slave);
+        in_zones(t, (a, b), self.g2_zones)
+    }
+}
+
+/// Whether `t` lies within `zones[0]` of `a` or `zones[1]` of `b` (strictly inside a zone of
+/// positive length; a zone of length 0 holds no parameter).
+pub fn in_zones(t: f64, (a, b): (f64, f64), zones: [f64; 2]) -> bool {
+    (zones[0] > 0.0 && t < a + zones[0]) || (zones[1] > 0.0 && t > b - zones[1])
 }
 
 /// Before/after of one linked side.

@@ -364,6 +364,7 @@ mod tests {
             master: &master,
             target: Continuity::G1,
             range: None,
+            g2_zones: [0.0; 2],
         }];
         let (s, report) =
             with_master_knots(&slave, &links, [true; 2], 1024, ProjectionParams::default())
@@ -393,6 +394,7 @@ mod tests {
             master: &master,
             target: Continuity::G0,
             range: None,
+            g2_zones: [0.0; 2],
         }];
         let (s, _) =
             with_master_knots(&slave, &links, [true; 2], 1024, ProjectionParams::default())
@@ -416,6 +418,7 @@ mod tests {
             master: &master,
             target: Continuity::G1,
             range: None,
+            g2_zones: [0.0; 2],
         }];
         let (s, report) =
             with_master_knots(&shifted, &links, [true; 2], 5, ProjectionParams::default()).unwrap();

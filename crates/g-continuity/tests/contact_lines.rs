@@ -28,6 +28,7 @@ fn the_boundary_leaves_its_corner_along_the_contact_line() {
         master: &plane,
         target: Continuity::G2,
         range: None,
+        g2_zones: [0.0; 2],
     }];
     // a contact line 3.2° off the boundary at the corner (u0, v0), in the plane
     let a = 3.2f64.to_radians();

@@ -51,6 +51,7 @@ fn links(masters: &[BSplineSurface]) -> Vec<SideLink<'_>> {
             master,
             target: Continuity::G2,
             range: None,
+            g2_zones: [0.0; 2],
         })
         .collect()
 }
@@ -246,6 +247,7 @@ fn too_few_rows_for_the_frame_is_an_error_naming_the_side() {
         master: &masters[1],
         target: Continuity::G2,
         range: None,
+        g2_zones: [0.0; 2],
     }];
     let err = polish_joint(&flat, &links, &ConnectParams::default(), 1.0).unwrap_err();
     assert_eq!(

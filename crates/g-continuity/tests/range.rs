@@ -47,6 +47,7 @@ fn g2_over_part_of_a_side_holds_there_and_leaves_the_rest() {
         master: &plane,
         target: Continuity::G2,
         range: Some((0.0, 0.6)),
+        g2_zones: [0.0; 2],
     };
     let params = ConnectParams::default();
     // before: on the plane and tangent over the part, curvature 1/R against 0
@@ -85,6 +86,7 @@ fn a_range_outside_the_side_is_clipped_to_it() {
         master: &plane,
         target: Continuity::G1,
         range: Some((-3.0, 0.6)),
+        g2_zones: [0.0; 2],
     };
     assert_eq!(link.domain(&cyl), (0.0, 0.6));
     let m = link.measure(&cyl, &MeasureParams::default()).unwrap();
@@ -116,6 +118,7 @@ fn g2_over_a_part_short_of_the_end_of_one_long_span_holds_all_along_it() {
         master: &plane_long,
         target: Continuity::G2,
         range: Some((0.0, 0.99)),
+        g2_zones: [0.0; 2],
     };
     let m = MeasureParams::default();
     let before = link.measure(&long, &m).unwrap();
@@ -147,6 +150,7 @@ fn g2_over_a_part_that_ends_inside_one_long_span_leaves_the_far_end() {
         master: &plane,
         target: Continuity::G2,
         range: Some((0.0, 0.6)),
+        g2_zones: [0.0; 2],
     };
     let (set, report) = connect_slave(&long, &[link], &ConnectParams::default()).unwrap();
     let t = ConnectParams::default().tolerances;

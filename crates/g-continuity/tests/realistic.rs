@@ -132,12 +132,14 @@ fn fillet_with_continuous_corners_moves_by_the_noise_and_keeps_free_boundaries()
             master: &left,
             target: Continuity::G2,
             range: None,
+            g2_zones: [0.0; 2],
         },
         SideLink {
             side: Side::U1,
             master: &right,
             target: Continuity::G2,
             range: None,
+            g2_zones: [0.0; 2],
         },
     ];
     let (out, report) = connect_slave(&fillet, &links, &params()).unwrap();
@@ -189,12 +191,14 @@ fn fillet_between_longer_masters_moves_by_the_noise() {
             master: &left,
             target: Continuity::G2,
             range: None,
+            g2_zones: [0.0; 2],
         },
         SideLink {
             side: Side::U1,
             master: &right,
             target: Continuity::G2,
             range: None,
+            g2_zones: [0.0; 2],
         },
     ];
     let (out, report) = connect_slave(&fillet, &links, &params()).unwrap();
@@ -229,12 +233,14 @@ fn refinement_stops_when_a_side_cannot_be_met() {
             master: &left,
             target: Continuity::G2,
             range: None,
+            g2_zones: [0.0; 2],
         },
         SideLink {
             side: Side::U1,
             master: &right,
             target: Continuity::G2,
             range: None,
+            g2_zones: [0.0; 2],
         },
     ];
     let mut p = params();

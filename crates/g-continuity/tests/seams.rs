@@ -60,6 +60,7 @@ fn seam_end_tangent_takes_the_masters_normal_at_the_corner() {
         master: &master,
         target: Continuity::G1,
         range: None,
+        g2_zones: [0.0; 2],
     }];
     let plain = SetParams::default();
     let mut without = start.clone();

@@ -71,24 +71,28 @@ fn x_node_centre_linked_on_four_sides_gets_consistent_twists() {
             master: &left,
             target: Continuity::G2,
             range: None,
+            g2_zones: [0.0; 2],
         },
         SideLink {
             side: Side::U1,
             master: &right,
             target: Continuity::G2,
             range: None,
+            g2_zones: [0.0; 2],
         },
         SideLink {
             side: Side::V0,
             master: &bottom,
             target: Continuity::G2,
             range: None,
+            g2_zones: [0.0; 2],
         },
         SideLink {
             side: Side::V1,
             master: &top,
             target: Continuity::G2,
             range: None,
+            g2_zones: [0.0; 2],
         },
     ];
     let before = measure_link(&left, &slave, Side::U0, &MeasureParams::default()).unwrap();
@@ -147,12 +151,14 @@ fn corner_patch_on_two_sides_with_g1_and_g2() {
             master: &left,
             target: Continuity::G1,
             range: None,
+            g2_zones: [0.0; 2],
         },
         SideLink {
             side: Side::V0,
             master: &bottom,
             target: Continuity::G2,
             range: None,
+            g2_zones: [0.0; 2],
         },
     ];
     // ask for the curvature tolerance checked below (the default 2e-2 would stop the knot
@@ -198,6 +204,7 @@ fn trimmed_master_non_isoparametric_boundary_with_knot_insertion() {
         master: &w,
         target: Continuity::G2,
         range: None,
+        g2_zones: [0.0; 2],
     }];
     let before = measure_link(&w, &slave, Side::U0, &MeasureParams::default()).unwrap();
     assert!(before.g1_deg.unwrap() > 1.0, "{:?}", before.g1_deg);
@@ -243,6 +250,7 @@ fn rational_slave_is_kept_exact_and_connected() {
         master: &plane,
         target: Continuity::G0,
         range: None,
+        g2_zones: [0.0; 2],
     }];
     let (s, report) = connect_slave(&cyl, &links, &ConnectParams::default()).unwrap();
     // the weights stay: no polynomial re-approximation
@@ -279,6 +287,7 @@ fn rational_slave_moves_its_rows_with_the_rational_basis() {
         master: &plane,
         target: Continuity::G0,
         range: None,
+        g2_zones: [0.0; 2],
     }];
     let params = ConnectParams::default();
     let (s, report) = connect_slave(&cyl, &links, &params).unwrap();

@@ -113,6 +113,7 @@ pub fn measure_json(m: &LinkMeasure) -> Value {
         "worst_g2_across": {"t": opt(m.worst_g2_across_t)},
         "g1_deg_vertex": opt(m.vertex_g1_deg),
         "g2_rel_vertex": opt(m.vertex_g2_rel),
+        "vertex_zones": m.vertex_zones,
         "collapsed": m.collapsed,
         "undefined_normals": m.undefined_normals,
         "undefined_curvatures": m.undefined_curvatures,

@@ -30,12 +30,14 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             master: &floor,
             target: Continuity::G2,
             range: None,
+            g2_zones: [0.0; 2],
         },
         SideLink {
             side: Side::U1,
             master: &wall,
             target: Continuity::G2,
             range: None,
+            g2_zones: [0.0; 2],
         },
     ];
     let measure = MeasureParams::default();

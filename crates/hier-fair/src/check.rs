@@ -2,11 +2,12 @@
 //! `--fail-above` option.
 //!
 //! Each link is measured by [`g_continuity::measure_link`] (gap, normal angle, relative and
-//! absolute normal-curvature difference, the worst sample of each). A link whose largest gap is
+//! absolute normal-curvature difference, the worst sample of each), its curvature figures
+//! outside the vertex zones of [`crate::zones`] (those are reported as the vertex figures). A link whose largest gap is
 //! above [`TOUCH_FACTOR`] × the model's g0 tolerance does not touch its master: that is bad input,
 //! reported as an error naming the link and the gap.
 
-use g_continuity::{LinkMeasure, MeasureParams, measure_link};
+use g_continuity::{LinkMeasure, MeasureParams};
 use nurbs_core::Continuity;
 use rayon::prelude::*;
 
@@ -103,15 +104,24 @@ impl LinkCheck {
 /// Measures every link of `model` (in parallel), touching or not: what `hier-fair check`
 /// reports (a link that does not touch shows its gap).
 pub fn measure_model(model: &Model, params: &MeasureParams) -> Result<Vec<LinkCheck>> {
+    // the vertex zones are found on the model as `fair` works on it: with the shared edges no
+    // link covers linked too ([`crate::edges::link_edges`]), so that a corner a found link makes
+    // a conflict is judged the same way here
+    let (work, _, ranges) = crate::edges::link_edges(model, &crate::edges::shared_edges(model));
+    let tol = model.tolerances.continuity();
     let checks: Vec<LinkCheck> = (0..model.links.len())
         .into_par_iter()
         .map(|k| {
             let l = &model.links[k];
             let label = model.link_label(k);
-            let measure = measure_link(
+            // the vertex zones where the slave's masters disagree at a corner ([`crate::zones`])
+            let zones = crate::zones::link_zones(&work, &ranges, k, &tol);
+            let measure = g_continuity::measure::measure_link_zoned(
                 &model.surfaces[l.master].surface,
                 &model.surfaces[l.slave].surface,
                 l.side,
+                None,
+                zones,
                 params,
             )
             .map_err(|source| Error::Continuity {

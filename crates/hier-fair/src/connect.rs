@@ -187,6 +187,7 @@ fn connect_surface(
                 master: &out.surfaces[l.master].surface,
                 target: options.target_of(l.continuity),
                 range: None,
+                g2_zones: [0.0; 2],
             }
         })
         .collect();

@@ -64,6 +64,7 @@ pub mod render;
 pub mod report;
 pub mod synthetic;
 pub mod trim;
+pub mod zones;
 
 pub use build::{BuildLog, build_hierarchy};
 pub use check::{

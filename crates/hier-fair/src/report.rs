@@ -23,6 +23,7 @@ fn measure_json(m: &Option<LinkMeasure>) -> Value {
             "g2_abs_across": m.g2_abs_across,
             "g1_deg_vertex": m.vertex_g1_deg,
             "g2_rel_vertex": m.vertex_g2_rel,
+            "vertex_zones": m.vertex_zones,
         }),
         None => Value::Null,
     }

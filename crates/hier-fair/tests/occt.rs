@@ -603,6 +603,7 @@ fn a_fairing_stage_at_the_top_target_leaves_every_link_as_it_is() {
                 master: &m.surfaces[l.master].surface,
                 target: l.continuity,
                 range: None,
+                g2_zones: [0.0; 2],
             })
             .collect();
         let Some(top) = links.iter().map(|l| l.target).max() else {

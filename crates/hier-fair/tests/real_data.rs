@@ -155,6 +155,7 @@ fn teapot_perturbed_rows_restored_to_g1_and_g2() {
             master: &patches[b],
             target: Continuity::G1,
             range: None,
+            g2_zones: [0.0; 2],
         })
         .collect();
     let (restored, report) = connect_slave(&perturbed, &links, &ConnectParams::default()).unwrap();
@@ -182,6 +183,7 @@ fn teapot_perturbed_rows_restored_to_g1_and_g2() {
         master,
         target: Continuity::G2,
         range: None,
+        g2_zones: [0.0; 2],
     }];
     let (restored, report) = connect_slave(&perturbed, &links, &ConnectParams::default()).unwrap();
     let r = &report.sides[0];

@@ -37,7 +37,7 @@ use crate::error::Result;
 use crate::measure::{DEFAULT_SAMPLES, FLAT_RADIUS_FACTOR, is_collapsed};
 use crate::params::ConnectParams;
 use crate::rows::row_of;
-use crate::slave::{SideLink, degenerate_corner_blocks};
+use crate::slave::{SideLink, degenerate_corner_blocks, in_zones};
 
 mod normal;
 mod weights;
@@ -137,6 +137,8 @@ struct Sample {
     /// an orthonormal pair spanning the master's tangent plane at the foot
     t1: Vector3,
     t2: Vector3,
+    /// inside a vertex zone of its link ([`SideLink::g2_zones`]): no G2 residual
+    zoned: bool,
 }
 
 /// The tolerance units of the residuals.
@@ -205,7 +207,7 @@ fn residuals(
             }
         }
     }
-    if target < Continuity::G2 {
+    if target < Continuity::G2 || sm.zoned {
         return out;
     }
     let km = sm.ff.and_then(|ff| sm.dm.normal_curvature_with(&ff, &e));
@@ -326,6 +328,7 @@ fn samples(slave: &BSplineSurface, links: &[SideLink], params: &ConnectParams) -
                 nm,
                 t1,
                 t2,
+                zoned: in_zones(t, (a, b), l.g2_zones),
             });
         }
     }

@@ -260,6 +260,7 @@ mod tests {
                 master: m,
                 target: Continuity::G2,
                 range: None,
+                g2_zones: [0.0; 2],
             })
             .collect()
     }

@@ -44,7 +44,44 @@ pub(super) fn prepare(
     if params.transfer_knots {
         s = add_master_knots(s, slave, links, params, report)?;
     }
+    s = add_zone_knots(s, links, report)?;
     add_control_rows(s, links, report)
+}
+
+/// Distinct knots a vertex zone holds ([`SideLink::g2_zones`]), at 1/3, 2/3 and the whole of
+/// its length from its corner (where the slave has none there yet): the frame of the
+/// neighbouring side at that corner is its first three control columns, whose B-spline support
+/// ends at the third distinct knot from the corner, so with three knots inside the zone the G2
+/// rows beyond it move points the corner's frame does not hold — G2 can be met on the rest of
+/// the side whatever the corner asks.
+pub const ZONE_KNOTS: usize = 3;
+
+/// `s` with [`ZONE_KNOTS`] knots inside each vertex zone of `links`.
+fn add_zone_knots(
+    mut s: BSplineSurface,
+    links: &[SideLink],
+    report: &mut ConnectReport,
+) -> Result<BSplineSurface> {
+    for l in links.iter().filter(|l| l.g2_zones.iter().any(|&z| z > 0.0)) {
+        let dir = l.side.along_direction();
+        let (a, b) = l.domain(&s);
+        let mut xs = Vec::new();
+        for k in 1..=ZONE_KNOTS {
+            let f = k as f64 / ZONE_KNOTS as f64;
+            if l.g2_zones[0] > 0.0 {
+                xs.push(a + f * l.g2_zones[0]);
+            }
+            if l.g2_zones[1] > 0.0 {
+                xs.push(b - f * l.g2_zones[1]);
+            }
+        }
+        let knots = super::refine::new_breakpoints(&s, dir, &xs);
+        if !knots.is_empty() {
+            s = s.refine(dir, &knots)?;
+            report.knots_inserted += knots.len();
+        }
+    }
+    Ok(s)
 }
 
 /// The degree of `s` in direction `dir`.

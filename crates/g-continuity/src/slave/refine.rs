@@ -255,6 +255,7 @@ fn sample_fails(s: &crate::measure::SampleMeasure, target: Continuity, tol: &Tol
     s.gap > tol.g0
         || (target >= Continuity::G1 && s.angle_deg.is_some_and(|a| a > tol.g1_deg))
         || (target >= Continuity::G2
+            && !s.in_zone
             && match (s.kappa_slave, s.kappa_master) {
                 (Some(a), Some(b)) => (a - b).abs() > tol.g2_rel * a.abs().max(b.abs()),
                 _ => false,
@@ -353,6 +354,7 @@ mod tests {
             worst_g2_across_t: None,
             vertex_g1_deg: None,
             vertex_g2_rel: None,
+            vertex_zones: [0.0; 2],
             undefined_normals: 0,
             undefined_curvatures: 0,
             detail: Vec::new(),
@@ -384,6 +386,7 @@ mod tests {
                 master: &master,
                 target: Continuity::G2,
                 range: None,
+                g2_zones: [0.0; 2],
             })
             .collect();
         let after: Vec<LinkMeasure> = sides
@@ -402,6 +405,7 @@ mod tests {
                         kappa_master: Some(if k < n { 0.0 } else { 0.2 }),
                         kappa_slave_across: None,
                         kappa_master_across: None,
+                        in_zone: false,
                     })
                     .collect();
                 m

@@ -58,6 +58,7 @@ fn single(
         master,
         target: step,
         range: None,
+        g2_zones: [0.0; 2],
     }];
     if step == Continuity::G0 {
         let mut moved = 0.0f64;

@@ -89,7 +89,14 @@ impl StepSides<'_> {
                     Vec::new()
                 };
                 let mut mv = crate::rows::solve_row_with(
-                    l.master, surface, l.side, l.range, step, &free, params, &corners,
+                    l.master,
+                    surface,
+                    l.side,
+                    (l.range, l.g2_zones),
+                    step,
+                    &free,
+                    params,
+                    &corners,
                 )?;
                 slide(&mut mv, k, status, l.side, self.links, surface, params);
                 Ok(mv)

@@ -116,6 +116,7 @@ pub fn connect_one(
             master,
             target,
             range: None,
+            g2_zones: [0.0; 2],
         }],
         &ConnectParams::default(),
     )

@@ -356,21 +356,21 @@ impl Job<'_> {
     }
 
     pub(super) fn links(&self) -> Vec<(usize, SideLink<'_>)> {
-        self.model
-            .links_of_slave(self.surface)
-            .into_iter()
-            .map(|k| {
+        let ks = self.model.links_of_slave(self.surface);
+        let links: Vec<SideLink<'_>> = ks
+            .iter()
+            .map(|&k| {
                 let l = &self.model.links[k];
-                (
-                    k,
-                    SideLink {
-                        side: l.side,
-                        master: &self.current.surfaces[l.master].surface,
-                        target: (self.cap)(l.continuity),
-                        range: self.ranges.get(k).copied().flatten(),
-                    },
-                )
+                SideLink {
+                    side: l.side,
+                    master: &self.current.surfaces[l.master].surface,
+                    target: (self.cap)(l.continuity),
+                    range: self.ranges.get(k).copied().flatten(),
+                    g2_zones: [0.0; 2],
+                }
             })
-            .collect()
+            .collect();
+        let links = crate::zones::with_vertex_zones(links, self.start, &self.connect.tolerances);
+        ks.into_iter().zip(links).collect()
     }
 }

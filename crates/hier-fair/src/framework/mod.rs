@@ -268,6 +268,8 @@ pub fn fair_model_with(
     out.links.truncate(given.links.len());
     let unmet = unmet_problems(model, &report.links);
     report.problems.extend(unmet);
+    let zoned = vertex::zone_problems(&out, &ranges, &report.links, connect.tolerances.g2_rel);
+    report.problems.extend(zoned);
     let worse = worse_link_problems(model, &out, &report.links);
     report.problems.extend(worse);
     let after_edges = measure_edges(&out, &edges);
@@ -331,11 +333,13 @@ fn measure_links(
         .into_par_iter()
         .map(|k| {
             let l = &model.links[k];
-            g_continuity::measure::measure_link_on(
+            let zones = crate::zones::link_zones(model, ranges, k, &connect.tolerances);
+            g_continuity::measure::measure_link_zoned(
                 &model.surfaces[l.master].surface,
                 &model.surfaces[l.slave].surface,
                 l.side,
                 ranges.get(k).copied().flatten(),
+                zones,
                 &connect.measure,
             )
             .ok()

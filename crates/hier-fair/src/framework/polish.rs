@@ -200,12 +200,14 @@ mod tests {
                 master: &master,
                 target: Continuity::G2,
                 range: None,
+                g2_zones: [0.0; 2],
             },
             SideLink {
                 side: Side::V1,
                 master: &master,
                 target: Continuity::G1,
                 range: None,
+                g2_zones: [0.0; 2],
             },
         ];
         let moved = |i: usize, j: usize| {

@@ -1,49 +1,12 @@
-//! Vertex conflicts: corners of a slave where two G2 links meet and their masters disagree in
-//! curvature, so that no surface is G2 to both there ([SV] §3.3, the corner compatibility of two
-//! sides, one order up from the twist).
-//!
-//! At a corner shared by sides A and B, both G1, G2 to B's master means the slave's second
-//! fundamental form equals that master's at every point of B, the corner included (linkage curve
-//! theorem, [SV] §2); so in A's cross direction d the slave's normal curvature there is κ_B(d),
-//! and A's G2 asks κ_A(d). With the relative measure of `g_continuity::measure` and its
-//! tolerance ρ, the best the slave can do at that point with its boundary on A's master is the
-//! mean of the two, which meets both only when |κ_A − κ_B| ≤ 2ρ·max(|κ_A|, |κ_B|) or both are
-//! below the flatness cut-off; beyond that only a boundary bent off its master near the corner
-//! meets both (a curvature change Δκ over a length L costs a gap Δκ L²/2 and an angle Δκ L), which
-//! the gap and angle tolerances allow for small Δκ only.
+//! Vertex conflicts in the report, and the contact lines of a slave's corners: where two G2
+//! links meet at a corner whose masters disagree in curvature beyond what one surface can meet
+//! there ([SV] §3.3; [`crate::zones`] has the condition and the vertex zones that relax G2 next
+//! to such a corner), the phrase that names a missed link's corner and the conflict problems of
+//! the zones; where the masters touch along a line through the corner, the direction the
+//! slave's boundary leaves it in.
 
 use super::*;
-
-/// The flatness cut-off of the measure for `slave`: curvatures below it count as zero.
-fn flat_curvature(slave: &BSplineSurface) -> f64 {
-    1.0 / (g_continuity::measure::FLAT_RADIUS_FACTOR * slave.size())
-}
-
-/// The normal curvatures of the masters of `link` and `other` (adjacent sides) at the corner `t`
-/// of `link`'s side, both in the slave's cross direction of `link` there and signed with
-/// respect to the first master's normal. `None` where a normal is undefined.
-fn masters_at_corner(
-    slave: &BSplineSurface,
-    link: &SideLink<'_>,
-    other: &SideLink<'_>,
-    t: f64,
-) -> Option<(f64, f64)> {
-    let params = nurbs_core::ProjectionParams::default();
-    let (u, v) = link.side.params(slave, t);
-    let d = slave.derivatives(u, v);
-    let dir = match link.side.cross_direction() {
-        Direction::U => d.du,
-        Direction::V => d.dv,
-    };
-    let curvature = |master: &BSplineSurface| {
-        let f = nurbs_core::project_to_surface(master, &d.point, &params);
-        let dm = master.derivatives(f.u, f.v);
-        Some((dm.normal_curvature(&dir)?, dm.normal()?))
-    };
-    let (k1, n1) = curvature(link.master)?;
-    let (k2, n2) = curvature(other.master)?;
-    Some((k1, if n1.dot(&n2) < 0.0 { -k2 } else { k2 }))
-}
+use crate::zones::{conflicted_ends, flat_curvature, masters_at_corner};
 
 impl Job<'_> {
     /// Whether, at a corner of a missed G2 link's side where the neighbouring side is G2 too,
@@ -66,13 +29,18 @@ impl Job<'_> {
         let worst = m
             .detail
             .iter()
+            .filter(|x| !x.in_zone)
             .filter_map(|x| Some((x.kappa_slave? - x.kappa_master?).abs()))
             .fold(0.0, f64::max);
         let (a, b) = link.side.along_domain(slave);
         let (start, end) = link.side.neighbours();
         let flat = flat_curvature(slave);
         let mut found: Option<(f64, f64, f64, Side, usize)> = None;
-        for (t, neighbour) in [(a, start), (b, end)] {
+        // a corner with a vertex zone is relaxed there already ([`crate::zones`])
+        for (e, (t, neighbour)) in [(a, start), (b, end)].into_iter().enumerate() {
+            if link.g2_zones[e] > 0.0 {
+                continue;
+            }
             let Some((k, other)) = labelled
                 .iter()
                 .find(|(_, l)| l.side == neighbour && l.target >= Continuity::G2)
@@ -155,38 +123,65 @@ impl Job<'_> {
     }
 }
 
+/// The named conflicts of the vertex zones ([`crate::zones`]) on `out` (the faired model with
+/// its links' parts `ranges`): for every link of `links` that has a zone, its length along the
+/// side, the corner and the two masters' normal curvatures there, and what the zone reads.
+pub(super) fn zone_problems(
+    out: &Model,
+    ranges: &[Option<(f64, f64)>],
+    links: &[LinkFair],
+    rho: f64,
+) -> Vec<Problem> {
+    let mut problems = Vec::new();
+    for l in links.iter().filter(|l| l.target >= Continuity::G2) {
+        let Some(m) = &l.after else { continue };
+        let conflicts = crate::zones::link_conflicts(out, ranges, l.link, rho);
+        for (zone, conflict) in m.vertex_zones.iter().zip(conflicts) {
+            let Some(c) = conflict.filter(|_| *zone > 0.0) else {
+                continue;
+            };
+            let slave = out.links[l.link].slave;
+            let other = out
+                .links_of_slave(slave)
+                .into_iter()
+                .find(|&i| out.links[i].side == c.neighbour)
+                .map_or_else(|| c.neighbour.name().to_string(), |i| out.link_label(i));
+            problems.push(Problem {
+                kind: ProblemKind::Conflict,
+                surface: out.surfaces[slave].name.clone(),
+                link: Some(out.link_label(l.link)),
+                message: format!(
+                    "G2 relaxed within {} at its corner with {} ({other}), {}: there the two masters differ in normal curvature across this side by {:.3e} (1/length unit, {:.3e} against {:.3e}), and no surface is G2 to both at that point; the zone reads {:.3e} relative",
+                    report::length(*zone),
+                    c.neighbour.name(),
+                    if l.met { "met along the rest of the side" } else { "the rest of the side as measured" },
+                    (c.kappa - c.kappa_other).abs(),
+                    c.kappa,
+                    c.kappa_other,
+                    m.vertex_g2_rel.unwrap_or(0.0),
+                ),
+                amount: Some(*zone),
+            });
+        }
+    }
+    problems
+}
+
 /// Whether some corner of `slave` joins two G2 links whose masters disagree beyond what the
-/// relative tolerance `rho` lets one surface meet at that point (module doc), in either side's
-/// cross direction. The slave can still meet both where the disagreement is small, by bending
-/// its boundary off its own master near the corner within the gap and angle tolerances (the
-/// corner curvature equation of `g_continuity::rows`); what it rules out is that the width of
-/// a curvature lead-in decides, so no narrower one is tried.
+/// relative tolerance `rho` lets one surface meet at that point ([`conflicted_ends`]). The
+/// slave can still meet both where the disagreement is small, by bending its boundary off its
+/// own master near the corner within the gap and angle tolerances (the corner curvature
+/// equation of `g_continuity::rows`); what it rules out is that the width of a curvature
+/// lead-in decides, so no narrower one is tried.
 pub(super) fn incompatible_corner(
     links: &[SideLink<'_>],
     slave: &BSplineSurface,
     rho: f64,
 ) -> bool {
-    let flat = flat_curvature(slave);
-    let g2 = |side: Side| {
-        links.iter().find(|l| {
-            l.side == side
-                && l.target >= Continuity::G2
-                && l.range.is_none()
-                && !g_continuity::measure::is_collapsed(slave, side)
-        })
-    };
-    links.iter().filter_map(|l| g2(l.side)).any(|link| {
-        let (a, b) = link.side.along_domain(slave);
-        let (start, end) = link.side.neighbours();
-        [(a, start), (b, end)].into_iter().any(|(t, neighbour)| {
-            g2(neighbour)
-                .and_then(|other| masters_at_corner(slave, link, other, t))
-                .is_some_and(|(k1, k2)| {
-                    let big = k1.abs().max(k2.abs());
-                    big > flat && (k1 - k2).abs() > 2.0 * rho * big
-                })
-        })
-    })
+    conflicted_ends(links, slave, rho)
+        .iter()
+        .flatten()
+        .any(Option::is_some)
 }
 
 #[cfg(test)]
@@ -237,6 +232,7 @@ mod tests {
             master,
             target: Continuity::G2,
             range: None,
+            g2_zones: [0.0; 2],
         };
         incompatible_corner(&[link(Side::U0, a), link(Side::V0, b)], &slave, 5e-3)
     }
