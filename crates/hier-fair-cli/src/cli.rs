@@ -72,9 +72,9 @@ enum Command {
         /// Output model file (written atomically; never the input).
         #[arg(short = 'o', long = "output")]
         output: PathBuf,
-        /// Highest continuity set (G0, G1 or G2; default: each link's own).
-        #[arg(long, value_parser = crate::values::parse_keep)]
-        target: Option<nurbs_core::Continuity>,
+        /// Highest continuity set, G0, G1 or G2 (a cap on each link's own; default: each link's own).
+        #[arg(long, value_enum, ignore_case = true)]
+        target: Option<crate::values::ContinuityValue>,
         /// Report JSON with before/after continuity per link.
         #[arg(long)]
         report: Option<PathBuf>,
@@ -152,23 +152,19 @@ fn run(cli: Cli) -> Result<()> {
             output,
             target,
             report,
-        } => connect_command(model, output, target, report),
+        } => connect_command(
+            model,
+            output,
+            target.map(crate::values::ContinuityValue::continuity),
+            report,
+        ),
         Command::FairMesh {
             input,
             output,
             fixed_rings,
             fixed,
             tolerance,
-        } => {
-            let mut inputs = vec![input.as_path()];
-            inputs.extend(fixed.as_deref());
-            files::check_outputs(&[("-o", &output)], &inputs)?;
-            println!(
-                "{}",
-                crate::mesh::run(&input, &output, fixed_rings, fixed.as_deref(), tolerance)?
-            );
-            Ok(())
-        }
+        } => fair_mesh_command(input, output, fixed_rings, fixed, tolerance),
         Command::Label {
             input,
             segments,
@@ -190,11 +186,7 @@ fn run(cli: Cli) -> Result<()> {
             input,
             output,
             explain,
-        } => {
-            files::check_outputs(&[("-o", &output)], &[&input])?;
-            println!("{}", crate::exchange::build(&input, &output, explain)?);
-            Ok(())
-        }
+        } => build_command(input, output, explain),
         Command::Export { input, output } => {
             files::check_outputs(&[("-o", &output)], &[&input])?;
             println!("{}", crate::exchange::export(&input, &output)?);
@@ -208,6 +200,36 @@ fn run(cli: Cli) -> Result<()> {
         Command::Fair(args) => fair_command(args),
         Command::Eval(args) => eval_command(args),
     }
+}
+
+/// `hier-fair fair-mesh`.
+fn fair_mesh_command(
+    input: PathBuf,
+    output: PathBuf,
+    fixed_rings: usize,
+    fixed: Option<PathBuf>,
+    tolerance: Option<f64>,
+) -> Result<()> {
+    let mut inputs = vec![input.as_path()];
+    inputs.extend(fixed.as_deref());
+    files::check_outputs(&[("-o", &output)], &inputs)?;
+    crate::kind::expect("fair-mesh", &input, &[crate::kind::FileKind::Obj])?;
+    crate::kind::expect_extension("-o", &output, crate::kind::MESH_OUTPUTS)?;
+    println!(
+        "{}",
+        crate::mesh::run(&input, &output, fixed_rings, fixed.as_deref(), tolerance)?
+    );
+    Ok(())
+}
+
+/// `hier-fair build`.
+fn build_command(input: PathBuf, output: PathBuf, explain: bool) -> Result<()> {
+    use crate::kind::FileKind;
+    files::check_outputs(&[("-o", &output)], &[&input])?;
+    crate::kind::expect("build", &input, &[FileKind::Model, FileKind::Surfaces])?;
+    crate::kind::expect_extension("-o", &output, crate::kind::JSON_OUTPUTS)?;
+    println!("{}", crate::exchange::build(&input, &output, explain)?);
+    Ok(())
 }
 
 /// `hier-fair check`.
@@ -294,6 +316,14 @@ fn label_command(
     let mut inputs = vec![input.as_path()];
     inputs.extend(segments.as_deref());
     files::check_outputs(&outputs, &inputs)?;
+    crate::kind::expect("label", &input, &[crate::kind::FileKind::Obj])?;
+    crate::kind::expect_extension("-o", &output, crate::kind::JSON_OUTPUTS)?;
+    if let Some(p) = &svg {
+        crate::kind::expect_extension("--svg", p, crate::kind::SVG_OUTPUTS)?;
+    }
+    if let Some(p) = &fit {
+        crate::kind::expect_extension("--fit", p, crate::kind::JSON_OUTPUTS)?;
+    }
     let out = crate::label::LabelOutputs {
         labels: &output,
         svg: svg.as_deref(),
@@ -395,6 +425,8 @@ fn fair_command(args: FairArgs) -> Result<()> {
         no_verify,
         keep_faired,
     } = args;
+    let keep = keep.map(crate::values::ContinuityValue::continuity);
+    let target = target.map(crate::values::ContinuityValue::continuity);
     let mut outputs = vec![("-o", output.as_path())];
     outputs.extend(report.as_deref().map(|r| ("--report", r)));
     files::check_outputs(&outputs, &[&input])?;
@@ -413,7 +445,7 @@ fn fair_command(args: FairArgs) -> Result<()> {
         files::read_text(&input)?
     };
     if iges || crate::pipeline::is_model(&text) {
-        crate::kind::expect_extension("-o", &output, crate::kind::MODEL_OUTPUTS)?;
+        crate::kind::expect_model_run(&input, &output, iges, keep.is_some())?;
         let options = crate::pipeline::ModelOptions {
             method,
             tolerance,
@@ -449,7 +481,7 @@ fn fair_command(args: FairArgs) -> Result<()> {
         method: method.unwrap_or(hier_fair::Method::Energy.name()),
         tolerance: tolerance.unwrap_or(0.02),
         iterations,
-        keep,
+        keep: keep.unwrap_or(nurbs_core::Continuity::G0),
     };
     fair_surfaces(&input, &output, report.as_deref(), &options, &model_options)
 }
@@ -541,12 +573,13 @@ struct FairArgs {
     /// energy-bezier, krr); default: each method's own
     #[arg(long)]
     iterations: Option<usize>,
-    /// bare surfaces: the frame kept on all four sides (G0, G1 or G2)
-    #[arg(long, value_parser = crate::values::parse_keep, default_value = "G0")]
-    keep: nurbs_core::Continuity,
+    /// bare surfaces: the frame kept on all four sides, G0, G1 or G2 (default G0; a model's
+    /// links choose its frames: refused there)
+    #[arg(long, value_enum, ignore_case = true)]
+    keep: Option<crate::values::ContinuityValue>,
     /// models: the highest continuity set on any link, G0, G1 or G2 (a cap on each link's own)
-    #[arg(long, value_parser = crate::values::parse_keep)]
-    target: Option<nurbs_core::Continuity>,
+    #[arg(long, value_enum, ignore_case = true)]
+    target: Option<crate::values::ContinuityValue>,
     /// report JSON (per surface, per link, problems; cli-contract.md)
     #[arg(long)]
     report: Option<PathBuf>,

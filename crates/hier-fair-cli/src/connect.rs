@@ -29,7 +29,7 @@ pub fn run(model_text: &str, source: &str, target: Option<Continuity>) -> Result
         ..ConnectOptions::default()
     };
     let (out, report) = connect(&model, &options).map_err(|e| anyhow!("{source}: {e}"))?;
-    let mut text = summary(&report);
+    let mut text = summary(&report, &model);
     let t = &model.tolerances;
     let met = report
         .links
@@ -40,6 +40,16 @@ pub fn run(model_text: &str, source: &str, target: Option<Continuity>) -> Result
         "verdict: {}, each up to its target)",
         crate::check::links_met(met, report.links.len(), &model)
     );
+    if model.links.is_empty() {
+        text += &format!(
+            "note: {source} has no links: nothing was set{} (`build` finds a model's links from its geometry)\n",
+            if target.is_some() {
+                ", and --target has nothing to apply to"
+            } else {
+                ""
+            }
+        );
+    }
     // `--target` caps each link's own continuity; say so where it asks for more than any link
     if let (Some(t), Some(top)) = (target, model.links.iter().map(|l| l.continuity).max())
         && t > top
@@ -101,7 +111,10 @@ pub fn report_json(model: &Model, r: &ModelConnectReport) -> Value {
     json!({ "seconds_total": r.seconds_total, "surfaces": surfaces, "links": links, "problems": problems })
 }
 
-fn summary(r: &ModelConnectReport) -> String {
+/// The link table: gap, normal angle and relative curvature difference before and after side
+/// by side, whether the link is met (up to its target, against the model's tolerances), and
+/// the tolerances; then the slaves that fell back and the totals.
+fn summary(r: &ModelConnectReport, model: &Model) -> String {
     let width = r
         .links
         .iter()
@@ -109,20 +122,34 @@ fn summary(r: &ModelConnectReport) -> String {
         .max()
         .unwrap_or(4)
         .max(4);
-    let mut out = format!(
-        "{:width$}  {:6}  {:>10} {:>10}  {:>10} {:>10}\n",
-        "link", "target", "gap before", "after", "angle° bef", "after"
-    );
+    let t = &model.tolerances;
+    let mut out = String::new();
+    if !r.links.is_empty() {
+        out += &format!(
+            "{:width$}  {:6}  {:>10} {:>10}  {:>10} {:>10}  {:>10} {:>10}  met\n",
+            "link", "target", "gap before", "after", "angle° bef", "after", "g2 rel bef", "after"
+        );
+    }
     let f = |x: Option<f64>| x.map_or("-".to_string(), |v| format!("{v:.3e}"));
     for l in &r.links {
+        let met = l.after.meets(l.target, t.g0, t.g1_deg, t.g2_rel);
         out += &format!(
-            "{:width$}  {:6}  {:>10.3e} {:>10.3e}  {:>10} {:>10}\n",
+            "{:width$}  {:6}  {:>10.3e} {:>10.3e}  {:>10} {:>10}  {:>10} {:>10}  {}\n",
             l.label,
             continuity_name(l.target),
             l.before.g0,
             l.after.g0,
             f(l.before.g1_deg),
-            f(l.after.g1_deg)
+            f(l.after.g1_deg),
+            f(l.before.g2_rel),
+            f(l.after.g2_rel),
+            if met { "yes" } else { "no" }
+        );
+    }
+    if !r.links.is_empty() {
+        out += &format!(
+            "model tolerances: g0 {} · g1 {}° · g2 {}\n",
+            t.g0, t.g1_deg, t.g2_rel
         );
     }
     for s in &r.surfaces {

@@ -225,6 +225,12 @@ pub fn run(
     if let Some(r) = report {
         files::write_atomic(r, serde_json::to_string_pretty(&run)?.as_bytes())?;
     }
+    Ok(surface_lines(&run, options.tolerance) + &verdict(&run, options.tolerance, output))
+}
+
+/// One line per surface: the method, the thin-plate energy before and after, the deviation
+/// against the tolerance, the iterations, and why a surface was kept as it was.
+fn surface_lines(run: &FairRunReport, tolerance: f64) -> String {
     let mut text = String::new();
     for line in &run.surfaces {
         let note = match (&line.kept, line.iterations) {
@@ -233,7 +239,7 @@ pub fn run(
             (None, _) => String::new(),
         };
         text += &format!(
-            "{}: {} energy {:.6e} -> {:.6e}, max deviation {:.3e}, {} iterations, {:.3} s{note}\n",
+            "{} ({}): thin-plate energy {:.6e} -> {:.6e}, max deviation {:.3e} (tolerance {tolerance}), {} iterations, {:.3} s{note}\n",
             line.name,
             line.method,
             line.energy_before,
@@ -243,8 +249,31 @@ pub fn run(
             line.seconds
         );
     }
-    text += &format!("wrote {}\n", output.display());
-    Ok(text)
+    text
+}
+
+/// The last line of `fair` on a bare surface file: "verdict: S of T surfaces faired (thin-plate
+/// energy A -> B), K kept as they were; largest deviation D (tolerance E); wrote OUT".
+fn verdict(run: &FairRunReport, tolerance: f64, output: &Path) -> String {
+    let kept = run.surfaces.iter().filter(|l| l.kept.is_some()).count();
+    let moved = run
+        .surfaces
+        .iter()
+        .filter(|l| l.kept.is_none() && l.iterations > 0)
+        .count();
+    let (before, after) = run.surfaces.iter().fold((0.0, 0.0), |(b, a), l| {
+        (b + l.energy_before, a + l.energy_after)
+    });
+    let worst = run
+        .surfaces
+        .iter()
+        .map(|l| l.max_deviation)
+        .fold(0.0, f64::max);
+    format!(
+        "verdict: {moved} of {} surfaces faired (thin-plate energy {before:.4e} -> {after:.4e}), {kept} kept as they were; largest deviation {worst:.3e} (tolerance {tolerance}); wrote {}\n",
+        run.surfaces.len(),
+        output.display()
+    )
 }
 
 #[cfg(test)]

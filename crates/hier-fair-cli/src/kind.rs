@@ -167,6 +167,12 @@ pub const JSON_OUTPUTS: &[&str] = &["json"];
 /// Extensions `fair` writes a model to: JSON, or the CAD file the extension names.
 pub const MODEL_OUTPUTS: &[&str] = &["json", "step", "stp", "igs", "iges"];
 
+/// Extensions a mesh is written to (`fair-mesh -o`).
+pub const MESH_OUTPUTS: &[&str] = &["obj"];
+
+/// Extensions a drawing is written to (`label --svg`).
+pub const SVG_OUTPUTS: &[&str] = &["svg"];
+
 /// Whether `path` holds a CAD file (STEP or IGES) by its content.
 pub fn is_cad(path: &Path) -> Result<bool> {
     Ok(matches!(sniff(path)?, FileKind::Step | FileKind::Iges))
@@ -199,6 +205,26 @@ pub fn refuse_model_options(input: &Path, given: &[(&str, bool)]) -> Result<()> 
         bail!(
             "{flag} applies to a model; {} is a surface file (each surface faired alone, its boundaries kept): leave {flag} out, or give a model",
             input.display()
+        );
+    }
+    Ok(())
+}
+
+/// Checks `fair` on a model (`cad`: a STEP or IGES file, imported as one) before any work: the
+/// output is a model or CAD file by its extension, and the bare-surface option `--keep`
+/// (`keep_given`) is refused — the model's links choose the frames kept, and an option that does
+/// not apply is an error, never silently ignored.
+pub fn expect_model_run(input: &Path, output: &Path, cad: bool, keep_given: bool) -> Result<()> {
+    expect_extension("-o", output, MODEL_OUTPUTS)?;
+    if keep_given {
+        bail!(
+            "--keep applies to a bare surface file; {} is {} (its links choose the frames kept): leave --keep out",
+            input.display(),
+            if cad {
+                "a STEP or IGES file, imported as a model"
+            } else {
+                "a model"
+            }
         );
     }
     Ok(())

@@ -31,6 +31,7 @@ pub mod mesh;
 pub mod pipeline;
 pub mod summary;
 pub mod values;
+pub mod verdict;
 
 /// The fairing methods `--method` names: the built-in ones unless [`cli::main_with`] was given
 /// others.

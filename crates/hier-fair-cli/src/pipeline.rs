@@ -98,100 +98,6 @@ pub fn fair(model: &Model, options: &ModelOptions) -> Result<(Model, FairModelRe
     Ok(result?)
 }
 
-/// A short readable summary: per link target and after values, the problems, the totals.
-pub fn summary(report: &FairModelReport, title: &str) -> String {
-    use std::fmt::Write;
-    let mut s = String::new();
-    let _ = writeln!(s, "{title}");
-    if !report.links.is_empty() {
-        let _ = writeln!(
-            s,
-            "{:<28} {:>6} {:>11} {:>11} {:>11}  met",
-            "link", "target", "gap", "angle°", "curv. rel"
-        );
-        for l in &report.links {
-            let a = l.after.as_ref();
-            let f = |v: Option<f64>| v.map_or("–".to_string(), |x| format!("{x:.3e}"));
-            let _ = writeln!(
-                s,
-                "{:<28} {:>6} {:>11} {:>11} {:>11}  {}",
-                l.label,
-                format!("{:?}", l.target),
-                f(a.map(|m| m.g0)),
-                f(a.and_then(|m| m.g1_deg)),
-                f(a.and_then(|m| m.g2_rel)),
-                if l.met { "yes" } else { "NO" }
-            );
-        }
-    }
-    let (eb, ea): (f64, f64) = report.surfaces.iter().fold((0.0, 0.0), |(a, b), x| {
-        (a + x.energy_before, b + x.energy_after)
-    });
-    let worst = report
-        .surfaces
-        .iter()
-        .map(|x| x.max_deviation)
-        .fold(0.0, f64::max);
-    let _ = writeln!(
-        s,
-        "{} surfaces faired in {:.3} s; energy {:.4e} -> {:.4e}; largest deviation {:.4e} (tolerance {})",
-        report.surfaces.len(),
-        report.seconds_total,
-        eb,
-        ea,
-        worst,
-        report.tolerance
-    );
-    let unfair: Vec<String> = report
-        .surfaces
-        .iter()
-        .filter_map(|x| {
-            let v = x.fairness_verdict();
-            (!v.fair()).then(|| format!("{} ({})", x.name, v.faults().join(", ")))
-        })
-        .collect();
-    let _ = writeln!(
-        s,
-        "fairness: {} of {} surfaces fair against their input{}",
-        report.surfaces.len() - unfair.len(),
-        report.surfaces.len(),
-        if unfair.is_empty() {
-            String::new()
-        } else {
-            format!("; not: {}", unfair.join("; "))
-        }
-    );
-    for line in problem_lines(&report.problems) {
-        let _ = writeln!(s, "{line}");
-    }
-    s
-}
-
-/// The problems as summary lines: each on its own, except the notes that a surface's
-/// thin-plate energy rose, which are one line naming every such surface and its ratio
-/// (the report keeps one problem per surface).
-fn problem_lines(problems: &[hier_fair::Problem]) -> Vec<String> {
-    let rises: Vec<String> = problems
-        .iter()
-        .filter(|p| p.is_energy_rise())
-        .map(|p| format!("{} ×{:.3}", p.surface, p.amount.unwrap_or(f64::NAN)))
-        .collect();
-    let mut lines: Vec<String> = problems
-        .iter()
-        .filter(|p| !p.is_energy_rise())
-        .map(ToString::to_string)
-        .collect();
-    if !rises.is_empty() {
-        lines.push(format!(
-            "limited: the thin-plate energy rose on {} surface(s) — {}: {}",
-            rises.len(),
-            hier_fair::ENERGY_RISE_WHY,
-            rises.join(", ")
-        ));
-    }
-    lines
-}
-
 fn png(path: &Path, img: &image::RgbImage) -> Result<()> {
     let mut bytes = Vec::new();
     img.write_to(
@@ -428,17 +334,21 @@ pub fn demo(dir: &Path, quiet: bool) -> Result<String> {
     files::write_atomic(&dir.join("faired.igs"), model_iges(&faired)?.as_bytes())?;
     let json = serde_json::to_string_pretty(&hier_fair::report_json(&report))? + "\n";
     files::write_atomic(&dir.join("report.json"), json.as_bytes())?;
+    let verdict = crate::verdict::verdict_line(&report, &model);
     let md = hier_fair::report_markdown_in(
         &report,
         "hier-fair demo: the X-node (fixtures/models/x_node.json)",
         model.units.as_deref(),
-    ) + &images_legend();
+    ) + &format!("## Verdict\n\n{verdict}; wrote faired.json, faired.igs\n\n")
+        + &images_legend();
     files::write_atomic(&dir.join("report.md"), md.as_bytes())?;
     let images = write_images(&dir.join("images"), &model, &faired, &report)?;
-    let mut text = summary(
+    let mut text = crate::verdict::summary(
         &report,
+        &model,
         "hier-fair demo: X-node — a corner patch linked G2 to four fillets, input G1 only ([SV] Fig. 6)",
     );
+    text.push_str(&format!("{verdict}\n"));
     text.push_str(&format!(
         "wrote {0}/faired.json, {0}/faired.igs, {0}/report.json, {0}/report.md and {1} pictures in {0}/images\n",
         dir.display(),
@@ -525,8 +435,12 @@ pub fn run_fair(
         .collect();
     unmet.sort_unstable();
     unmet.dedup();
-    let mut text = summary(&report, &format!("hier-fair fair {}", input.display()));
-    text += &verdict(&report, &model, output);
+    let mut text = crate::verdict::summary(
+        &report,
+        &model,
+        &format!("hier-fair fair {}", input.display()),
+    );
+    text += &crate::verdict::verdict(&report, &model, output);
     Ok(FairOutcome {
         text,
         failed,
@@ -543,62 +457,6 @@ pub struct FairOutcome {
     pub failed: Vec<String>,
     /// the links left unmet that are no named conflict
     pub unmet: Vec<String>,
-}
-
-/// The last line of `fair` on a model: links met against the model's tolerances, the links
-/// named as conflicts or unmet, the surfaces within their deviation, the fair ones, and the
-/// file written — what a newcomer reads to know whether the run succeeded.
-pub fn verdict(report: &FairModelReport, model: &Model, output: &Path) -> String {
-    let met = report.links.iter().filter(|l| l.met).count();
-    // met links whose G2 figure across the boundary (n × T, what a checker reads) is above the
-    // tolerance that the framework's parametric figure meets (g-continuity's measure module)
-    let across = report
-        .links
-        .iter()
-        .filter(|l| {
-            l.met
-                && l.target == nurbs_core::Continuity::G2
-                && l.after
-                    .as_ref()
-                    .and_then(|m| m.g2_rel_across)
-                    .is_some_and(|r| r > model.tolerances.g2_rel)
-        })
-        .count();
-    let count = |kind: hier_fair::ProblemKind| {
-        let mut links: Vec<&str> = report
-            .problems
-            .iter()
-            .filter(|p| p.kind == kind)
-            .filter_map(|p| p.link.as_deref())
-            .collect();
-        links.sort_unstable();
-        links.dedup();
-        links.len()
-    };
-    let within = report
-        .surfaces
-        .iter()
-        .filter(|s| s.max_deviation <= s.tolerance)
-        .count();
-    let fair = report
-        .surfaces
-        .iter()
-        .filter(|s| s.fairness_verdict().fair())
-        .count();
-    format!(
-        "verdict: {}{}), {} conflicts, {} unmet; {within} of {} surfaces within their deviation; {fair} of {} fair against their input; wrote {}\n",
-        crate::check::links_met(met, report.links.len(), model),
-        if across > 0 {
-            format!("; {across} of them above it across the boundary, n × T")
-        } else {
-            String::new()
-        },
-        count(hier_fair::ProblemKind::Conflict),
-        count(hier_fair::ProblemKind::Unmet),
-        report.surfaces.len(),
-        report.surfaces.len(),
-        output.display()
-    )
 }
 
 /// Exits with 1 after naming the first surface that could not be faired and the first link
@@ -644,43 +502,4 @@ pub fn finish(outcome: FairOutcome, quiet: bool) {
     };
     print!("{text}");
     exit_if_failed(&outcome.failed, &outcome.unmet);
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use hier_fair::{Problem, ProblemKind};
-
-    fn problem(surface: &str, message: String, amount: Option<f64>) -> Problem {
-        Problem {
-            kind: ProblemKind::Limited,
-            surface: surface.into(),
-            link: None,
-            message,
-            amount,
-        }
-    }
-
-    #[test]
-    fn energy_rises_are_explained_once() {
-        let rise = |s: &str, r: f64| {
-            let why = hier_fair::ENERGY_RISE_WHY;
-            problem(
-                s,
-                format!("its thin-plate energy rose from 1 to {r}: {why}"),
-                Some(r),
-            )
-        };
-        let other = problem("C1", "the continuity setting was faired once".into(), None);
-        let lines = problem_lines(&[rise("F1", 1.026), other.clone(), rise("F2", 1.5)]);
-        assert_eq!(lines.len(), 2, "{lines:?}");
-        assert_eq!(lines[0], other.to_string());
-        assert_eq!(
-            lines[1],
-            format!(
-                "limited: the thin-plate energy rose on 2 surface(s) — {}: F1 ×1.026, F2 ×1.500",
-                hier_fair::ENERGY_RISE_WHY
-            )
-        );
-    }
 }

@@ -32,3 +32,29 @@ pub fn parse_keep(text: &str) -> Result<nurbs_core::Continuity, String> {
         _ => Err(format!("expected G0, G1 or G2, got {text}")),
     }
 }
+
+/// A continuity of `--keep` and `--target` as clap reads it: G0, G1 or G2 (any case), listed in
+/// `--help` as the option's possible values.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, clap::ValueEnum)]
+pub enum ContinuityValue {
+    /// positional
+    #[value(name = "G0")]
+    G0,
+    /// tangent plane
+    #[value(name = "G1")]
+    G1,
+    /// curvature
+    #[value(name = "G2")]
+    G2,
+}
+
+impl ContinuityValue {
+    /// The kernel's continuity.
+    pub fn continuity(self) -> nurbs_core::Continuity {
+        match self {
+            ContinuityValue::G0 => nurbs_core::Continuity::G0,
+            ContinuityValue::G1 => nurbs_core::Continuity::G1,
+            ContinuityValue::G2 => nurbs_core::Continuity::G2,
+        }
+    }
+}

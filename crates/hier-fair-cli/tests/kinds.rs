@@ -267,8 +267,8 @@ fn options_of<'a>(synopses: impl Iterator<Item = &'a str>) -> Options {
     out
 }
 
-/// The options of the synopses in docs/cli-contract.md's table (each row's first cell).
-fn contract_options() -> Options {
+/// The synopses in docs/cli-contract.md's table (each row's first cell), in the table's order.
+fn contract_synopses() -> Vec<String> {
     let text = std::fs::read_to_string(root("docs/cli-contract.md")).unwrap();
     let mut synopses = Vec::new();
     for row in text.lines().filter(|l| l.starts_with("| `hier-fair ")) {
@@ -284,13 +284,26 @@ fn contract_options() -> Options {
         }
         synopses.extend(cell.split('`').skip(1).step_by(2).map(str::to_string));
     }
-    options_of(synopses.iter().map(String::as_str))
+    synopses
 }
 
-/// The options of README.md's command-line synopsis (its indented `hier-fair …` lines).
-fn readme_options() -> Options {
+/// The options of the synopses in docs/cli-contract.md's table.
+fn contract_options() -> Options {
+    options_of(contract_synopses().iter().map(String::as_str))
+}
+
+/// README.md's command-line synopsis (its indented `hier-fair …` lines), in order.
+fn readme_synopses() -> Vec<String> {
     let text = std::fs::read_to_string(root("README.md")).unwrap();
-    options_of(text.lines().filter(|l| l.starts_with("    hier-fair ")))
+    text.lines()
+        .filter(|l| l.starts_with("    hier-fair "))
+        .map(str::to_string)
+        .collect()
+}
+
+/// The options of README.md's command-line synopsis.
+fn readme_options() -> Options {
+    options_of(readme_synopses().iter().map(String::as_str))
 }
 /// The long options `hier-fair SUB --help` lists (without `--help`).
 fn help_options(sub: &str) -> std::collections::BTreeSet<String> {
@@ -326,5 +339,104 @@ fn help_the_contract_and_the_readme_name_the_same_options() {
                 .unwrap_or_else(|| panic!("{sub} has no synopsis in the {doc}"));
             assert_eq!(&help_options(sub), documented, "{doc}: hier-fair {sub}");
         }
+    }
+}
+
+/// The values of every option a synopsis writes as a list (`--target G0|G1|G2`), per
+/// subcommand.
+fn synopsis_values(synopses: &[String]) -> Options {
+    let mut out = Options::new();
+    for synopsis in synopses {
+        let Some(rest) = synopsis.trim().strip_prefix("hier-fair ") else {
+            continue;
+        };
+        let rest = rest.replace("\\|", "|");
+        let words: Vec<&str> = rest
+            .split(|c: char| c.is_whitespace() || "[]()".contains(c))
+            .filter(|w| !w.is_empty())
+            .collect();
+        let sub = words[0];
+        for pair in words.windows(2) {
+            if pair[0].starts_with("--") && pair[1].contains('|') {
+                out.entry(format!("{sub} {}", pair[0]))
+                    .or_default()
+                    .extend(pair[1].split('|').map(str::to_string));
+            }
+        }
+    }
+    out
+}
+
+/// The possible values `hier-fair SUB --help` lists for each option that has them
+/// (`[possible values: a, b]`, or a `Possible values:` list of `- a: …` lines).
+fn help_values(sub: &str) -> Options {
+    let o = run(&[sub, "--help"]);
+    let mut out = Options::new();
+    let mut option = String::new();
+    for line in String::from_utf8_lossy(&o.stdout).lines() {
+        let l = line.trim_start();
+        let l = l.strip_prefix("-o, ").unwrap_or(l);
+        if let Some(name) = l.strip_prefix("--") {
+            let name: String = name
+                .chars()
+                .take_while(|c| c.is_ascii_lowercase() || *c == '-')
+                .collect();
+            option = format!("{sub} --{name}");
+        }
+        if let Some((_, list)) = l.split_once("[possible values: ") {
+            let list = list.trim_end_matches(']');
+            out.entry(option.clone())
+                .or_default()
+                .extend(list.split(", ").map(str::to_string));
+        } else if let Some(item) = l.strip_prefix("- ") {
+            let value = item.split(':').next().unwrap().trim().to_string();
+            out.entry(option.clone()).or_default().insert(value);
+        }
+    }
+    out
+}
+
+/// Every option whose `--help` lists its values (continuities, presets) is written with the
+/// same values in docs/cli-contract.md's table and in the README's synopsis, and no synopsis
+/// lists values the program does not take.
+#[test]
+fn help_the_contract_and_the_readme_list_the_same_values() {
+    let mut help = Options::new();
+    for sub in SUBCOMMANDS {
+        help.extend(help_values(sub));
+    }
+    assert!(help.contains_key("fair --keep"), "{help:?}");
+    assert!(help.contains_key("check --fail-above"), "{help:?}");
+    for (doc, synopses) in [
+        ("contract", contract_synopses()),
+        ("README", readme_synopses()),
+    ] {
+        assert_eq!(synopsis_values(&synopses), help, "{doc}");
+    }
+}
+
+/// docs/cli-contract.md's table (by each row's first synopsis: `export` shares `import`'s row)
+/// and the README's synopsis list the subcommands in the order of the workflow, as `--help`
+/// does.
+#[test]
+fn the_contract_and_the_readme_follow_the_workflow() {
+    let contract = std::fs::read_to_string(root("docs/cli-contract.md")).unwrap();
+    let rows: Vec<String> = contract
+        .lines()
+        .filter_map(|l| l.strip_prefix("| `"))
+        .filter(|l| l.starts_with("hier-fair "))
+        .map(str::to_string)
+        .collect();
+    for (doc, synopses) in [("contract", rows), ("README", readme_synopses())] {
+        let mut ranks: Vec<usize> = synopses
+            .iter()
+            .filter_map(|s| s.trim().strip_prefix("hier-fair "))
+            .map(|rest| {
+                let sub = rest.split_whitespace().next().unwrap();
+                SUBCOMMANDS.iter().position(|c| *c == sub).unwrap()
+            })
+            .collect();
+        ranks.dedup();
+        assert!(ranks.windows(2).all(|w| w[0] < w[1]), "{doc}: {synopses:?}");
     }
 }
