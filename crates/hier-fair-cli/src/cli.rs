@@ -483,21 +483,28 @@ fn fair_command(args: FairArgs) -> Result<()> {
         iterations,
         keep: keep.unwrap_or(nurbs_core::Continuity::G0),
     };
-    fair_surfaces(&input, &output, report.as_deref(), &options, &model_options)
+    let report = report.as_deref();
+    fair_surfaces(&input, &output, report, &options, &model_options, quiet)
 }
 
 /// `fair` on a bare surface file: each surface faired alone, boundaries kept; the model options
-/// (`model_options`, each with whether it was given) do not apply and are refused.
+/// (`model_options`, each with whether it was given) do not apply and are refused; with `quiet`
+/// the verdict line alone is printed, as on a model.
 fn fair_surfaces(
     input: &std::path::Path,
     output: &std::path::Path,
     report: Option<&std::path::Path>,
     options: &crate::fair::FairOptions,
     model_options: &[(&str, bool)],
+    quiet: bool,
 ) -> Result<()> {
     crate::kind::expect_extension("-o", output, crate::kind::JSON_OUTPUTS)?;
     crate::kind::refuse_model_options(input, model_options)?;
-    print!("{}", crate::fair::run(input, output, report, options)?);
+    let text = crate::fair::run(input, output, report, options)?;
+    match text.lines().last() {
+        Some(verdict) if quiet => println!("{verdict}"),
+        _ => print!("{text}"),
+    }
     Ok(())
 }
 
@@ -586,7 +593,7 @@ struct FairArgs {
     /// models: write pictures (zebra, mean curvature, link curvature plots) into DIR
     #[arg(long)]
     images: Option<PathBuf>,
-    /// no progress bar
+    /// no progress bar, and the verdict line alone on stdout (the report file holds the rest)
     #[arg(long)]
     quiet: bool,
     /// models: no second run naming the deviation each unmet link needs (faster where links

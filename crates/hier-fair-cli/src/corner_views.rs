@@ -1,7 +1,7 @@
 //! Pictures zoomed on each corner patch: zebra stripes and the mean-curvature map of the corner
 //! with the surfaces around it, before and after, looking down onto the corner — a vertex blend
 //! of a 26-face box is a few pixels in the whole-model pictures, and its pole, its lead-ins and
-//! the stripes across its joins are what a surfacer checks ([SV] §3.3, §6).
+//! the stripes across its joins are what a surfacer checks (\[SV\] §3.3, §6).
 
 use std::path::{Path, PathBuf};
 

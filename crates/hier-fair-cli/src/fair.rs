@@ -1,5 +1,5 @@
 //! `hier-fair fair` on a bare surface file: every surface is a primary surface with no links, its
-//! boundary frames fixed ([SV] §3.1), faired by one [`SurfaceFairing`] method.
+//! boundary frames fixed (\[SV\] §3.1), faired by one [`SurfaceFairing`] method.
 //!
 //! The model-level driver (hierarchy, links, continuity) lives in the `hier-fair` crate; this file
 //! only builds masks and methods from command-line options and writes the result and report.

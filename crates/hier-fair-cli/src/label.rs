@@ -1,5 +1,5 @@
 //! `hier-fair label MESH.obj [--segments SEG.json] -o LABELS.json [--svg PIC.svg] [--fit SURFACE.json]`
-//! (cli-contract.md): boundary labeling of a trimmed mesh region (trim-label, [VV18]) and,
+//! (cli-contract.md): boundary labeling of a trimmed mesh region (trim-label, \[VV18\]) and,
 //! optionally, the labeled bicubic fit.
 
 use std::path::Path;

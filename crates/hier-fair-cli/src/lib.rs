@@ -17,6 +17,9 @@
 //! assert!(parse_grid("0,3").is_err());
 //! ```
 
+// citation keys are written `\[SV\]` (docs/references.md): a bare `[SV]` is a broken link
+#![deny(rustdoc::broken_intra_doc_links)]
+
 pub mod check;
 pub mod cli;
 pub mod connect;

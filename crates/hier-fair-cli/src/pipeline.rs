@@ -13,7 +13,7 @@ use nurbs_core::{BSplineSurface, Continuity};
 use crate::files;
 
 /// The model bundled in the binary for `hier-fair demo`: the X-node of `fixtures/models/`
-/// (a corner patch linked G2 to four fillets, made G1-only, [SV] Fig. 6).
+/// (a corner patch linked G2 to four fillets, made G1-only, \[SV\] Fig. 6).
 pub const DEMO_MODEL: &str = include_str!("../../../fixtures/models/x_node.json");
 
 /// Options of a model run.

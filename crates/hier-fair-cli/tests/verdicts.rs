@@ -146,6 +146,16 @@ fn fair_on_a_bare_surface_names_the_method_once_and_ends_with_a_verdict() {
         ),
         "{text}"
     );
+    // --quiet: the verdict line alone, as on a model
+    let quiet = ok(run_in(
+        tmp.path(),
+        &["fair", surface.to_str().unwrap(), "-o", "q.json", "--quiet"],
+    ));
+    assert_eq!(quiet.lines().count(), 1, "{quiet}");
+    assert!(
+        quiet.starts_with("verdict: 1 of 1 surfaces faired"),
+        "{quiet}"
+    );
 }
 
 /// `--keep` chooses the frames of a bare surface; on a model (or a CAD file) the links choose
