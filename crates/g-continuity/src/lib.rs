@@ -70,7 +70,7 @@ pub use joint::{JointReport, polish_joint};
 pub use lead_in::{LEAD_IN_DEGREE, LeadInReport, MAX_LEAD_IN, with_lead_in};
 pub use measure::{LinkMeasure, MeasureParams, SampleMeasure, measure_link};
 pub use params::{ConnectParams, G2Method, SetParams, Tolerances};
-pub use section::{MAX_RAMP, one_hump_section};
+pub use section::{MAX_RAMP, one_hump_section, one_hump_section_by_sections};
 pub use slave::{
     C0_FOR_G1_SHARE, ConnectReport, SideLink, SideReport, StepReport, connect_slave,
     degenerate_corner_blocks, new_breakpoints, new_knots, prepare_slave, set_g0, set_g1, set_g2,

@@ -191,6 +191,8 @@ fn connect_surface(
             }
         })
         .collect();
+    // G2 relaxed next to a corner whose masters disagree, as the framework and `check` do
+    let links = crate::zones::with_vertex_zones(links, original, &params.tolerances);
     let own = ConnectParams {
         max_control_points: crate::framework::net_bound(params.max_control_points, original),
         ..*params
@@ -301,8 +303,8 @@ impl Protected<'_> {
         let params = self.params;
         let mut worst = [0.0f64; 3];
         for (l, b) in self.links.iter().zip(self.before) {
-            let Ok(a) = g_continuity::measure::measure_link(l.master, s, l.side, &params.measure)
-            else {
+            // (with its vertex zones, as `before` was measured by `check_model`)
+            let Ok(a) = l.measure(s, &params.measure) else {
                 worst[0] = f64::INFINITY;
                 continue;
             };

@@ -40,6 +40,10 @@ pub(super) struct Section {
     pub(super) corner: Vector2<f64>,
     /// spans of the reference in the cross direction
     pub(super) spans: usize,
+    /// the section's plane in space: E0 and the directions of +x and +y
+    origin: V3<f64>,
+    ex: V3<f64>,
+    ey: V3<f64>,
 }
 
 /// The smooth ramp 0 → 1 on [0, 1] (x³(10 − 15x + 6x²), "smootherstep"): its first and second
@@ -84,14 +88,29 @@ pub(super) fn meeting(
 impl Section {
     /// The iso-curve of `s` across `cross` at the middle of the other direction, in its plane.
     pub(super) fn read(s: &BSplineSurface, cross: Direction) -> Result<Self> {
+        let (a0, a1) = match cross {
+            Direction::V => s.domain_u(),
+            Direction::U => s.domain_v(),
+        };
+        Self::read_at(s, cross, 0.5 * (a0 + a1))
+    }
+
+    /// The point in space of the section-plane point `q` (E0 at the origin, the start tangent
+    /// along +x).
+    pub(super) fn to_space(&self, q: &Vector2<f64>) -> Point3 {
+        Point3::from(self.origin + self.ex * q.x + self.ey * q.y)
+    }
+
+    /// The iso-curve of `s` across `cross` at the parameter `mid` of the other direction, in
+    /// its plane.
+    pub(super) fn read_at(s: &BSplineSurface, cross: Direction, mid: f64) -> Result<Self> {
         let bad = |reason: &str| Error::NoSection {
             reason: reason.to_string(),
         };
-        let ((a0, a1), (c0, c1), kv) = match cross {
-            Direction::V => (s.domain_u(), s.domain_v(), s.knots_v()),
-            Direction::U => (s.domain_v(), s.domain_u(), s.knots_u()),
+        let ((c0, c1), kv) = match cross {
+            Direction::V => (s.domain_v(), s.knots_v()),
+            Direction::U => (s.domain_u(), s.knots_u()),
         };
-        let mid = 0.5 * (a0 + a1);
         let n = SECTION_SAMPLES;
         let mut points = Vec::with_capacity(n);
         let mut d1 = Vec::with_capacity(n);
@@ -151,6 +170,9 @@ impl Section {
             turn: end_dir.y.atan2(end_dir.x),
             corner: Vector2::new(sm, 0.0),
             spans: kv.spans().count(),
+            origin: e0,
+            ex,
+            ey,
         })
     }
 

@@ -149,3 +149,59 @@ fn weights_that_are_no_product_keep_both_contact_curves() {
         }
     }
 }
+
+/// A polynomial fillet whose section changes along it: cubic Bézier arcs across (u), a 90° arc
+/// of radius 2 at v = 0 and a 60° arc of radius 3 at v = 1, both leaving the plane z = 0 along
+/// +x, joined linearly along (v).
+fn changing_fillet() -> BSplineSurface {
+    let bezier_arc = |y: f64, r: f64, theta: f64| {
+        let h = 4.0 / 3.0 * (theta / 4.0).tan() * r;
+        let end = Point3::new(r * theta.sin(), y, r - r * theta.cos());
+        let back = Vector3::new(theta.cos(), 0.0, theta.sin()) * h;
+        [
+            Point3::new(0.0, y, 0.0),
+            Point3::new(h, y, 0.0),
+            end - back,
+            end,
+        ]
+    };
+    let (a, b) = (
+        bezier_arc(0.0, 2.0, FRAC_PI_2),
+        bezier_arc(4.0, 3.0, PI / 3.0),
+    );
+    let points: Vec<Point3> = (0..4).flat_map(|i| [a[i], b[i]]).collect();
+    BSplineSurface::new(
+        KnotVector::new(3, vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0]).unwrap(),
+        KnotVector::new(1, vec![0.0, 0.0, 1.0, 1.0]).unwrap(),
+        points,
+        None,
+    )
+    .unwrap()
+}
+
+#[test]
+fn a_section_that_changes_along_the_fillet_is_followed_section_by_section() {
+    // the deviation of a ramp f on an arc of radius R is about 0.3 f R (module docs); the middle
+    // section carried through every column's frame (`one_hump_section`) keeps the middle
+    // section's shape in every column, and is not one hump at the ends (three extrema at v = 1)
+    let s = changing_fillet();
+    let f = 0.1;
+    let out = one_hump_section_by_sections(&s, Direction::U, (f, f)).unwrap();
+    let d = max_deviation(&s, &out, 21);
+    assert!(d < 0.4 * f * 3.0, "deviation {d}");
+    // the contact curves kept
+    let (v0, v1) = s.domain_v();
+    for k in 0..=10 {
+        let v = v0 + (v1 - v0) * k as f64 / 10.0;
+        for u in [0.0, 1.0] {
+            assert!((out.point(u, v) - s.point(u, v)).norm() < 1e-9, "{u} {v}");
+        }
+    }
+    // and one hump across at both ends and in the middle, counted above the input's own
+    // wave (a cubic Bézier quarter circle's curvature varies by 1.6 % along it)
+    for at in [0.0, 0.5, 1.0] {
+        let p = profile(&out, Direction::U, at);
+        let peak = p.iter().cloned().fold(0.0, f64::max);
+        assert_eq!(count_extrema(&p, 0.02 * peak), 1, "at {at}: {p:?}");
+    }
+}
