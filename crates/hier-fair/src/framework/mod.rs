@@ -265,10 +265,12 @@ pub fn fair_model_with(
         .edges
         .extend(found_edge_reports(model, &found, &report.links));
     report.links.truncate(given.links.len());
+    // the zones named on the model with its found links: a corner a found link's master makes
+    // a conflict is one too ([`crate::zones`])
+    let zoned = vertex::zone_problems(&out, &ranges, &report.links, connect.tolerances.g2_rel);
     out.links.truncate(given.links.len());
     let unmet = unmet_problems(model, &report.links);
     report.problems.extend(unmet);
-    let zoned = vertex::zone_problems(&out, &ranges, &report.links, connect.tolerances.g2_rel);
     report.problems.extend(zoned);
     let worse = worse_link_problems(model, &out, &report.links);
     report.problems.extend(worse);
