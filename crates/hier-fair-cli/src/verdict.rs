@@ -180,12 +180,30 @@ pub fn verdict_line(report: &FairModelReport, model: &Model) -> String {
                     .is_some_and(|r| r > model.tolerances.g2_rel)
         })
         .count();
+    // links relaxed within a vertex zone (hier-fair's `zones`): their zones are named as
+    // conflicts, but a met one is counted with the met links, not as a conflict
+    let zoned = report
+        .links
+        .iter()
+        .filter(|l| {
+            l.after
+                .as_ref()
+                .is_some_and(|m| m.vertex_zones.iter().any(|&z| z > 0.0))
+        })
+        .count();
+    let met_labels: Vec<String> = report
+        .links
+        .iter()
+        .filter(|l| l.met)
+        .map(|l| model.link_label(l.link))
+        .collect();
     let count = |kind: hier_fair::ProblemKind| {
         let mut links: Vec<&str> = report
             .problems
             .iter()
             .filter(|p| p.kind == kind)
             .filter_map(|p| p.link.as_deref())
+            .filter(|l| !met_labels.iter().any(|m| m == l))
             .collect();
         links.sort_unstable();
         links.dedup();
@@ -202,10 +220,15 @@ pub fn verdict_line(report: &FairModelReport, model: &Model) -> String {
         .filter(|s| s.fairness_verdict().fair())
         .count();
     format!(
-        "verdict: {}{}), {} conflicts, {} unmet; {within} of {} surfaces within their deviation; {fair} of {} fair against their input",
+        "verdict: {}{}{}), {} conflicts, {} unmet; {within} of {} surfaces within their deviation; {fair} of {} fair against their input",
         crate::check::links_met(met, report.links.len(), model),
         if across > 0 {
             format!("; {across} of them above it across the boundary, n × T")
+        } else {
+            String::new()
+        },
+        if zoned > 0 {
+            format!("; {zoned} with G2 relaxed in a vertex zone")
         } else {
             String::new()
         },

@@ -247,3 +247,54 @@ fn build_fair_mesh_and_label_check_their_inputs_and_outputs() {
         &dir.join("l.json"),
     );
 }
+
+#[test]
+fn a_link_met_with_a_vertex_zone_is_counted_with_the_met_ones() {
+    // tests/models/vertex_conflict.json: the construction of hier-fair's tests/vertex_conflict.rs
+    // — a flat corner patch linked G2 to a plane (u0) and to a cylinder of radius 5 (v0) that
+    // touches the plane along its side: at their common corner the cylinder curves by 1/5 across
+    // v0 and the plane not at all, so v0 is relaxed within a vertex zone there and met beyond
+    let tmp = tempfile::tempdir().unwrap();
+    let model = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/models/vertex_conflict.json");
+    let out = tmp.path().join("out.json");
+    let report = tmp.path().join("report.json");
+    let text = ok(run_in(
+        tmp.path(),
+        &[
+            "fair",
+            model.to_str().unwrap(),
+            "-o",
+            out.to_str().unwrap(),
+            "--report",
+            report.to_str().unwrap(),
+            "--quiet",
+        ],
+    ));
+    let verdict = text.lines().last().unwrap();
+    assert!(
+        verdict.starts_with("verdict: 2 of 2 links met"),
+        "{verdict}"
+    );
+    assert!(
+        verdict.contains("with G2 relaxed in a vertex zone"),
+        "{verdict}"
+    );
+    assert!(verdict.contains(", 0 conflicts, 0 unmet"), "{verdict}");
+    // the report names the zone as a conflict, with its length
+    let r: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&report).unwrap()).unwrap();
+    let named = r["problems"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|p| p["kind"] == "conflict" && p["link"] == "blend.v0 -> roller");
+    assert!(named, "{}", r["problems"]);
+    let zones = r["links"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|l| l["side"] == "v0")
+        .map(|l| l["after"]["vertex_zones"].clone())
+        .unwrap();
+    assert!(zones[0].as_f64().unwrap() > 0.0, "{zones}");
+}
