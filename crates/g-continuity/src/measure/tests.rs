@@ -129,15 +129,27 @@ fn one_surface_split_with_a_skewed_parametrization_reads_g2_both_ways() {
     assert_eq!((m.g2_rel_across, m.g2_abs_across), (Some(0.0), Some(0.0)));
 }
 
+/// The constants (a, c0, c1, g) of [`growing_join`].
+const GROWING: (f64, f64, f64, f64) = (0.05, 0.1, 0.4, 1e-4);
+
+/// A join whose gap, angle and curvature difference grow towards the vertex x = 1: master
+/// z = a y² (y ≤ 0), slave z = (c0 + c1 x) y² + g x³ (y ≥ 0), linked on the slave's side u0 (the
+/// x axis), with (a, c0, c1, g) = [`GROWING`].
+fn growing_join() -> (BSplineSurface, BSplineSurface) {
+    let (a, c0, c1, g) = GROWING;
+    let master = bicubic_of(|u, v| Point3::new(v, -u, a * u * u));
+    let slave = bicubic_of(|u, v| Point3::new(v, u, (c0 + c1 * v) * u * u + g * v.powi(3)));
+    (master, slave)
+}
+
 #[test]
 fn the_vertex_figures_are_the_two_end_samples() {
     // master z = a y² (y ≤ 0); slave z = (c0 + c1 x) y² + g x³ (y ≥ 0): a gap g x³ and a
     // normal angle ≈ 3 g x² along the side, and a curvature jump across, all largest at the
     // vertex x = 1; S_u is perpendicular to the side, so both directions agree. K = 11
     // samples, the interior's worst at x = 0.9
-    let (a, c0, c1, g) = (0.05, 0.1, 0.4, 1e-4);
-    let master = bicubic_of(|u, v| Point3::new(v, -u, a * u * u));
-    let slave = bicubic_of(|u, v| Point3::new(v, u, (c0 + c1 * v) * u * u + g * v.powi(3)));
+    let (a, c0, c1, g) = GROWING;
+    let (master, slave) = growing_join();
     let params = MeasureParams {
         samples: 11,
         ..MeasureParams::default()
@@ -195,9 +207,8 @@ fn a_vertex_zone_leaves_the_decision_and_counts_with_the_vertex() {
     // vertex x = 1 (relative 1 − a/(c0 + c1 x)). A zone of 0.25 at the end (K = 11: the
     // samples x = 0.8, 0.9, 1.0 inside, strictly past 0.75) takes them out of the figures
     // decisions read: the worst is then x = 0.7; the zone's samples go with the vertex.
-    let (a, c0, c1, g) = (0.05, 0.1, 0.4, 1e-4);
-    let master = bicubic_of(|u, v| Point3::new(v, -u, a * u * u));
-    let slave = bicubic_of(|u, v| Point3::new(v, u, (c0 + c1 * v) * u * u + g * v.powi(3)));
+    let (a, c0, c1, g) = GROWING;
+    let (master, slave) = growing_join();
     let params = MeasureParams {
         samples: 11,
         ..MeasureParams::default()

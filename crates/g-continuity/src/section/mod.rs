@@ -82,14 +82,7 @@ pub fn one_hump_section(
         .map(|q| frame_coordinates(q, &corner, &end))
         .collect::<Option<_>>()
         .ok_or_else(|| bad("the section's frame is degenerate"))?;
-    let (c0, c1) = match cross {
-        Direction::V => s.domain_v(),
-        Direction::U => s.domain_u(),
-    };
-    let kv = KnotVector::new(
-        kv.degree(),
-        kv.knots().iter().map(|&x| c0 + (c1 - c0) * x).collect(),
-    )?;
+    let kv = across_knots(&s, cross, &kv)?;
     let (na, nc) = match cross {
         Direction::V => (s.num_u(), s.num_v()),
         Direction::U => (s.num_v(), s.num_u()),
@@ -113,23 +106,7 @@ pub fn one_hump_section(
         column[m - 1] = e1;
         columns.push(column);
     }
-    let (mut points, mut weights) = (Vec::with_capacity(na * m), Vec::with_capacity(na * m));
-    let (ku, kvv, nu, nv) = match cross {
-        Direction::V => (s.knots_u().clone(), kv, na, m),
-        Direction::U => (kv, s.knots_v().clone(), m, na),
-    };
-    for i in 0..nu {
-        for j in 0..nv {
-            let (a, c) = match cross {
-                Direction::V => (i, j),
-                Direction::U => (j, i),
-            };
-            points.push(columns[a][c]);
-            weights.push(weights_new.as_ref().map_or(1.0, |w| w[a][c]));
-        }
-    }
-    let weights = weights_new.is_some().then_some(weights);
-    Ok(BSplineSurface::new(ku, kvv, points, weights)?)
+    net_of(&s, cross, kv, &columns, weights_new.as_deref())
 }
 
 /// [`one_hump_section`] taken section by section: at the Greville abscissa of every control
@@ -148,35 +125,63 @@ pub fn one_hump_section_by_sections(
 ) -> Result<BSplineSurface> {
     let f = (ramps.0.clamp(0.0, MAX_RAMP), ramps.1.clamp(0.0, MAX_RAMP));
     let s = s.clamped()?;
-    let middle_section = Section::read(&s, cross)?;
-    let middle = MIDDLE_SPANS.max(middle_section.spans + 1);
-    let points = middle_section.profile(f, PROFILE_STEPS)?;
-    let (kv, _) = fit_profile(&points, f, middle, middle_section.end_tangent())?;
+    let cross_kv = match cross {
+        Direction::V => s.knots_v(),
+        Direction::U => s.knots_u(),
+    };
+    // the spans of the middle, as [`one_hump_section`] takes them from its section
+    let middle = MIDDLE_SPANS.max(cross_kv.spans().count() + 1);
+    let (kv, columns) = sections_interpolated(&s, cross, f, middle)?;
+    let kv = across_knots(&s, cross, &kv)?;
+    net_of(&s, cross, kv, &columns, None)
+}
+
+/// The profile's knot vector `kv` (over [0, 1]) mapped onto `s`'s domain across `cross`.
+fn across_knots(s: &BSplineSurface, cross: Direction, kv: &KnotVector) -> Result<KnotVector> {
     let (c0, c1) = match cross {
         Direction::V => s.domain_v(),
         Direction::U => s.domain_u(),
     };
-    let kv = KnotVector::new(
+    Ok(KnotVector::new(
         kv.degree(),
         kv.knots().iter().map(|&x| c0 + (c1 - c0) * x).collect(),
-    )?;
-    let columns = sections_interpolated(&s, cross, f, middle)?;
+    )?)
+}
+
+/// The surface with `s`'s knots along, `kv` across `cross`, and the net of `columns` (one per
+/// control index along, each running across), with the `weights` laid out as the columns
+/// (`None`: polynomial).
+fn net_of(
+    s: &BSplineSurface,
+    cross: Direction,
+    kv: KnotVector,
+    columns: &[Vec<Point3>],
+    weights: Option<&[Vec<f64>]>,
+) -> Result<BSplineSurface> {
     let (na, m) = (columns.len(), columns[0].len());
     let (ku, kvv, nu, nv) = match cross {
         Direction::V => (s.knots_u().clone(), kv, na, m),
         Direction::U => (kv, s.knots_v().clone(), m, na),
     };
-    let mut net = Vec::with_capacity(nu * nv);
+    let index = |i: usize, j: usize| match cross {
+        Direction::V => (i, j),
+        Direction::U => (j, i),
+    };
+    let mut points = Vec::with_capacity(nu * nv);
+    let mut ws = Vec::with_capacity(nu * nv);
     for i in 0..nu {
         for j in 0..nv {
-            let (a, c) = match cross {
-                Direction::V => (i, j),
-                Direction::U => (j, i),
-            };
-            net.push(columns[a][c]);
+            let (a, c) = index(i, j);
+            points.push(columns[a][c]);
+            ws.push(weights.map_or(1.0, |w| w[a][c]));
         }
     }
-    Ok(BSplineSurface::new(ku, kvv, net, None)?)
+    Ok(BSplineSurface::new(
+        ku,
+        kvv,
+        points,
+        weights.is_some().then_some(ws),
+    )?)
 }
 
 /// The control columns of a surface's one-hump section taken section by section: at
@@ -193,44 +198,43 @@ fn sections_interpolated(
     cross: Direction,
     f: (f64, f64),
     middle: usize,
-) -> Result<Vec<Vec<Point3>>> {
+) -> Result<(KnotVector, Vec<Vec<Point3>>)> {
     let along = match cross {
         Direction::V => s.knots_u(),
         Direction::U => s.knots_v(),
     };
-    // the sections at the columns' Greville abscissae, interpolated (Schoenberg–Whitney makes
-    // the collocation regular)
     let abscissae = along.greville();
-    let na = abscissae.len();
+    let mut kv = None;
     let mut curves: Vec<Vec<Point3>> = Vec::with_capacity(abscissae.len());
     for &g in &abscissae {
         let section = Section::read_at(s, cross, g)?;
         let points = section.profile(f, PROFILE_STEPS)?;
-        let (_, ctrl) = fit_profile(&points, f, middle, section.end_tangent())?;
+        let (k, ctrl) = fit_profile(&points, f, middle, section.end_tangent())?;
+        kv.get_or_insert(k);
         curves.push(ctrl.iter().map(|q| section.to_space(q)).collect());
     }
-    let rows = abscissae.len();
-    let mut a = nalgebra::DMatrix::zeros(rows, na);
-    let p = along.degree();
-    for (k, &g) in abscissae.iter().enumerate() {
-        let (span, vals) = nurbs_core::basis::basis_derivatives(along, g, 0);
-        for (o, &b) in vals.iter().take(p + 1).enumerate() {
-            a[(k, span - p + o)] = b;
-        }
-    }
-    let lu = a.lu();
+    let kv = kv.ok_or_else(|| bad("the surface has no control column"))?;
+    // each row across interpolated along through the sections' points (nurbs-core's fit at as
+    // many abscissae as control points: the interpolation)
+    let na = abscissae.len();
     let m = curves[0].len();
-    let mut columns = vec![vec![Point3::origin(); m]; na];
+    let template = nurbs_core::BSplineCurve::new(along.clone(), vec![Point3::origin(); na], None)?;
+    let free = vec![true; na];
+    let mut columns = vec![Vec::with_capacity(m); na];
     for c in 0..m {
-        let rhs = nalgebra::DMatrix::from_fn(rows, 3, |k, x| curves[k][c][x]);
-        let sol = lu
-            .solve(&rhs)
-            .ok_or_else(|| bad("the sections' interpolation along is singular"))?;
-        for (a, column) in columns.iter_mut().enumerate() {
-            column[c] = Point3::new(sol[(a, 0)], sol[(a, 1)], sol[(a, 2)]);
+        let row: Vec<Point3> = curves.iter().map(|curve| curve[c]).collect();
+        let (fitted, _) = nurbs_core::fit_curve(
+            &template,
+            &free,
+            &abscissae,
+            &row,
+            &nurbs_core::FitParams::default(),
+        )?;
+        for (column, p) in columns.iter_mut().zip(fitted.control_points()) {
+            column.push(*p);
         }
     }
-    Ok(columns)
+    Ok((kv, columns))
 }
 
 fn bad(reason: &str) -> Error {
