@@ -7,16 +7,16 @@
 //! disturbances are then added to control points away from the boundaries, with a seeded
 //! generator, so the models are deterministic:
 //! - *noise* on every control point at least two rows from each side keeps the input G1 at
-//!   every join (rows 0–1 untouched) and breaks G2 — the situation of [SV] Fig. 6 ("stripes not
+//!   every join (rows 0–1 untouched) and breaks G2 — the situation of \[SV\] Fig. 6 ("stripes not
 //!   tangential at the common boundaries (only G1 continuity)");
 //! - a smooth *bump* on those points of a corner patch does the same without noise.
 //!
 //! | model | construction |
 //! |---|---|
 //! | `x_node` | 3×3 grid of 20 mm squares over [-30, 30]²: four primaries at the corners, four fillets between them, the corner patch in the middle linked G2 to the four fillets; all disturbed beyond their tangent rows (the demo model) |
-//! | `five_sided` | a regular pentagon (circumradius 20 mm) split centrally into five quads (one corner group), surrounded by five strips: two primaries, three fillets ([SV] Fig. 8) |
+//! | `five_sided` | a regular pentagon (circumradius 20 mm) split centrally into five quads (one corner group), surrounded by five strips: two primaries, three fillets (\[SV\] Fig. 8) |
 //! | `fillet_freeform` | a fillet between two freeform primaries that extend beyond its ends (the master parameters do not match the fillet's) |
-//! | `bezier_sphere` | a sphere zone of 2×5 bicubic Bézier patches joined C0 in one surface (interior knots of full multiplicity), one control point pulled out ([Hadenfeld] example) |
+//! | `bezier_sphere` | a sphere zone of 2×5 bicubic Bézier patches joined C0 in one surface (interior knots of full multiplicity), one control point pulled out (\[H\] example) |
 //! | `noisy_panel` | one 12×12 bicubic panel of 100×60 mm with seeded noise of 0.05 mm |
 
 use anyhow::Result;
@@ -96,7 +96,7 @@ fn link(slave: &str, side: &str, master: &str, continuity: &str) -> Value {
     json!({"slave": slave, "side": side, "master": master, "continuity": continuity})
 }
 
-/// The X-node of the demo ([SV] Fig. 6).
+/// The X-node of the demo (\[SV\] Fig. 6).
 pub fn x_node() -> Result<Value> {
     let mut rng = ChaCha8Rng::seed_from_u64(6);
     let f = &height;
@@ -152,7 +152,7 @@ pub fn x_node() -> Result<Value> {
     }))
 }
 
-/// The five-sided corner of [SV] Fig. 8.
+/// The five-sided corner of \[SV\] Fig. 8.
 pub fn five_sided() -> Result<Value> {
     let mut rng = ChaCha8Rng::seed_from_u64(8);
     let f = &height;

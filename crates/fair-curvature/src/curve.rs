@@ -1,4 +1,4 @@
-//! Target-curvature fairing of a B-spline curve ([SSV08]; [SV] §5.2).
+//! Target-curvature fairing of a B-spline curve (\[SSV08\]; \[SV\] §5.2).
 //!
 //! The curve is sampled at equal arc length (a dense parameter sampling, its cumulative chord
 //! length inverted by linear interpolation), the samples are faired by

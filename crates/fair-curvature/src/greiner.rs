@@ -1,4 +1,4 @@
-//! Curvature-approximation fairing ([SV] §5.3 after [G96]): the [`SurfaceFairing`] method
+//! Curvature-approximation fairing (\[SV\] §5.3 after \[G96\]): the [`SurfaceFairing`] method
 //! `greiner`.
 //!
 //! 1. Sample the original surface R on the grid of [`Sampling`] and precompute at each sample
@@ -69,7 +69,7 @@ use crate::smooth::smooth_grid;
 /// Name of the curvature-approximation method.
 pub const GREINER_METHOD: &str = "greiner";
 
-/// The target curvature of [SV] §5.3.
+/// The target curvature of \[SV\] §5.3.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum GreinerTarget {
     /// smoothed traces (mean curvature): one row per sample and coordinate

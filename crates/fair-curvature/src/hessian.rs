@@ -1,4 +1,4 @@
-//! Greiner's Hessian of the coordinate functions on a reference surface ([SV] §5.3, [G96]).
+//! Greiner's Hessian of the coordinate functions on a reference surface (\[SV\] §5.3, \[G96\]).
 //!
 //! On the reference R (the original surface) with metric g = (R_i·R_j) and Christoffel symbols
 //! Γ^i_jl = Σ_m g^{im} ⟨R_jl, R_m⟩, the Hessian of a function h on the parameter domain is

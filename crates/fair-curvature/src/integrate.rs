@@ -1,4 +1,4 @@
-//! Least-squares integration of target curvatures along lines of samples ([SSV08] step 3 as
+//! Least-squares integration of target curvatures along lines of samples (\[SSV08\] step 3 as
 //! one boundary-value problem): the displacements y of the samples that make the discrete
 //! curvature vectors follow their targets, with a soft pull and a hard ball around the
 //! originals. Shared by curves (one line) and surfaces (the u- and v-isocurves of the grid).
@@ -22,7 +22,7 @@
 //! (at most [`BALL_RESOLVES`] times); what still sticks out is projected onto the ball.
 //!
 //! Integrating from both ends at once (a two-point boundary-value problem) replaces the two
-//! initial-value integrations and their blend of [SSV08]: nothing accumulates along the line,
+//! initial-value integrations and their blend of \[SSV08\]: nothing accumulates along the line,
 //! so the result neither drifts nor needs a pull strong enough to bring the noise back.
 //!
 //! # Tolerance

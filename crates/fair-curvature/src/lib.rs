@@ -1,6 +1,6 @@
 //! # fair-curvature
 //!
-//! Two curvature-driven fairing methods of [SV] §5 as [`nurbs_core::SurfaceFairing`]
+//! Two curvature-driven fairing methods of \[SV\] §5 as [`nurbs_core::SurfaceFairing`]
 //! implementations that move only the control points a [`nurbs_core::ControlMask`] frees
 //! (fixed frames come back bit-identical) and stay within the deviation tolerance:
 //!
@@ -40,12 +40,12 @@
 //! assert_eq!(faired.control_points()[0], s.control_points()[0]); // the boundary stays
 //! ```
 //!
-//! - [`TargetCurvatureFairing`] (`curvature`, [SV] §5.2 after [SSV08]): the curvature of the
+//! - [`TargetCurvatureFairing`] (`curvature`, \[SV\] §5.2 after \[SSV08\]): the curvature of the
 //!   isocurves of a sample grid is smoothed ([`polyline`]), the samples follow it in one
 //!   least-squares integration from both ends with a soft pull towards the original
 //!   (`integrate`), and the surface is refitted by constrained least squares ([`target`]);
 //!   curves by [`fair_curve`] ([`curve`]).
-//! - [`GreinerFairing`] (`greiner`, [SV] §5.3 after [G96]): the Hessian of the faired
+//! - [`GreinerFairing`] (`greiner`, \[SV\] §5.3 after \[G96\]): the Hessian of the faired
 //!   surface's coordinates on the original as reference surface is linear in the control points
 //!   ([`hessian`]); it is fitted to smoothed curvature targets in sparse least squares
 //!   ([`greiner`]), independent of the parametric directions.

@@ -1,4 +1,4 @@
-//! Target-curvature fairing of one sampled curve ([SSV08]; [SV] §5.2): the curvature
+//! Target-curvature fairing of one sampled curve (\[SSV08\]; \[SV\] §5.2): the curvature
 //! measurement and smoothing that the curve and surface methods share, and the fairing of a
 //! single polyline.
 //!
@@ -26,9 +26,9 @@
 //! the samples to rounding: exact shapes stay put.
 //!
 //! # Deviation from the paper
-//! [SSV08] smooths the scalar curvature of planar curves; for space curves we smooth the
+//! \[SSV08\] smooths the scalar curvature of planar curves; for space curves we smooth the
 //! curvature vector's components in a transported frame (equal to the signed curvature for
-//! planar curves). [SSV08] integrates the target curvature from each end as an initial-value
+//! planar curves). \[SSV08\] integrates the target curvature from each end as an initial-value
 //! problem (turning angle by turning angle) and blends the two; here one least-squares
 //! boundary-value problem does both at once, because the two marching integrations drift
 //! apart on noisy data and the pull needed to hold them brings the noise back.

@@ -1,4 +1,4 @@
-//! Curvature targets from osculating quadrics: the "averaged Hessian" of [SV] §5.3 estimated by
+//! Curvature targets from osculating quadrics: the "averaged Hessian" of \[SV\] §5.3 estimated by
 //! a least-squares quadric through the reference surface's samples around each sample.
 //!
 //! In the local frame (e₁ = R_u/|R_u|, e₂ = n × e₁, n) at the sample R(u, v), with coordinates

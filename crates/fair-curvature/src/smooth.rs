@@ -1,4 +1,4 @@
-//! Smoothing of per-sample values on the parameter grid (the curvature targets of [SV] §5.3).
+//! Smoothing of per-sample values on the parameter grid (the curvature targets of \[SV\] §5.3).
 //!
 //! Jacobi sweeps x_ab ← (1 − ω) x_ab + ω (x_{a−1,b} + x_{a+1,b} + x_{a,b−1} + x_{a,b+1})/4 over all
 //! samples; on the grid's border the average runs over the neighbours that exist. The stencil treats u and v alike, so swapping the parametric roles of

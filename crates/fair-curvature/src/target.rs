@@ -1,4 +1,4 @@
-//! Target-curvature fairing of surfaces ([SV] §5.2, [SSV08]): the [`SurfaceFairing`] method
+//! Target-curvature fairing of surfaces (\[SV\] §5.2, \[SSV08\]): the [`SurfaceFairing`] method
 //! `curvature`.
 //!
 //! 1. Sample the surface on the grid S(u_a, v_b) of [`Sampling`].
@@ -16,12 +16,12 @@
 //! 4. If a control point moved farther than the tolerance, all displacements are scaled back
 //!    (by the convex hull property the surface then stays within the tolerance).
 //!
-//! [SV] §5.2 notes that fairing isocurves may leave artifacts on saddle-like surfaces: the
+//! \[SV\] §5.2 notes that fairing isocurves may leave artifacts on saddle-like surfaces: the
 //! targets come from the isocurves alone, so the curvature is smoothed along two directions
 //! only, which flattens curvature peaks that the isocurves cross.
 //!
 //! # Deviation from the paper
-//! [SV] and [SSV08] fair the u- and v-isocurves one by one and average the two faired
+//! \[SV\] and \[SSV08\] fair the u- and v-isocurves one by one and average the two faired
 //! positions of each sample. An average of two fairings keeps half of the noise that only one
 //! family sees (a wave along u is invisible to the v-isocurves), and on a noisy sphere patch it
 //! removed less than a fifth of the mean-curvature variance; integrating the targets of both

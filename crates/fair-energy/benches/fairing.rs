@@ -1,5 +1,5 @@
-//! Local and global energy fairing on [H]'s example: the 52×52 quartic of `fixtures/third_party/bench`
-//! (ε = 0.02, 10,000 iterations, [H] slide "Examples (1)"), the local scheme on the same net made
+//! Local and global energy fairing on \[H\]'s example: the 52×52 quartic of `fixtures/third_party/bench`
+//! (ε = 0.02, 10,000 iterations, \[H\] slide "Examples (1)"), the local scheme on the same net made
 //! rational (smooth weights in [0.75, 1.25], held fixed), and the global variant on 200×200.
 //!
 //! Run: `cargo bench -p fair-energy` (`FAIR_BENCH_SLOW=1` adds nalgebra-sparse on 200×200). Goals (issue 4): local fairing ≤ 10 ms, global ≤ 20 ms on
@@ -14,7 +14,7 @@ use fair_energy::{
 };
 use nurbs_core::{BSplineSurface, ControlMask, Frame, KnotVector, Point3};
 
-/// ε of [H]'s example (model units).
+/// ε of \[H\]'s example (model units).
 const SEED_TOLERANCE: f64 = 0.02;
 
 fn seed_surface() -> BSplineSurface {

@@ -1,10 +1,10 @@
-//! The Bézier-spline extension of [H] part ② as one flow: surfaces whose interior knots have full
+//! The Bézier-spline extension of \[H\] part ② as one flow: surfaces whose interior knots have full
 //! multiplicity (C⁰-joined Bézier patches) come back C¹ at those knots.
 //!
-//! [H] slide "Extension to Bézier-spline surfaces":
+//! \[H\] slide "Extension to Bézier-spline surfaces":
 //! 1. check every joint (interior knot of multiplicity p) for C¹ continuity ([`crate::joints`]);
 //! 2. where it is C¹, remove the knot once (exact: nurbs-core's knot removal with a round-off
-//!    tolerance, [NB] A5.8) — optional, see [`KnotRemoval`];
+//!    tolerance, \[NB\] A5.8) — optional, see [`KnotRemoval`];
 //! 3. fair with Φ = (1 − λ) Π + λ Σ (cross-derivative jumps at the remaining joints)²
 //!    ([`crate::stiffness`], the local scheme of [`crate::local`]) within ε − m, where m is the
 //!    largest move of the smallest C¹ correction of the input (reserved for step 4, at most
@@ -61,10 +61,10 @@ pub enum KnotRemoval {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct BezierSplineParams {
     /// The local scheme; its `joint_weight` is λ. Default: [`EnergyParams::default`] with
-    /// λ = 0.9, the middle of [H]'s examples (0.85–0.95, [H] "Examples (4)–(6)").
+    /// λ = 0.9, the middle of \[H\]'s examples (0.85–0.95, \[H\] "Examples (4)–(6)").
     pub energy: EnergyParams,
-    /// Step 2, before fairing. Default [`KnotRemoval::ThroughFixedFrames`]: [H] removes
-    /// every C¹ joint ([H] "Extension", ②) and the removal is exact.
+    /// Step 2, before fairing. Default [`KnotRemoval::ThroughFixedFrames`]: \[H\] removes
+    /// every C¹ joint (\[H\] "Extension", ②) and the removal is exact.
     pub initial_removal: KnotRemoval,
     /// Step 5, after the finishing projection. Default [`KnotRemoval::Keep`]: the joints are C¹
     /// by their control points already; removing them is the caller's choice.

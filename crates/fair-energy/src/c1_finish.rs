@@ -16,7 +16,7 @@
 //! direction). Jumps that remain are measured and reported by the caller.
 //!
 //! # Deviation from the paper
-//! [H] only penalizes the jumps (λ-weighted) and leaves them small but non-zero; this step makes
+//! \[H\] only penalizes the jumps (λ-weighted) and leaves them small but non-zero; this step makes
 //! them vanish. A frozen point stays on its ball although it could still slide
 //! along it: the active set is greedy, so a joint may be reported as left open where a cleverer
 //! solver could still close it.

@@ -1,4 +1,4 @@
-//! Local energy fairing of B-spline curves: the scheme of [H] in one variable.
+//! Local energy fairing of B-spline curves: the scheme of \[H\] in one variable.
 //!
 //! Functional ∫ |x''|² dt (+ β ∫ |x'''|² dt) = Σ_c x_cᵀ (G²² + β G³³) x_c; each step moves the free
 //! control point with the largest energy decrease to its optimum, clamped to the ball of radius ε
@@ -13,7 +13,7 @@ use crate::stiffness::SeparableStiffness;
 /// Settings of the local curve scheme.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct CurveEnergyParams {
-    /// Largest number of single-point moves. Default 10,000, as for surfaces ([H] "Examples (1)").
+    /// Largest number of single-point moves. Default 10,000, as for surfaces (\[H\] "Examples (1)").
     pub max_iterations: usize,
     /// Stop when the best energy decrease falls below this fraction of the starting energy
     /// (unit-free). Default 1e-12.

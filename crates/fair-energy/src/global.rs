@@ -17,7 +17,7 @@
 //! Optionally the local scheme of [`crate::local`] polishes the result inside the same balls.
 //!
 //! # Deviation from the paper
-//! [SV] §5.2 minimizes the energy of all free points at once without the deviation term; w
+//! \[SV\] §5.2 minimizes the energy of all free points at once without the deviation term; w
 //! keeps the system definite when the mask frees whole regions and pulls the result towards the
 //! original, so that clamping to ε changes it less.
 //!
@@ -75,7 +75,7 @@ impl SparseSolver {
 pub struct GlobalParams {
     /// w relative to the mean diagonal of K_ff (unit-free, > 0). Default 1e-3: small enough that
     /// noise at the control-point scale is smoothed away, large enough to keep the overall shape;
-    /// on [H]'s 52×52 example (ε = 0.02) no move needs clamping (`docs/benchmarks.md`).
+    /// on \[H\]'s 52×52 example (ε = 0.02) no move needs clamping (`docs/benchmarks.md`).
     pub deviation_weight: f64,
     /// Which sparse Cholesky. Default: [`SparseSolver::FASTEST`].
     pub solver: SparseSolver,

@@ -1,5 +1,5 @@
 //! Joints of a Bézier-spline surface: interior knots of full multiplicity (= degree), where the
-//! surface is only C⁰ ([H] part ②, slide "B-spline surfaces with multiple inner knots").
+//! surface is only C⁰ (\[H\] part ②, slide "B-spline surfaces with multiple inner knots").
 //!
 //! At a u-knot ū of multiplicity p the only functions with a non-zero derivative on either side
 //! are N_{j−1}, N_j, N_{j+1} (N_j(ū) = 1: row j of the net lies on the surface), so the jump of the
@@ -7,7 +7,7 @@
 //! X_u(ū⁻, ·) − X_u(ū⁺, ·) ↦ J_k = c₋ P_{j−1,k} + c₀ P_{j,k} + c₊ P_{j+1,k},
 //! c = N'(ū⁻) − N'(ū⁺) = (−p/h₋, p/h₋ + p/h₊, −p/h₊), h₋, h₊ the adjacent knot spans; the jump
 //! function is Σ_k J_k N_k(v), so max_k |J_k| bounds it and the surface is C¹ across ū exactly
-//! when every J_k = 0, i.e. P_{j,k} = (h₊ P_{j−1,k} + h₋ P_{j+1,k}) / (h₋ + h₊) ([NB] §5.4, the
+//! when every J_k = 0, i.e. P_{j,k} = (h₊ P_{j−1,k} + h₋ P_{j+1,k}) / (h₋ + h₊) (\[NB\] §5.4, the
 //! condition under which the knot is removable once). The same holds for v-knots along rows.
 //!
 //! The coefficients c come from nurbs-core's [`BasisEvaluator`] (left and right spans), so the

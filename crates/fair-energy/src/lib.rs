@@ -1,7 +1,7 @@
 //! # fair-energy
 //!
-//! Hadenfeld's local energy fairing of B-spline curves and surfaces ([H]), frame-preserving
-//! ([SV] §3.1, §5.2), and a global variant that solves for all free points at once.
+//! Hadenfeld's local energy fairing of B-spline curves and surfaces (\[H\]), frame-preserving
+//! (\[SV\] §3.1, §5.2), and a global variant that solves for all free points at once.
 //!
 //! ```
 //! use fair_energy::{EnergyParams, fair_surface};
@@ -62,7 +62,7 @@
 //! ([`rational`], [`RationalStiffness`]). The Bézier-spline flow and curve fairing need
 //! polynomial input and return [`EnergyError::Rational`] otherwise.
 //!
-//! Bézier-spline surfaces (interior knots of full multiplicity, [H] part ②): [`bezier`] runs the
+//! Bézier-spline surfaces (interior knots of full multiplicity, \[H\] part ②): [`bezier`] runs the
 //! seed's flow — remove the knots that are C¹ already, fair with the jump-weighted functional,
 //! then project the joints to exact C¹ inside the ε-balls ([`C1_JUMP_REL`]) and optionally remove
 //! those knots too.

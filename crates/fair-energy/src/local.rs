@@ -1,12 +1,12 @@
-//! The local scheme of [H] (slides "The new control point", "Ranking number"): move one control
+//! The local scheme of \[H\] (slides "The new control point", "Ranking number"): move one control
 //! point at a time to its optimal position with all others fixed.
 //!
 //! With the functional E(d) = Σ_c x_cᵀ K x_c and g_r = Σ_s K_rs d_s, moving d_r by δ changes E by
 //! 2 δ·g_r + K_rr |δ|², so the unconstrained optimum is d̃_r = d_r − g_r / K_rr
-//! (= Σ_{s≠r} γ_s d_s with γ_s = −K_rs / K_rr, [H] "The new control point (2)") and the ranking
-//! number is z_r = |g_r|² / K_rr = K_rr |d_r − d̃_r|² ([H] "Ranking number").
+//! (= Σ_{s≠r} γ_s d_s with γ_s = −K_rs / K_rr, \[H\] "The new control point (2)") and the ranking
+//! number is z_r = |g_r|² / K_rr = K_rr |d_r − d̃_r|² (\[H\] "Ranking number").
 //!
-//! The distance tolerance ([H] "Solution", case 2): the new point must stay within ε of the
+//! The distance tolerance (\[H\] "Solution", case 2): the new point must stay within ε of the
 //! ORIGINAL point o_r. Energy level sets around one point are spheres centred at d̃_r, so the
 //! constrained optimum is the point of the ball nearest to d̃_r: o_r + ε (d̃_r − o_r)/|d̃_r − o_r|.
 //! The ranking number is then the constrained decrease −(2 δ·g_r + K_rr |δ|²) ≥ 0.

@@ -2,8 +2,8 @@
 //! form in the control points.
 //!
 //! With fixed weights w_ij, S = Σ_a R_a P_a with the rational basis functions
-//! R_ij = w_ij N_i M_j / Σ_kl w_kl N_k M_l ([NB] eq. 4.16), so every derivative of S is linear in
-//! the control points and the thin plate of [H] (slide "Fairness criterion")
+//! R_ij = w_ij N_i M_j / Σ_kl w_kl N_k M_l (\[NB\] eq. 4.16), so every derivative of S is linear in
+//! the control points and the thin plate of \[H\] (slide "Fairness criterion")
 //! Π = ∬ |S_uu|² + 2|S_uv|² + |S_vv|² du dv = Σ_c x_cᵀ K x_c with
 //! K_ab = ∬ R_a,uu R_b,uu + 2 R_a,uv R_b,uv + R_a,vv R_b,vv du dv.
 //! The denominator couples all functions of a span, so K is no Kronecker sum of 1D Gram matrices
@@ -13,7 +13,7 @@
 //! holding K_{(i,j),(k,l)} (both halves of the symmetric K, so that a point's couplings are
 //! contiguous for the local scheme).
 //!
-//! K is integrated span by span with Gauss–Legendre rules ([AS] 25.4.29); the rational basis and
+//! K is integrated span by span with Gauss–Legendre rules (\[AS\] 25.4.29); the rational basis and
 //! its derivatives come from nurbs-core's [`SurfaceBasisEvaluator`]. With the columns
 //! √w_g R_uu, √(2 w_g) R_uv, √w_g R_vv of every Gauss point g of a span in one matrix D, the
 //! span's (p + 1)(q + 1) × (p + 1)(q + 1) block of K is D Dᵀ.
@@ -22,7 +22,7 @@
 //! ε-balls of the local scheme bound the surface deviation as for polynomial surfaces.
 //!
 //! # Deviation from the paper
-//! [H] treats polynomial B-splines only. Here the weights stay as they are and only the control
+//! \[H\] treats polynomial B-splines only. Here the weights stay as they are and only the control
 //! points move; the functional is the same linearized thin plate, integrated numerically.
 //!
 //! # Tolerance

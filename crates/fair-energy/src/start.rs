@@ -9,10 +9,10 @@
 //! 100 per free point. Where the unconstrained minimizer of the free points — one sparse
 //! Cholesky solve of K_ff δ_f = −g_f, as in [`crate::global`] without its pull towards the
 //! original — lies inside every ball, it is that constrained minimizer (the balls are then not
-//! active), and the scheme started there has nothing left to do: the fixed point of [H]'s
-//! scheme, reached by the solve of the global variant ([SV] §5.2). Where a ball holds a point
+//! active), and the scheme started there has nothing left to do: the fixed point of \[H\]'s
+//! scheme, reached by the solve of the global variant (\[SV\] §5.2). Where a ball holds a point
 //! back, the minimizer lies on some balls' boundaries, which one solve does not foresee, and
-//! the scheme runs from the original net exactly as [H] has it. A line search along the solved
+//! the scheme runs from the original net exactly as \[H\] has it. A line search along the solved
 //! displacement (t ∈ [0, 1]) keeps the start's energy at or below the original's against
 //! rounding.
 //!
@@ -29,7 +29,7 @@ use crate::ordering::nested_dissection;
 
 /// Moves the movable points of `current` (equal to `origin` on entry) to the start described
 /// in the module doc. `None` (and `current` untouched) when nothing is movable or the solve
-/// fails: the local scheme then starts from the original net as [H] has it.
+/// fails: the local scheme then starts from the original net as \[H\] has it.
 pub(crate) fn solved_start<K: LocalStiffness>(
     k: &K,
     origin: &[Point3],

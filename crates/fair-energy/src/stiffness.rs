@@ -1,18 +1,18 @@
 //! The fairness functional as a quadratic form in the control points, K = Σ_t α_t A_t ⊗ B_t.
 //!
-//! Thin plate ([H] slide "Fairness criterion", linearized with a = b = 1):
+//! Thin plate (\[H\] slide "Fairness criterion", linearized with a = b = 1):
 //! Π = ∬ |X_uu|² + 2|X_uv|² + |X_vv|² du dv = Σ_c x_cᵀ (U²²⊗V⁰⁰ + 2 U¹¹⊗V¹¹ + U⁰⁰⊗V²²) x_c,
 //! with the Gram integrals U^{a,b}_{ik} = ∫ N_i^{(a)} N_k^{(b)} du of nurbs-core's [`gram_matrix`]
 //! (banded, half-bandwidth p). Curves: ∫ |x''|² + β |x'''|² dt = Σ_c x_cᵀ (G²² + β G³³) x_c, stored
-//! as a surface with one column (B = [1]).
+//! as a surface with one column (B = `[1]`).
 //!
-//! Bézier-spline extension ([H] slide "Fairness criterion: Thin-plate energy + continuity"):
+//! Bézier-spline extension (\[H\] slide "Fairness criterion: Thin-plate energy + continuity"):
 //! Φ = (1 − λ) Π + λ Σ_{u_i: mult = p} ∫ |X_u(u_i⁻, v) − X_u(u_i⁺, v)|² dv + (same in v). The jump of
 //! X_u across u_i is Σ_k c_k d_kj N_j(v) with c_k = N_k'(u_i⁻) − N_k'(u_i⁺), so the term is
 //! (Σ_i c cᵀ) ⊗ V⁰⁰ — one more separable term per direction.
 //!
 //! # Deviation from the paper
-//! [H] sums the squared jumps at the v-knots; we integrate them over v (the V⁰⁰ Gram matrix), which
+//! \[H\] sums the squared jumps at the v-knots; we integrate them over v (the V⁰⁰ Gram matrix), which
 //! does not depend on where knots happen to lie and keeps Φ separable.
 
 use nurbs_core::{BandedMatrix, KnotVector, Point3, Vector3, gram_matrix};

@@ -1,9 +1,9 @@
-//! Local energy fairing of B-spline surfaces ([H] part ①, and part ② with `joint_weight` > 0):
+//! Local energy fairing of B-spline surfaces (\[H\] part ①, and part ② with `joint_weight` > 0):
 //! the [`SurfaceFairing`] method `energy`.
 //!
 //! Only control points the [`ControlMask`] frees move; fixed points are never written, so the
-//! frames of [SV] §3.1 come back bit-identical. Every moved point stays within the tolerance ε of
-//! its original, which by the convex hull property bounds the surface deviation by ε ([H] slide
+//! frames of \[SV\] §3.1 come back bit-identical. Every moved point stays within the tolerance ε of
+//! its original, which by the convex hull property bounds the surface deviation by ε (\[H\] slide
 //! "Distance tolerance").
 //!
 //! Rational surfaces are faired with their weights held fixed (the weights come back
@@ -23,7 +23,7 @@ use crate::stiffness::SeparableStiffness;
 /// Settings of the local surface scheme.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EnergyParams {
-    /// Largest number of single-point moves. Default 10,000: [H]'s 52×52 example ([H] slide
+    /// Largest number of single-point moves. Default 10,000: \[H\]'s 52×52 example (\[H\] slide
     /// "Examples (1)").
     pub max_iterations: usize,
     /// Least number of moves per free control point: the limit is
@@ -34,8 +34,8 @@ pub struct EnergyParams {
     /// (unit-free). Default 1e-12: far below any visible change, so the iteration limit usually
     /// decides.
     pub min_relative_decrease: f64,
-    /// λ of the Bézier-spline extension ([H] part ②): weight of the cross-derivative jumps at
-    /// interior knots of full multiplicity, 0 ≤ λ < 1. Default 0 (plain thin plate); [H]'s
+    /// λ of the Bézier-spline extension (\[H\] part ②): weight of the cross-derivative jumps at
+    /// interior knots of full multiplicity, 0 ≤ λ < 1. Default 0 (plain thin plate); \[H\]'s
     /// examples use 0.85–0.95.
     pub joint_weight: f64,
     /// Where the moves start. Default [`LocalStart::Solved`]: the same minimizer, reached in
@@ -46,7 +46,7 @@ pub struct EnergyParams {
 /// Where the local scheme starts ([`EnergyParams::start`]).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum LocalStart {
-    /// at the original net, as [H] has it
+    /// at the original net, as \[H\] has it
     Original,
     /// at the free points' unconstrained thin-plate optimum of one sparse solve where that lies
     /// inside every ε-ball (it is then the constrained minimizer), else at the original net

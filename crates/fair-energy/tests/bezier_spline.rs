@@ -1,4 +1,4 @@
-//! The Bézier-spline flow ([H] part ②): C⁰ joints become exactly C¹, C¹ joints lose their knot
+//! The Bézier-spline flow (\[H\] part ②): C⁰ joints become exactly C¹, C¹ joints lose their knot
 //! exactly, joints that ε cannot close are reported.
 
 mod common;

@@ -1,4 +1,4 @@
-//! Curve fairing and the Bézier-spline extension ([H] part ②).
+//! Curve fairing and the Bézier-spline extension (\[H\] part ②).
 
 mod common;
 

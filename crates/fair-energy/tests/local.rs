@@ -11,7 +11,7 @@ use nurbs_core::energy::thin_plate_energy;
 use nurbs_core::testing::{assert_close, random_surface};
 use nurbs_core::{ControlMask, FairingProblem, Frame, Point3, SurfaceFairing, Vector3};
 
-/// [H]'s scheme as the slides have it: moves from the original net (the solved start of
+/// \[H\]'s scheme as the slides have it: moves from the original net (the solved start of
 /// `tests/start.rs` would leave these single-point cases nothing to do).
 fn params(iterations: usize) -> EnergyParams {
     EnergyParams {

@@ -21,7 +21,7 @@ const SAME_RULE_REL: f64 = 1e-9;
 /// Samples per direction for the sampled deviation.
 const DEVIATION_SAMPLES: usize = nurbs_core::fairing::REPORT_DEVIATION_SAMPLES;
 
-/// [H]'s scheme from the original net (the solved start has its own tests in
+/// \[H\]'s scheme from the original net (the solved start has its own tests in
 /// `tests/start.rs`).
 fn params(iterations: usize) -> EnergyParams {
     EnergyParams {

@@ -23,7 +23,7 @@ fn params(start: LocalStart, max_iterations: usize) -> EnergyParams {
     }
 }
 
-/// Every point free but the two outer rings (the frames of [SV] §3.1 up to G1).
+/// Every point free but the two outer rings (the frames of \[SV\] §3.1 up to G1).
 fn inner(s: &BSplineSurface) -> ControlMask {
     let (nu, nv) = (s.num_u(), s.num_v());
     let mut m = ControlMask::all_fixed(nu, nv);

@@ -1,4 +1,4 @@
-//! KRR fairing of curves ([SV] §5.1; [FS] for cubics, [HK] for general order).
+//! KRR fairing of curves (\[SV\] §5.1; \[FS\] for cubics, \[HK\] for general order).
 //!
 //! Each iteration picks the free control point (single-point solve) or the knot (least squares)
 //! with the largest jump |J| of the p-th derivative (the third for cubics), removes the jump by
@@ -49,7 +49,7 @@ pub enum KrrStop {
 pub struct KrrCurveParams {
     /// Largest number of knot fairing steps. Default 1,000 (curves have few knots).
     pub max_iterations: usize,
-    /// Exact single-point solve (default, [FS]) or least squares ([HK]).
+    /// Exact single-point solve (default, \[FS\]) or least squares (\[HK\]).
     pub solve: KrrSolve,
     /// How many of the last chosen points (or knots) are skipped. Default 2: enough to stop two
     /// neighbours from trading the same jump back and forth.

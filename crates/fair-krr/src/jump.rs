@@ -1,7 +1,7 @@
 //! The jump of the p-th derivative at a simple knot, and the control point that removes it.
 //!
 //! A degree-p B-spline is C^{p−1} at a simple knot t_c; removing the knot and reinserting it
-//! ([SV] §5.1, [FS]; [HK] for general order) yields a curve that is C^p there.
+//! (\[SV\] §5.1, \[FS\]; \[HK\] for general order) yields a curve that is C^p there.
 //! The polygons for which t_c is removable are exactly those with zero jump
 //! J = x^{(p)}(t_c⁺) − x^{(p)}(t_c⁻) = Σ_i β_i P_i, β_i = N_i^{(p)}(t_c⁺) − N_i^{(p)}(t_c⁻),
 //! i = c − p − 1 … c (p + 2 points). Hence:

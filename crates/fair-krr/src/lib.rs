@@ -1,7 +1,7 @@
 //! # fair-krr
 //!
-//! Knot removal and reinsertion (KRR) fairing of B-spline curves and surfaces ([SV] §5.1;
-//! [FS] for cubic curves, [HK] for general order and surfaces).
+//! Knot removal and reinsertion (KRR) fairing of B-spline curves and surfaces (\[SV\] §5.1;
+//! \[FS\] for cubic curves, \[HK\] for general order and surfaces).
 //!
 //! ```
 //! use fair_krr::{KrrParams, fair_surface};

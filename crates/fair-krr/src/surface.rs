@@ -1,11 +1,11 @@
-//! KRR fairing of surfaces ([SV] §5.1, Hahmann): the single-point solve of [`crate::jump`]
+//! KRR fairing of surfaces (\[SV\] §5.1, Hahmann): the single-point solve of [`crate::jump`]
 //! along the u-column, the v-row, or the average of both through P_ij.
 //!
 //! Rank of a free point: the largest jump of the p-th (q-th) derivative at its central knot in the
 //! chosen direction(s); the best-ranked point moves to its target, clamped to the ball of radius ε
 //! around its original. Moving P_ij changes only the jumps of the points within p + 1 rows in its
 //! column and q + 1 columns in its row, so only those ranks are recomputed (a [`MaxTree`] holds
-//! them). Only points the [`ControlMask`] frees move: the frames of [SV] §3.1 stay bit-identical.
+//! them). Only points the [`ControlMask`] frees move: the frames of \[SV\] §3.1 stay bit-identical.
 
 use nurbs_core::max_tree::{MaxTree, NEVER};
 use nurbs_core::{BSplineSurface, ControlMask, Faired, FairingProblem, Point3, SurfaceFairing};
@@ -14,7 +14,7 @@ use crate::curve::{KrrReport, KrrStop, MIN_MOVE_REL, check_params, clamp_to_ball
 use crate::error::{KrrError, Result, check_tolerance};
 use crate::jump::KnotJumps;
 
-/// Which isocurve directions KRR works along ([SV] §5.1).
+/// Which isocurve directions KRR works along (\[SV\] §5.1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum KrrDirection {
     /// along u (the column through P_ij)
@@ -29,10 +29,10 @@ pub enum KrrDirection {
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct KrrParams {
     /// Largest number of single-point moves. Default 10,000, the budget of the energy method's
-    /// seed example ([H] "Examples (1)").
+    /// seed example (\[H\] "Examples (1)").
     pub max_iterations: usize,
     /// Direction(s). Default [`KrrDirection::Average`]: independent of the parametrization's
-    /// orientation ([SV] §5.1 "average the two values").
+    /// orientation (\[SV\] §5.1 "average the two values").
     pub direction: KrrDirection,
     /// How many of the last moved points are skipped. Default 2.
     pub taboo: usize,

@@ -1,4 +1,4 @@
-//! The minimal-deviation G2 solve ([SV] §4.2): the paper's well-conditioned system first, then
+//! The minimal-deviation G2 solve (\[SV\] §4.2): the paper's well-conditioned system first, then
 //! the lightest tangential weight of a ladder whose moves stay within a factor of the first.
 
 use nalgebra::DMatrix;
@@ -8,7 +8,7 @@ use crate::lsq::{
     SINGULAR_RELATIVE, banded_factor, banded_solve_with, solve_least_squares, solve_min_norm,
 };
 
-/// Factors applied to [`SetParams::g2_tangential_weight`] after the first G2 solve, from the
+/// Factors applied to [`SetParams::g2_tangential_weight`](crate::SetParams::g2_tangential_weight) after the first G2 solve, from the
 /// heaviest to the lightest: each lets the tangential components help the scalar condition more,
 /// with less conditioning. The lightest, 1e-8, stands for the scalar condition alone: its
 /// remaining scalar residual is of order weight² (1e-16) times the tangential change, and among
@@ -36,7 +36,7 @@ fn reduce(a: DMatrix<f64>, b: DMatrix<f64>) -> (DMatrix<f64>, DMatrix<f64>) {
 }
 
 /// The minimal-deviation G2 solve. `a` holds the `rows` scalar G2 rows, then two tangential rows
-/// per sample (weight [`SetParams::g2_tangential_weight`]); `b` is zero on the tangential rows.
+/// per sample (weight [`SetParams::g2_tangential_weight`](crate::SetParams::g2_tangential_weight)); `b` is zero on the tangential rows.
 ///
 /// The scalar rows alone (the crate's original system) constrain only n_k · d_j: the tangential
 /// components of the d_j enter through the variation of the normal n_k along the side, with

@@ -1,6 +1,6 @@
 //! The curvature lead-in of a G2 side: the freedom G2 needs, placed next to the boundary.
 //!
-//! Setting G2 on a side moves control row 2 only ([SV] §4.2): rows 0–1 keep position and
+//! Setting G2 on a side moves control row 2 only (\[SV\] §4.2): rows 0–1 keep position and
 //! tangent plane, row 2 bends the cross-boundary curvature to the master's. How far the surface
 //! moves depends on how far row 2 reaches into it. For a clamped knot vector of degree p with
 //! interior knots k₁ < k₂ < k₃ next to the side, row 2's basis function lives on [c, k₃], and

@@ -1,10 +1,10 @@
 //! # g-continuity
 //!
 //! Numerical G0/G1/G2 continuity between a *slave* B-spline surface and its *masters* (Salvi–
-//! Várady, [SV] §3.1, §3.3, §4): measuring it ([`measure_link`]: gap, normal angle, relative and
+//! Várady, \[SV\] §3.1, §3.3, §4): measuring it ([`measure_link`]: gap, normal angle, relative and
 //! absolute normal-curvature difference in the slave's cross-boundary direction) and setting it by
-//! moving the slave's frames only — row 0 for C0, row 1 for G1 ([SV] §4.1), row 2 for G2
-//! ([SV] §4.2) — with consistent twists ([SV] §3.3) and knot insertion for more freedom
+//! moving the slave's frames only — row 0 for C0, row 1 for G1 (\[SV\] §4.1), row 2 for G2
+//! (\[SV\] §4.2) — with consistent twists (\[SV\] §3.3) and knot insertion for more freedom
 //! ([`connect_slave`]). Masters are found by projection, so they may be trimmed.
 //!
 //! ```

@@ -1,4 +1,4 @@
-//! Least-squares solves of the overdetermined row systems of [SV] §4.
+//! Least-squares solves of the overdetermined row systems of \[SV\] §4.
 //!
 //! # Deviation from the paper
 //! The paper solves A x = b through the normal equations AᵀA x = Aᵀb. We use Householder QR when

@@ -1,4 +1,4 @@
-//! Measuring the numerical continuity of a link: a slave side on its master ([SV] §1.2, §4).
+//! Measuring the numerical continuity of a link: a slave side on its master (\[SV\] §1.2, §4).
 //!
 //! At K samples t_k along the slave side (both ends included), with slave point S_k and master
 //! point M_k = the closest point of the master (projection; the master may be trimmed):
@@ -14,7 +14,7 @@
 //!   below the flatness cut-off (the measure of CATIA's connect checker, model-format.md).
 //!   Normal curvature is even in d, so the direction of d (into the slave) needs no sign fix.
 //!
-//! By the linkage curve theorem (Pegna–Wolter, [SV] §2) equal normal curvature in one
+//! By the linkage curve theorem (Pegna–Wolter, \[SV\] §2) equal normal curvature in one
 //! non-tangent direction along a G1 join means G2.
 //!
 //! # The checker's figures: across the boundary, vertices apart

@@ -2,7 +2,7 @@
 //! times over the same boundary (the G1 polishing passes, the variants of a step, the weights of
 //! the G2 ladder's callers, the trials of a lead-in search). From the G1 step on the boundary row
 //! does not move, so the slave points of the samples repeat bit for bit, and so would their
-//! projections onto the master ([`MasterTracker`], [NB] §6.1). Measurements repeat too (a link
+//! projections onto the master ([`MasterTracker`], \[NB\] §6.1). Measurements repeat too (a link
 //! measured after a step and again by its caller).
 //!
 //! The memo is exact: an entry is used only when the master (its degrees, knots, weights and

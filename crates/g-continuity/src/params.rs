@@ -1,4 +1,4 @@
-//! Settings of continuity setting ([SV] §4) and their defaults.
+//! Settings of continuity setting (\[SV\] §4) and their defaults.
 
 use nurbs_core::ProjectionParams;
 
@@ -6,7 +6,7 @@ use crate::measure::MeasureParams;
 
 /// Weight of the G1 rows that keep the tangential part of the cross derivative, relative to the
 /// rows of the G1 condition itself. The condition n·ê = 0 alone admits ê = 0 (a collapsed
-/// cross derivative); the paper keeps the tangential part exactly ([SV] eq. (3)). A small weight
+/// cross derivative); the paper keeps the tangential part exactly (\[SV\] eq. (3)). A small weight
 /// keeps it as far as the condition allows: the remaining normal residual is of order
 /// weight² × the tangential change an exact join needs. Too small a weight lets the solve fit
 /// noise with huge tangential moves (1e-6 moved a car-shell row by 3 units); 1e-2 is safe, and
@@ -15,7 +15,7 @@ pub const G1_TANGENTIAL_WEIGHT: f64 = 1e-2;
 
 /// Weight of the minimal-deviation G2 rows that keep the tangential part of the change of the
 /// curvature row at each sample, relative to the rows of the G2 condition (default of
-/// [`SetParams::g2_tangential_weight`]). With weight 1 the system is the paper's ([SV] §4.2):
+/// [`SetParams::g2_tangential_weight`]). With weight 1 the system is the paper's (\[SV\] §4.2):
 /// the change Σ_j M_j(t_k) d_j is to be the normal vector β_k n_k, a well-conditioned fit.
 pub const G2_TANGENTIAL_WEIGHT: f64 = 1.0;
 
@@ -32,7 +32,7 @@ pub const G1_PASSES: usize = 3;
 /// runaway refinement on joins that cannot be made continuous).
 pub const MAX_CONTROL_POINTS: usize = 1024;
 
-/// How the G2 row equations are solved ([SV] §4.2).
+/// How the G2 row equations are solved (\[SV\] §4.2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum G2Method {
     /// Each curvature-row point moves along the slave normal at its Greville abscissa (the

@@ -1,4 +1,4 @@
-//! The row equations of one side: C0 (row 0), G1 (row 1, [SV] §4.1) and G2 (row 2, [SV] §4.2).
+//! The row equations of one side: C0 (row 0), G1 (row 1, \[SV\] §4.1) and G2 (row 2, \[SV\] §4.2).
 //! This module solves one row (and repeats the G1 passes); the systems are built per sample in
 //! `system.rs` (a C0, G1 and G2 builder) and the G2 weight ladder is solved in `ladder.rs`.
 //!
@@ -162,8 +162,8 @@ pub(crate) struct CornerCurvature<'a> {
 /// [`solve_row_in`] with, for the C0 step, one more equation per corner of `corners`: at a corner
 /// where the neighbouring side B carries G2, B's condition there asks the slave's normal curvature
 /// in B's cross direction — the direction of this side's boundary curve C — to be that of B's
-/// master, and that curvature is n · C''/|C'|² (Meusnier, [DC] §3-2), set by this side's boundary
-/// row alone ([SV] §3.3: the corner compatibility of two sides' frames, one order up). Fitted to
+/// master, and that curvature is n · C''/|C'|² (Meusnier, \[DC\] §3-2), set by this side's boundary
+/// row alone (\[SV\] §3.3: the corner compatibility of two sides' frames, one order up). Fitted to
 /// its own master by positions only, the boundary's end curvature is off by its fit error over the
 /// span squared (1e-6 mm over a 0.1 mm span: 1e-4 /mm, far above the flatness cut-off of a blend
 /// between faired fillets), which no row of B can take back; and where the two masters disagree a

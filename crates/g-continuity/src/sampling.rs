@@ -1,14 +1,14 @@
-//! Samples along a slave side and their master points ([SV] §4: "take K parameter points along
+//! Samples along a slave side and their master points (\[SV\] §4: "take K parameter points along
 //! the border").
 //!
 //! For a side of the slave S (say `u0`, boundary parameter c = u_min) and a sample t_k of the
 //! parameter running along it, the slave point is S(c, t_k) and the master point is its closest
 //! point on the master M: masters may be trimmed, so their parameters are found by projection
-//! ([NB] §6.1), never assumed to match the slave's. Consecutive samples are close, so each
+//! (\[NB\] §6.1), never assumed to match the slave's. Consecutive samples are close, so each
 //! projection starts from the previous foot point; a global (sampled) projection is used for the
 //! first sample and whenever the warm start lands clearly farther away than its neighbour.
 //!
-//! [`SideBasis`] holds what the row equations of [SV] §4 need about the slave: the coefficient
+//! [`SideBasis`] holds what the row equations of \[SV\] §4 need about the slave: the coefficient
 //! a_r = N_r^{(r)}(c) of control row r in the r-th cross-boundary derivative at the side
 //! (for a clamped knot vector a_1 = p/(t_{p+1} − t_1), a_2 = p(p−1)/((t_{p+1} − t_2)(t_{p+2} − t_2)),
 //! with the signs of the u1/v1 sides included), and the along-side basis values M_j(t_k).
@@ -162,8 +162,8 @@ pub fn cross_knots(surface: &BSplineSurface, side: Side) -> &KnotVector {
 /// clamped side the r-th cross derivative is S^(r) = (A^(r) − Σ_{i=1..r} C(r,i) W^(i) S^(r−i))/W,
 /// and only A^(r) holds control row r. So row r enters S^(r)(c, t) linearly with the coefficient
 /// a_r · w_rj M_j(t) / W(c, t), W(c, t) = Σ_j w_0j M_j(t): the row equations keep their form with
-/// the along basis M_j replaced by the *rational row basis* of [`SideBasis::row_basis`] ([SV] §4
-/// with fixed weights; [NB] §4.4). Nothing is re-approximated.
+/// the along basis M_j replaced by the *rational row basis* of [`SideBasis::row_basis`] (\[SV\] §4
+/// with fixed weights; \[NB\] §4.4). Nothing is re-approximated.
 #[derive(Debug, Clone)]
 pub struct SideBasis {
     /// the side

@@ -1,20 +1,20 @@
 //! Setting continuity of one slave to all its masters: C0, then G1, then G2, side by side with
-//! consistent twists ([SV] §3.3, §4), knot insertion when the tolerances are missed.
+//! consistent twists (\[SV\] §3.3, §4), knot insertion when the tolerances are missed.
 //!
-//! Order ([SV] §3.1): the cross derivative of order r on a clamped side depends on rows 0..=r
+//! Order (\[SV\] §3.1): the cross derivative of order r on a clamped side depends on rows 0..=r
 //! only, so C0 (row 0) is set first on every linked side, then G1 (row 1), then G2 (row 2); a
 //! later step never touches the rows of an earlier one, which therefore stay bit-identical.
 //!
 //! Row k of a side, at along index e from one end, is row e of the neighbouring side at that end.
 //! Such a point is
 //! - *fixed* when e < k and the neighbour is linked with a target ≥ G_e (its frame is set);
-//! - *shared* (a twist, [SV] §3.3; for k = 0 a common corner) when e = k and the neighbour's
+//! - *shared* (a twist, \[SV\] §3.3; for k = 0 a common corner) when e = k and the neighbour's
 //!   target is ≥ G_k: both sides propose a position, the candidates are averaged, and every side
 //!   is solved again with the shared points pinned;
 //! - *free* otherwise (for an unlinked neighbour with e = 0 only when
 //!   [`SetParams::move_unlinked_boundaries`] allows it).
 //!
-//! More freedom ([SV] §3.2 step 1): a slave whose degree across a G_r side is below r is degree
+//! More freedom (\[SV\] §3.2 step 1): a slave whose degree across a G_r side is below r is degree
 //! elevated; one with too few control rows for the frames of two opposite sides gets knots across.
 //! A rational slave keeps its weights: with the weights fixed it is linear in its control points
 //! through the rational basis, so the row equations stay linear ([`crate::sampling::SideBasis`]),
@@ -104,7 +104,7 @@ pub struct SideLink<'a> {
     /// Vertex zones: the lengths, in the along-side parameter, of the stretches at the start
     /// and at the end of the link's part within which its G2 is relaxed (`[0.0; 2]`: none). At
     /// a corner where the neighbouring side's master disagrees in curvature with this one, no
-    /// surface is G2 to both at that point ([SV] §3.3); the G2 rows of the samples inside a
+    /// surface is G2 to both at that point (\[SV\] §3.3); the G2 rows of the samples inside a
     /// zone are not set and the G2 figures the decisions take leave them out — they are
     /// reported apart as the vertex figures ([`LinkMeasure::vertex_g2_rel`]). G0 and G1 hold
     /// everywhere.

@@ -1,4 +1,4 @@
-//! The row systems of the continuity steps ([SV] §4): per sample of a side, the C0 rows (the
+//! The row systems of the continuity steps (\[SV\] §4): per sample of a side, the C0 rows (the
 //! gap to the master), the G1 row (n·e = 0, with two down-weighted rows keeping the tangential
 //! part of the cross derivative) and the G2 row (the normal curvature across the side, with its
 //! tangential rows), built on the rational basis of the moving row, and their solve.
@@ -85,7 +85,7 @@ pub(crate) struct RowContext<'a> {
     pub(crate) params: &'a SetParams,
 }
 
-/// The least-squares system of one row solve ([SV] §4): one row per sample for the condition of
+/// The least-squares system of one row solve (\[SV\] §4): one row per sample for the condition of
 /// the step (G0: the three coordinates of the gap; G1: n·e = 0; G2: the normal curvature), and
 /// for G1 and G2 with free 3D moves two down-weighted rows per sample that keep the tangential
 /// part of the change.

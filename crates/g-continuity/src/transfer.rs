@@ -2,13 +2,13 @@
 //!
 //! Rows 0, 1 and 2 of a slave side are splines in the along parameter t; C0, G1 and G2 ask them
 //! to reproduce the master's boundary curve, its cross-boundary tangent field and its curvature
-//! along the join ([SV] §4). When the master has knots along the join — the lead-in knots a
+//! along the join (\[SV\] §4). When the master has knots along the join — the lead-in knots a
 //! faired fillet received, the knots a trimmed master carries — its boundary data are splines with
 //! breakpoints there, and a slave without breakpoints at the same places can only approximate
 //! them: knot insertion by bisection of failing spans ([`crate::slave`]) then needs many rounds
 //! and dozens of knots and still leaves a residual next to each master knot. Making the spline
-//! spaces compatible first is what CAD systems do before matching two edges ([NB] §5.3, knot
-//! refinement; [SV] §3.2 step 1): the slave's along degree is raised to the master's (up to
+//! spaces compatible first is what CAD systems do before matching two edges (\[NB\] §5.3, knot
+//! refinement; \[SV\] §3.2 step 1): the slave's along degree is raised to the master's (up to
 //! [`LEAD_IN_DEGREE`]) and every interior master knot inside the
 //! join is inserted at the slave parameter whose side point projects onto it.
 //!

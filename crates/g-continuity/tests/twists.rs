@@ -1,4 +1,4 @@
-//! Slaves linked on two and four sides (twists, [SV] §3.3) and a trimmed master (boundary along a
+//! Slaves linked on two and four sides (twists, \[SV\] §3.3) and a trimmed master (boundary along a
 //! non-isoparametric curve, knot insertion).
 
 mod common;

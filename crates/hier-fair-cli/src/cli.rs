@@ -79,7 +79,7 @@ enum Command {
         #[arg(long)]
         report: Option<PathBuf>,
     },
-    /// Hierarchical fairing of a model (masters first, continuity set then kept, [SV] §3.2), or
+    /// Hierarchical fairing of a model (masters first, continuity set then kept, \[SV\] §3.2), or
     /// fairing of a bare surface file (boundaries and shared edges kept).
     Fair(FairArgs),
     /// Writes the surfaces of a model as STEP (AP214 B-spline faces) or IGES 5.3 (entity 128, trimmed by 144), as the output's extension names.

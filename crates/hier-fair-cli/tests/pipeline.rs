@@ -124,7 +124,7 @@ fn a_master_that_does_not_touch_ends_with_a_message_and_a_partial_report() {
 
 /// A G2 link on a slave of degree 1 across its linked sides (the fillet replaced by the ruled
 /// surface between its two boundary curves: 2 rows, no tangential or curvature row): the run
-/// never panics and never touches its input; the slave is elevated and refined ([SV] §3.2
+/// never panics and never touches its input; the slave is elevated and refined (\[SV\] §3.2
 /// step 1), G2 needs 0.26 mm against the 0.1 mm tolerance: the report names both links as
 /// conflicts and keeps the slave at G1.
 #[test]

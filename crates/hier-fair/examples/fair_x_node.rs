@@ -1,4 +1,4 @@
-//! The X-node ([SV] Fig. 6, `fixtures/models/x_node.json`): four primaries, the four fillets
+//! The X-node (\[SV\] Fig. 6, `fixtures/models/x_node.json`): four primaries, the four fillets
 //! between them and the corner patch where the fillets meet, faired in the framework order —
 //! primaries, then fillets (G2 to the primaries), then the corner (G2 to the fillets).
 //!

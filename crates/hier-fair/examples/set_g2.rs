@@ -1,7 +1,7 @@
 //! G2 between a rolling-ball fillet and the two faces it joins: an exact rational quarter
 //! cylinder of radius 5 is tangent (G1) to a floor and a wall but has curvature 1/5 across its
 //! contact lines where the planes have 0. `connect_slave` sets G2 on both sides with a curvature
-//! lead-in ([SV] §4.2) and reports how far the fillet moved.
+//! lead-in (\[SV\] §4.2) and reports how far the fillet moved.
 //!
 //!     cargo run -p hier-fair --example set_g2
 

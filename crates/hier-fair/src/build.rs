@@ -1,5 +1,5 @@
 //! The hierarchy found from the geometry: links where a surface's side lies on another surface,
-//! their targets from the angle there, and the roles from the topology ([SV] §1.1: primaries,
+//! their targets from the angle there, and the roles from the topology (\[SV\] §1.1: primaries,
 //! connecting surfaces between them, corner patches between connecting surfaces).
 //!
 //! - **A side lies on a surface** when every one of [`SIDE_SAMPLES`] points along the side
@@ -20,7 +20,7 @@
 //!   [`CORNER_SPAN`] × that surface's width (a vertex blend; a side collapsed to a pole counts as
 //!   none) — a strip that turns and lies so across three is a vertex blend too, long and narrow
 //!   where the fillets meeting at it differ in radius; the rest *primary*.
-//! - **n-sided corner groups** ([SV] §3.4, a corner region already split into quads): n ≥ 3
+//! - **n-sided corner groups** (\[SV\] §3.4, a corner region already split into quads): n ≥ 3
 //!   surfaces around one centre point, each with the two sides that meet there lying tangentially
 //!   on its neighbours around the centre and its other two sides on surfaces outside the group,
 //!   one of them a connecting surface (a corner region is bounded by fillets; quads of a face
@@ -335,7 +335,7 @@ fn bounded(
 
 /// Adds the corner group of the surfaces `cycle` (in cyclic order) to `model`, logged, with the
 /// links inside it as the framework takes them: each patch G2 to the one before it around the
-/// centre, and the last one to the first as well (a chain that closes, [SV] §3.4).
+/// centre, and the last one to the first as well (a chain that closes, \[SV\] §3.4).
 fn add_group(
     model: &mut Model,
     cycle: Vec<usize>,

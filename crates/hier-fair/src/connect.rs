@@ -1,12 +1,12 @@
 //! The `connect` driver: continuity setting only (no fairing), slave by slave in hierarchy order
-//! ([SV] §3.2 steps 3 and 5, §1.1 order).
+//! (\[SV\] §3.2 steps 3 and 5, §1.1 order).
 //!
 //! Surfaces are visited in [`Model::hierarchy_order`]; every surface that is the slave of some
 //! links is connected to its masters — which are already final, as they come earlier — by
 //! [`g_continuity::connect_slave`] (C0 → G1 → G2, twists, knot insertion). Masters never move.
 //! Each link's target is its own continuity, capped by [`ConnectOptions::target`].
 //!
-//! Never worse than the input ([SV] §1.1: the hierarchy exists so that a slave adapts to its
+//! Never worse than the input (\[SV\] §1.1: the hierarchy exists so that a slave adapts to its
 //! masters, not the other way round, and a join already made must not be lost): a slave whose
 //! result leaves any of its links with a larger gap, normal angle or curvature difference than
 //! the input had is set again — step by step (each continuity level's refinement from the rows
@@ -41,7 +41,7 @@ impl Default for ConnectOptions {
     /// ([`crate::framework::MAX_NET`], [`crate::framework::net_bound`]). Without a lead-in a G2 side whose three boundary rows
     /// are all there is (a kernel's degree-2 rolling-ball fillet) is rebuilt across its whole
     /// width: 0.52 for a fillet of radius 5, against 0.012 with the lead-in — the fairest
-    /// transition is the widest ([SV] §4.2), and `connect` has no deviation budget to narrow it.
+    /// transition is the widest (\[SV\] §4.2), and `connect` has no deviation budget to narrow it.
     fn default() -> Self {
         Self {
             target: None,

@@ -1,4 +1,4 @@
-//! The first stage of an n-sided corner group ([SV] §3.4): the n quads of a central split are
+//! The first stage of an n-sided corner group (\[SV\] §3.4): the n quads of a central split are
 //! faired together as one triangle mesh (Kobbelt discrete fairing, with wings sampled from the
 //! masters) and refitted with their internal curves shared exactly (nside-discrete); the
 //! framework then runs the per-quad continuity and fairing steps.

@@ -13,10 +13,10 @@
 //! - A side of a connecting or corner surface that lies on a surface higher in the hierarchy
 //!   becomes a G2 link over the part that lies on it ([`link_edges`]; g-continuity's
 //!   `SideLink::range`): the fillet is set G2 on its face up to the trim, as along the rest of
-//!   its contact line ([SV] §3.2 — the slave follows its master), and the vertex blend after it
+//!   its contact line (\[SV\] §3.2 — the slave follows its master), and the vertex blend after it
 //!   meets masters of one curvature at its corner.
 //! - Every other such edge — a primary's trimmed side on a fillet, two surfaces of one role —
-//!   is kept as it came ([SV] §3.1: the fairing keeps the continuity it is not asked to set):
+//!   is kept as it came (\[SV\] §3.1: the fairing keeps the continuity it is not asked to set):
 //!   both surfaces keep their tangential frame where the edge is, the surface whose side it is
 //!   along that whole side (in the fairing masks and in the continuity steps), the other one at
 //!   the control points that carry the edge ([`carrying_points`]).
@@ -438,7 +438,7 @@ fn edge_range(model: &Model, e: &SharedEdge) -> (f64, f64) {
 /// `model` with links for its shared edges that go down the hierarchy, and the part of its side
 /// each holds on (`None` for the model's own links). An edge becomes a link when its side belongs
 /// to a connecting or corner surface and the other surface is higher in the hierarchy; the
-/// target is G2 (the edge is tangent). Primaries keep their design intent ([SV] §1.1) and are no
+/// target is G2 (the edge is tangent). Primaries keep their design intent (\[SV\] §1.1) and are no
 /// slave here; two surfaces of one role are not ordered (linked, the later half of a fillet ring
 /// had to meet the earlier one and its own masters at the same corners, and its curvature to
 /// them ended 4× the input's). A link that would close a cycle of the hierarchy is not added.
@@ -491,7 +491,7 @@ pub fn link_edges(model: &Model, edges: &[SharedEdge]) -> (Model, Vec<FoundLink>
 /// masters in the same way; where those masters agree along the seam, the two settings agree
 /// there too, and the continuity steps need not keep the seam's frame — kept, it holds each
 /// half's seam column at its input cross-section, which cannot be G2 to the masters at the
-/// seam's ends ([SV] §3.2: the corner of a G2 side needs its curvature free).
+/// seam's ends (\[SV\] §3.2: the corner of a G2 side needs its curvature free).
 pub(crate) fn is_seam(model: &Model, edge: &SharedEdge) -> bool {
     model.surfaces[edge.surface].role == model.surfaces[edge.other].role
 }

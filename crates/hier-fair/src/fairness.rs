@@ -1,9 +1,9 @@
 //! The fairness of a model's surfaces, measured in their place in the hierarchy, and the
 //! verdict of a result against its input: what a surfacer rejects even where every link is
-//! continuous ([SV] §1: "even curvature distribution with large, monotone curvature areas is
+//! continuous (\[SV\] §1: "even curvature distribution with large, monotone curvature areas is
 //! crucial"; §1.2: continuity constraints "may crease the surface near the sides").
 //!
-//! The figures are nurbs-core's [`nurbs_core::fairness`]; the model decides which iso-lines are
+//! The figures are nurbs-core's [`nurbs_core::fairness()`]; the model decides which iso-lines are
 //! cross-boundary (those across the sides a surface is linked by, as a slave) and the
 //! hysteresis of their extrema (the model's relative G2 tolerance, with the link measure's
 //! flatness cut-off as a floor).

@@ -1,9 +1,9 @@
 //! # hier-fair
 //!
 //! The model of `model-format.md` — primary, connecting and corner surfaces with continuity links,
-//! corner groups and tolerances — and the framework order of Salvi–Várady ([SV] §1.1, §3.2):
+//! corner groups and tolerances — and the framework order of Salvi–Várady (\[SV\] §1.1, §3.2):
 //! masters before slaves, primaries first. [`check_model`] measures every link;
-//! [`connect`] sets continuity slave by slave (no fairing) with g-continuity.
+//! [`connect()`] sets continuity slave by slave (no fairing) with g-continuity.
 //!
 //! ```
 //! use hier_fair::{FairParams, RoleMethods, check_model, fair_model, synthetic::block_grid};

@@ -12,7 +12,7 @@
 //! (`hier_fair_cli::cli::main_with`).
 //!
 //! Defaults per role ([`RoleMethods::default`]): local energy fairing everywhere — it keeps every
-//! control point inside its tolerance ball by construction ([Hadenfeld] §3), moves only the free
+//! control point inside its tolerance ball by construction (\[H\] §3), moves only the free
 //! points, and never increases the energy, which is what a slave squeezed between fixed frames
 //! needs; primaries (large, design intent) get it too, with their boundaries kept.
 
@@ -22,7 +22,7 @@ use crate::model::Role;
 
 /// Least number of single-point moves per free control point of the local energy methods
 /// (the limit is the larger of this × free points and the method's fixed limit, 10,000 or
-/// `--iterations`). Why this many: the local method ([H]) moves one point at a time, so a
+/// `--iterations`). Why this many: the local method (\[H\]) moves one point at a time, so a
 /// change at one side of the net reaches the other side one neighbour per sweep, and the
 /// smoothest part of the energy needs about as many sweeps as the net is wide; the framework
 /// bounds a net at [`crate::framework::MAX_NET`] = 64 points per direction, and this is the
@@ -44,9 +44,9 @@ pub enum Method {
     EnergyBezier,
     /// knot removal and reinsertion
     Krr,
-    /// target-curvature fairing of isocurves and refit ([SV] §5.2)
+    /// target-curvature fairing of isocurves and refit (\[SV\] §5.2)
     Curvature,
-    /// Greiner's curvature approximation ([SV] §5.3)
+    /// Greiner's curvature approximation (\[SV\] §5.3)
     Greiner,
 }
 
@@ -162,9 +162,9 @@ fn bezier_fairing(iterations: Option<usize>) -> fair_energy::BezierSplineFairing
     fair_energy::BezierSplineFairing { params }
 }
 
-/// `energy`: Hadenfeld's local energy fairing, with [H]'s extension to Bézier-spline surfaces
+/// `energy`: Hadenfeld's local energy fairing, with \[H\]'s extension to Bézier-spline surfaces
 /// wherever the surface has an interior knot of full multiplicity (C⁰-joined Bézier patches in one
-/// surface): those joints come out C¹ ([H] part ②; `energy-bezier` forces that flow).
+/// surface): those joints come out C¹ (\[H\] part ②; `energy-bezier` forces that flow).
 struct EnergyFairing {
     plain: fair_energy::LocalEnergyFairing,
     bezier: fair_energy::BezierSplineFairing,

@@ -1,9 +1,9 @@
 //! The model of `model-format.md`: named surfaces with roles, continuity links, corner groups and
-//! tolerances; loading, validation and the hierarchy order ([SV] §1.1, §3.2).
+//! tolerances; loading, validation and the hierarchy order (\[SV\] §1.1, §3.2).
 //!
 //! Roles rank primary (0) > connecting (1) > corner (2). A link's master must not be below its
-//! slave, and a primary is never a slave (primaries are independent, [SV] §1.1). Links between
-//! surfaces of the same rank (e.g. the quadrilaterals of one corner group, [SV] §3.4) are
+//! slave, and a primary is never a slave (primaries are independent, \[SV\] §1.1). Links between
+//! surfaces of the same rank (e.g. the quadrilaterals of one corner group, \[SV\] §3.4) are
 //! allowed as long as the links form no cycle. The hierarchy order processes every surface after
 //! all its masters, primaries first, ties broken by file order.
 //!
@@ -99,7 +99,7 @@ pub struct ModelTolerances {
     /// largest distance of a faired surface from its original (model units)
     pub deviation: f64,
     /// per role (primary, connecting, corner, by [`Role::rank`]) where the file gives an object
-    /// `{"primary": mm, "connecting": mm, "corner": mm}`: [SV] §1.1, primaries keep the design
+    /// `{"primary": mm, "connecting": mm, "corner": mm}`: \[SV\] §1.1, primaries keep the design
     /// intent, connecting surfaces and corners may deviate more
     pub role_deviation: [Option<f64>; 3],
     /// largest gap (model units)

@@ -5,7 +5,7 @@
 //! master, [`crate::framework`]) is a shared edge. Where the two patches meet tangentially —
 //! every sampled normal angle within [`TANGENT_EDGE_DEG`] — both keep their tangential frame
 //! there (boundary row and the row next to it: the edge, and the normals along it, stay exactly
-//! as they are, [SV] §3.1); at a sharper edge the boundary row alone. A side collapsed to a
+//! as they are, \[SV\] §3.1); at a sharper edge the boundary row alone. A side collapsed to a
 //! point (a pole) keeps its two rows and a degenerate corner its 2 × 2 block, as in the
 //! framework's stages. Where a patch has too few rows for its frames plus free ones (a bicubic
 //! Bézier patch has four), knots are inserted first, which leaves its shape as it is.

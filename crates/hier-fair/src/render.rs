@@ -1,4 +1,4 @@
-//! Pictures of a model, for people who would rather look than read ([SV] §6 judges results by
+//! Pictures of a model, for people who would rather look than read (\[SV\] §6 judges results by
 //! isophotes): reflection-line (zebra) stripes and a mean-curvature colour map, rendered from a
 //! fixed view so that before and after images line up (the curvature plots along a link and the
 //! colour bar are drawn by [`crate::plots`]).
@@ -11,7 +11,7 @@
 //! - *Zebra*: the normal **n** (turned towards the viewer) reflects the view ray,
 //!   **r** = **d** − 2(**d**·**n**)**n**; the pixel is black when ⌊k·(**r**·**a**)⌋ is even, **a**
 //!   a fixed axis across the view. Stripes are continuous across a G1 join and have no kinks
-//!   across a G2 join; a kink in the stripes shows a curvature jump ([SV] Fig. 6).
+//!   across a G2 join; a kink in the stripes shows a curvature jump (\[SV\] Fig. 6).
 //! - *Mean curvature*: blue (H = −h) through white (0) to red (+h), h fixed per picture pair.
 //! - Patch boundaries are drawn over both in orange where they are in front.
 //!

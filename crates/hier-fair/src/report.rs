@@ -115,7 +115,7 @@ pub fn report_json(report: &FairModelReport) -> Value {
     })
 }
 
-/// The fairness figures of one surface as JSON ([`nurbs_core::fairness`]).
+/// The fairness figures of one surface as JSON ([`nurbs_core::fairness()`]).
 pub fn fairness_json(f: &Fairness) -> Value {
     json!({
         "energy": f.energy,

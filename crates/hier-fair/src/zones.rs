@@ -1,12 +1,12 @@
 //! Vertex zones: where the masters of two G2 sides of a slave disagree in curvature at their
-//! common corner beyond what one surface can meet there ([SV] §3.3, the corner compatibility of
+//! common corner beyond what one surface can meet there (\[SV\] §3.3, the corner compatibility of
 //! two sides one order up from the twist), G2 is set and judged on the rest of each side and
 //! relaxed within a short stretch next to that corner ([`g_continuity::SideLink::g2_zones`]);
 //! the stretch's curvature figures are reported apart, as the vertex figures.
 //!
 //! At a corner shared by sides A and B, both G1, G2 to B's master means the slave's second
 //! fundamental form equals that master's at every point of B, the corner included (linkage
-//! curve theorem, [SV] §2); so in A's cross direction d the slave's normal curvature there is
+//! curve theorem, \[SV\] §2); so in A's cross direction d the slave's normal curvature there is
 //! κ_B(d), and A's G2 asks κ_A(d). With the relative measure of `g_continuity::measure` and its
 //! tolerance ρ, the best one surface can do at that point is the mean of the two, which meets
 //! both only when |κ_A − κ_B| ≤ 2ρ·max(|κ_A|, |κ_B|) or both are below the flatness cut-off.

@@ -1,4 +1,4 @@
-//! n-sided corner groups found from the geometry (`build_hierarchy`, [SV] §3.4): the five-sided
+//! n-sided corner groups found from the geometry (`build_hierarchy`, \[SV\] §3.4): the five-sided
 //! fixture — five quads around one centre, bounded by five strips — with its links and its group
 //! taken away gets them back; a model whose vertices are no such region gets none.
 

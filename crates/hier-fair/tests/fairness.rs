@@ -8,7 +8,7 @@ use common::{model, models};
 use hier_fair::fairness::{PEAK_FACTOR, model_fairness, surface_fairness};
 use hier_fair::{FairModelReport, FairParams, Model, RoleMethods, fair_model};
 
-/// Per-role deviation ([SV] §1.1: primaries 0.05 mm, connecting and corner surfaces 0.5 mm).
+/// Per-role deviation (\[SV\] §1.1: primaries 0.05 mm, connecting and corner surfaces 0.5 mm).
 fn per_role(name: &str) -> (Model, Model, FairModelReport) {
     let m = model(name).unwrap();
     let params = FairParams {

@@ -382,7 +382,7 @@ fn block_grid_reaches_g2_everywhere() {
 }
 
 /// `energy` on a Bézier-spline surface (the disturbed sphere zone: 2×5 bicubic Bézier patches
-/// C⁰-joined in one surface) takes [H]'s extension: the interior joint kinks (the midpoint
+/// C⁰-joined in one surface) takes \[H\]'s extension: the interior joint kinks (the midpoint
 /// defect P_j − (P_{j−1} + P_{j+1})/2 of the equal-span triples across each joint) shrink by
 /// more than 10×, within the tolerance; the boundary rows stay.
 #[test]

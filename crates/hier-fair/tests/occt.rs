@@ -169,7 +169,7 @@ fn the_three_radii_corner_meets_every_link_by_default() {
     assert!(unmet.is_empty(), "{unmet:?}");
 }
 
-/// Per-role deviation ([SV] §1.1): primaries 0.05, connecting surfaces 0.5. The fillets use
+/// Per-role deviation (\[SV\] §1.1): primaries 0.05, connecting surfaces 0.5. The fillets use
 /// more than the primaries' tolerance (a wider, fairer lead-in) and stay within their own.
 #[test]
 fn per_role_deviation_gives_fillets_their_own_budget() {

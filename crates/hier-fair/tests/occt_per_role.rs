@@ -1,4 +1,4 @@
-//! The kernel models with per-role deviation ([SV] §1.1: primaries 0.05 mm, connecting and
+//! The kernel models with per-role deviation (\[SV\] §1.1: primaries 0.05 mm, connecting and
 //! corner surfaces 0.5 mm): every link meets its target as `hier-fair check` measures the output
 //! — G2 within 0.001 mm, 0.01° and 0.005 relative curvature, G0 within 0.001 mm — every surface
 //! stays within its own deviation, and no link or shared edge leaves worse than it came.

@@ -1,5 +1,5 @@
-//! The n-sided corner stage of [SV] §3.4 in one call: sample the quads of a central split (with
-//! the neighbours' wings), fair the mesh with Kobbelt's umbrella² energy ([K97]) keeping the
+//! The n-sided corner stage of \[SV\] §3.4 in one call: sample the quads of a central split (with
+//! the neighbours' wings), fair the mesh with Kobbelt's umbrella² energy (\[K97\]) keeping the
 //! patch boundary, the wings and `fixed_rings` rings inside the patch, and refit the quads.
 //!
 //! [`fill_corner`] starts from the boundary curves instead: it builds the central split first,
@@ -36,7 +36,7 @@ pub struct NsidedParams {
     pub sampling: SamplingParams,
     /// Rings inside the patch, beyond its boundary, that keep their sampled positions. Default 0:
     /// with wings the neighbours' tangent planes enter through the wing rows; without neighbours
-    /// use 2 to keep the initial quads' tangent planes and curvature ([SV] §3.4, [K97] §3).
+    /// use 2 to keep the initial quads' tangent planes and curvature (\[SV\] §3.4, \[K97\] §3).
     pub fixed_rings: usize,
     /// sparse solver of the fairing system (default: faer with AMD)
     pub solver: SpdSolver,

@@ -1,4 +1,4 @@
-//! Discrete thin-plate fairing of a triangle mesh ([K97] §3, [SV] §3.4).
+//! Discrete thin-plate fairing of a triangle mesh (\[K97\] §3, \[SV\] §3.4).
 //!
 //! The umbrella operator U(p_i) = (1/n_i) Σ_{j ∈ N(i)} p_j − p_i is a discrete Laplacian; the
 //! discrete thin-plate energy is E = Σ_{i interior} |U(p_i)|². Minimizing E over the free
@@ -19,7 +19,7 @@
 //! valence-2n centre of an n-sided corner, the corners of its quads) do not bend the result.
 //!
 //! # Deviation from the paper
-//! [K97] also offers a local quadratic fit per vertex for the energy; the umbrella form is used
+//! \[K97\] also offers a local quadratic fit per vertex for the energy; the umbrella form is used
 //! here for every vertex, so low valences (3, 4) need no special case and never make a local fit
 //! singular.
 
@@ -35,7 +35,7 @@ use crate::topology::{MeshTopology, ring_distance};
 /// How the umbrella operator weighs the neighbours of a vertex.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
 pub enum UmbrellaWeights {
-    /// 1/n_i for every neighbour ([K97]), the default
+    /// 1/n_i for every neighbour (\[K97\]), the default
     #[default]
     Uniform,
     /// Floater's mean-value weights of the layout (linear precision in the layout)
@@ -56,10 +56,10 @@ pub struct DiscreteFairingParams {
     /// Sparse solver. Default: faer with nested dissection along coordinate cuts of the layout
     /// (on the 10k-vertex benchmark cap faster than AMD; AMD has less fill on the 100k one).
     pub solver: SpdSolver,
-    /// Umbrella weights. Default uniform ([K97]).
+    /// Umbrella weights. Default uniform (\[K97\]).
     pub weights: UmbrellaWeights,
     /// Weight of a data term w Σ |p − p₀|² over the free vertices, relative to the mean diagonal
-    /// of the fairing system LᵀL (unit-free). Default 0: pure discrete fairing, as [K97]. A
+    /// of the fairing system LᵀL (unit-free). Default 0: pure discrete fairing, as \[K97\]. A
     /// positive weight keeps the faired mesh near its input (a caller with a deviation
     /// tolerance raises it until the moves fit).
     pub data_weight: f64,

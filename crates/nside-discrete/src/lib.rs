@@ -1,7 +1,7 @@
 //! # nside-discrete
 //!
-//! The first stage of n-sided corner patches ([SV] §3.4): the corner is faired as one triangle
-//! mesh by Kobbelt's discrete fairing ([K97]) before its quadrilaterals are refitted. This crate
+//! The first stage of n-sided corner patches (\[SV\] §3.4): the corner is faired as one triangle
+//! mesh by Kobbelt's discrete fairing (\[K97\]) before its quadrilaterals are refitted. This crate
 //! holds the discrete fairing (umbrella² thin-plate energy, fixed boundary rings, one sparse
 //! symmetric solve) and the mesh checks it needs, and the n-sided corner around it: the central
 //! split of an n-sided hole into n bicubic quads ([`split`]), their sampling into one welded mesh

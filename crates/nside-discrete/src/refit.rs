@@ -1,4 +1,4 @@
-//! Refitting the quads of a central split to a faired mesh ([SV] §3.4: "using the faired
+//! Refitting the quads of a central split to a faired mesh (\[SV\] §3.4: "using the faired
 //! n-sided mesh, we refit the quadrilateral surfaces, and fix the internal subdividing curves").
 //!
 //! 1. Internal curves first, as curves: I_k (side `U1` of quad k, knots in v) is fitted by least
@@ -15,7 +15,7 @@
 //! 4. Cross rows: the rows next to the internal curves (the cross-derivative functions that the
 //!    later G1 step starts from) come from two independent fits, which disagree most near the
 //!    centre, where the mesh has its valence-2n vertex. They are made consistent in the manner
-//!    of [SV] §4.1: along I_k the common normal n(t) is the mean of both quads' normals, and each
+//!    of \[SV\] §4.1: along I_k the common normal n(t) is the mean of both quads' normals, and each
 //!    quad moves the inner points Q_j next to its two internal sides by the minimum-norm
 //!    least-squares displacements w_j = β_j n(g_j) (along the common normal at the point's
 //!    Greville abscissa g_j: the paper's fixed directions) with

@@ -1,4 +1,4 @@
-//! Sampling a central split into one triangle mesh for discrete fairing ([SV] §3.4, Fig. 3).
+//! Sampling a central split into one triangle mesh for discrete fairing (\[SV\] §3.4, Fig. 3).
 //!
 //! Quad k is sampled on the grid u_a × v_b of its knot vectors' span samples (`samples_per_span`
 //! per span plus the end), so every knot span holds data for the refit. Each grid cell
@@ -42,7 +42,7 @@ pub struct SamplingParams {
     /// hole deviate up to 0.24° from the neighbours' (0.08° with 8, tests/nsided.rs).
     pub samples_per_span: usize,
     /// Rows sampled from each neighbour beyond the boundary. Default 2: the umbrella² stencil of
-    /// a vertex next to the boundary reaches two rings out ([K97] §3).
+    /// a vertex next to the boundary reaches two rings out (\[K97\] §3).
     pub wing_rows: usize,
 }
 

@@ -1,4 +1,4 @@
-//! Central split of an n-sided hole into n bicubic quads ([SV] §3.4, Fig. 2).
+//! Central split of an n-sided hole into n bicubic quads (\[SV\] §3.4, Fig. 2).
 //!
 //! Input: n = 3…8 boundary curves c_0 … c_{n−1} in cyclic order, c_k ending where c_{k+1} starts.
 //! Each curve is split at its parametric midpoint t_k = (a_k + b_k)/2 into two halves (exact
@@ -37,7 +37,7 @@
 //! of the knots of the two boundary halves parallel to it: the reversed second half of c_{k−1}
 //! (opposite in quad k) and the first half of c_{k+1} (opposite in quad k + 1), each mapped
 //! affinely to [0, 1] and raised to degree 3; spans are halved (largest first) until there are
-//! at least `min_spans`, so the quads have interior freedom for fairing ([SV] §3.2 step 1).
+//! at least `min_spans`, so the quads have interior freedom for fairing (\[SV\] §3.2 step 1).
 //!
 //! # Tolerance
 //! Curves must close the loop within `closure_tolerance` × loop size (bounding-box diagonal of
@@ -72,7 +72,7 @@ pub struct CentralSplitParams {
     /// exchange data.
     pub closure_tolerance: f64,
     /// Fewest knot spans of each quad direction. Default 4: two interior rows on each side of the
-    /// frames that [SV] §3.2 fixes (positional, tangential, curvature) stay free.
+    /// frames that \[SV\] §3.2 fixes (positional, tangential, curvature) stay free.
     pub min_spans: usize,
 }
 

@@ -59,7 +59,7 @@ impl BandedQr {
         self.width
     }
 
-    /// Adds the equation Σ_t values[t] x[start + t] = rhs (one value per right-hand side).
+    /// Adds the equation Σ_t `values[t] x[start + t]` = rhs (one value per right-hand side).
     ///
     /// # Errors
     /// [`Error::BandOverflow`] when the row does not fit the window (`values.len()` > width or

@@ -3,7 +3,7 @@
 //! N_{i,0}(t) = 1 on [t_i, t_{i+1}), and
 //! N_{i,p}(t) = (t − t_i)/(t_{i+p} − t_i) N_{i,p−1}(t) + (t_{i+p+1} − t)/(t_{i+p+1} − t_{i+1}) N_{i+1,p−1}(t)
 //! (Cox–de Boor). The p + 1 functions N_{k−p..=k} that do not vanish on span k are computed by the
-//! triangular scheme of [NB] A2.2; their derivatives up to any order by [NB] A2.3.
+//! triangular scheme of \[NB\] A2.2; their derivatives up to any order by \[NB\] A2.3.
 //!
 //! [`BasisEvaluator`] holds the scratch arrays so that hot loops evaluate without allocating.
 
@@ -37,7 +37,7 @@ impl BasisEvaluator {
         self.degree
     }
 
-    /// Values N_{span−p+r}(t), r = 0..=p, into `out[..=p]` ([NB] A2.2).
+    /// Values N_{span−p+r}(t), r = 0..=p, into `out[..=p]` (\[NB\] A2.2).
     #[inline]
     pub fn values(&mut self, knots: &[f64], span: usize, t: f64, out: &mut [f64]) {
         let p = self.degree;
@@ -55,7 +55,7 @@ impl BasisEvaluator {
         }
     }
 
-    /// Derivatives of order 0..=n of the p + 1 non-vanishing functions at `t` ([NB] A2.3).
+    /// Derivatives of order 0..=n of the p + 1 non-vanishing functions at `t` (\[NB\] A2.3).
     ///
     /// `out[k * (p + 1) + r]` = N^{(k)}_{span−p+r}(t); derivatives above the degree are zero.
     /// Orders up to 2 take a direct route (`derivatives_upto2`); higher orders use A2.3.
@@ -68,7 +68,7 @@ impl BasisEvaluator {
     }
 
     /// Orders 0..=n ≤ 2 from the lower-degree values: with
-    /// N'_{i,p} = p (N_{i,p−1}/(t_{i+p} − t_i) − N_{i+1,p−1}/(t_{i+p+1} − t_{i+1})) ([NB] eq. 2.7)
+    /// N'_{i,p} = p (N_{i,p−1}/(t_{i+p} − t_i) − N_{i+1,p−1}/(t_{i+p+1} − t_{i+1})) (\[NB\] eq. 2.7)
     /// applied once to degree p − 1 values and twice to degree p − 2 values (0/0 terms are 0).
     fn derivatives_upto2(&mut self, knots: &[f64], span: usize, t: f64, n: usize, out: &mut [f64]) {
         let p = self.degree;
@@ -117,7 +117,7 @@ impl BasisEvaluator {
         differentiate(knots, first, p, d1, &mut out[2 * p1..3 * p1]);
     }
 
-    /// Any order by [NB] A2.3.
+    /// Any order by \[NB\] A2.3.
     pub fn derivatives_general(
         &mut self,
         knots: &[f64],
@@ -197,7 +197,7 @@ impl BasisEvaluator {
 }
 
 /// The derivatives N'_{i,d} = d (N_{i,d−1}/(t_{i+d} − t_i) − N_{i+1,d−1}/(t_{i+d+1} − t_{i+1}))
-/// ([NB] eq. 2.7) of the d + 1 functions i = first..=first + d into `out[..=d]`, from the d
+/// (\[NB\] eq. 2.7) of the d + 1 functions i = first..=first + d into `out[..=d]`, from the d
 /// degree-(d − 1) values N_{first+1..=first+d, d−1} in `lower` (0/0 terms are 0).
 #[inline(always)]
 fn differentiate(knots: &[f64], first: usize, d: usize, lower: &[f64], out: &mut [f64]) {
@@ -319,7 +319,7 @@ pub fn basis_function_derivative(knots: &KnotVector, i: usize, t: f64, order: us
 
 /// The integral of basis function `i` over [a, b] (zero outside its support [t_i, t_{i+p+1})):
 /// Gauss–Legendre with ⌈(p + 1)/2⌉ nodes on each knot span of the support within [a, b], exact
-/// for the span's polynomial of degree p ([AS] 25.4.29). Over the whole support the integral is
+/// for the span's polynomial of degree p (\[AS\] 25.4.29). Over the whole support the integral is
 /// (t_{i+p+1} − t_i)/(p + 1), [`basis_function_mass`].
 pub fn basis_function_integral(knots: &KnotVector, i: usize, a: f64, b: f64) -> f64 {
     let p = knots.degree();

@@ -1,7 +1,7 @@
 //! Knot lines where a surface is only C⁰ in its parameters, and the normal jump across them.
 //!
 //! An interior knot of multiplicity m ≥ p in a direction of degree p joins the spans on either
-//! side with C⁰ continuity only ([NB] §2.2): the iso-curve at that knot passes through the
+//! side with C⁰ continuity only (\[NB\] §2.2): the iso-curve at that knot passes through the
 //! control column P_k (k = r − p, r the last index of the knot), and the surface is tangent
 //! continuous across it exactly when the columns P_{k−1}, P_k, P_{k+1} are collinear row by row
 //! with P_k between. Kernels write rational arcs of more than 90° so (a full circle as three

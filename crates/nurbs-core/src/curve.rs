@@ -2,7 +2,7 @@
 //!
 //! C(t) = Σ N_i(t) w_i P_i / Σ N_i(t) w_i. Derivatives of the homogeneous curve A(t) = Σ N_i w_i P_i,
 //! w(t) = Σ N_i w_i give the rational derivatives by the quotient rule
-//! C^{(k)} = (A^{(k)} − Σ_{i=1..k} C(k,i) w^{(i)} C^{(k−i)}) / w ([NB] A4.2, eq. 4.8).
+//! C^{(k)} = (A^{(k)} − Σ_{i=1..k} C(k,i) w^{(i)} C^{(k−i)}) / w (\[NB\] A4.2, eq. 4.8).
 //! Curvature κ = |C' × C''| / |C'|³.
 
 use crate::basis::BasisEvaluator;

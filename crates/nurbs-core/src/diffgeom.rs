@@ -1,4 +1,4 @@
-//! Differential geometry of a surface point from its derivatives ([DC] §3-2, §3-3).
+//! Differential geometry of a surface point from its derivatives (\[DC\] §3-2, §3-3).
 //!
 //! Unit normal n = S_u × S_v / |S_u × S_v|. First fundamental form E = S_u·S_u, F = S_u·S_v,
 //! G = S_v·S_v; second L = S_uu·n, M = S_uv·n, N = S_vv·n. Normal curvature in the tangent direction

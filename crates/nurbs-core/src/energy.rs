@@ -1,6 +1,6 @@
 //! Thin-plate energy and sampled deviation between two surfaces.
 //!
-//! E(S) = ∬ |S_uu|² + 2|S_uv|² + |S_vv|² du dv over the domain ([SV] §5, [H]). It is integrated
+//! E(S) = ∬ |S_uu|² + 2|S_uv|² + |S_vv|² du dv over the domain (\[SV\] §5, \[H\]). It is integrated
 //! span by span with Gauss–Legendre rules: (p + 1) × (q + 1) points are exact for polynomial
 //! surfaces (the integrand has degree ≤ 2p in u and ≤ 2q in v); rational surfaces get
 //! [`RATIONAL_EXTRA_POINTS`] more per direction.

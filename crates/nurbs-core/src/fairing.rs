@@ -1,7 +1,7 @@
 //! The interface every fairing method implements, and the one runner that measures it.
 //!
 //! A method receives a [`FairingProblem`]: a surface, a [`ControlMask`] (only free control
-//! points may move: the fixed frames of [SV] §3.1 must come back bit-identical), the deviation
+//! points may move: the fixed frames of \[SV\] §3.1 must come back bit-identical), the deviation
 //! tolerance ε, the continuity the calling stage keeps and an optional iteration limit. It
 //! returns the faired surface and its iteration count ([`Faired`]), nothing else: the runner
 //! [`FairingProblem::solve`] times the call, checks the result against the contract
@@ -164,11 +164,11 @@ pub const CONTRACT_ROUNDING_ULPS: f64 = 8.0;
 pub struct FairingProblem<'a> {
     /// the surface to fair
     pub surface: &'a BSplineSurface,
-    /// which control points may move (the frames of [SV] §3.1 are fixed)
+    /// which control points may move (the frames of \[SV\] §3.1 are fixed)
     pub mask: &'a ControlMask,
     /// the largest move of a control point (model units)
     pub tolerance: f64,
-    /// the continuity the calling stage keeps along the linked sides ([SV] §3.2: fair keeping
+    /// the continuity the calling stage keeps along the linked sides (\[SV\] §3.2: fair keeping
     /// C0, G1 or G2; its frames are the fixed rows of `mask`); `None` for a surface faired on
     /// its own
     pub keeps: Option<Continuity>,

@@ -1,5 +1,5 @@
 //! Fairness figures of a surface: what a surfacer reads off a curvature map and a curvature
-//! comb, as numbers that can be compared before and after a fairing ([SV] §1: "even curvature
+//! comb, as numbers that can be compared before and after a fairing (\[SV\] §1: "even curvature
 //! distribution with large, monotone curvature areas").
 //!
 //! On a grid of `samples × samples` parameters spread evenly over the domain (both ends

@@ -1,5 +1,5 @@
 //! Least-squares fitting of curves and surfaces to points with given parameters and knots
-//! ([NB] §9.4), with fixed control points and optional smoothing.
+//! (\[NB\] §9.4), with fixed control points and optional smoothing.
 //!
 //! Unknowns are the free control points x_f (a [`ControlMask`] or a flag per curve point); fixed
 //! ones keep the template's values x_c. With the collocation matrix A (rows = samples) and the
@@ -9,7 +9,7 @@
 //! one right-hand side per coordinate, solved by a sparse Cholesky factorization.
 //!
 //! # Deviation from the paper
-//! [NB] solves the normal equations densely; the matrix is sparse (bandwidth ~ p·n_v), so a
+//! \[NB\] solves the normal equations densely; the matrix is sparse (bandwidth ~ p·n_v), so a
 //! sparse Cholesky is used. Normal equations square the condition number; the pivot check below
 //! turns near-singular systems into an error instead of a silently wrong fit.
 //!

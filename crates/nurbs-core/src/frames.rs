@@ -1,4 +1,4 @@
-//! Sides, frames and control masks ([SV] §3.1).
+//! Sides, frames and control masks (\[SV\] §3.1).
 //!
 //! The four boundaries of a surface are its sides: `U0` is u = u_min (control row i = 0), `U1`
 //! u = u_max (i = n_u − 1), `V0` v = v_min (column j = 0), `V1` v = v_max (j = n_v − 1). The
@@ -152,7 +152,7 @@ impl Continuity {
     }
 }
 
-/// The control rows of a side that fix its boundary data ([SV] §3.1).
+/// The control rows of a side that fix its boundary data (\[SV\] §3.1).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub enum Frame {
     /// row 0: the boundary curve

@@ -1,13 +1,13 @@
 //! Gram integrals of B-spline basis derivatives, as banded matrices.
 //!
-//! G^{a,b}_{ij} = ∫_{t_p}^{t_{n+1}} N_i^{(a)}(t) N_j^{(b)}(t) dt, a, b ≤ 3 ([H] slide "energy"; the
+//! G^{a,b}_{ij} = ∫_{t_p}^{t_{n+1}} N_i^{(a)}(t) N_j^{(b)}(t) dt, a, b ≤ 3 (\[H\] slide "energy"; the
 //! U^{a,b} and V^{a,b} of the local energy fairing seed). The integrand is a polynomial of degree
 //! ≤ 2p − a − b on each knot span, so p + 1 Gauss–Legendre points per span make the integral exact
 //! up to rounding. N_i and N_j overlap only when |i − j| ≤ p: the matrix is banded with
 //! half-bandwidth p.
 //!
 //! The thin-plate energy of a polynomial surface with coordinate nets X (n_u × n_v, one per
-//! coordinate) is Σ_c x_cᵀ (U²²⊗V⁰⁰ + 2 U¹¹⊗V¹¹ + U⁰⁰⊗V²²) x_c ([SV] §5, [H]).
+//! coordinate) is Σ_c x_cᵀ (U²²⊗V⁰⁰ + 2 U¹¹⊗V¹¹ + U⁰⁰⊗V²²) x_c (\[SV\] §5, \[H\]).
 
 use crate::basis::BasisEvaluator;
 use crate::error::{Error, Result};

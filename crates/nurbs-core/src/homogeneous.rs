@@ -1,5 +1,5 @@
 //! Conversions between Euclidean control points with weights and homogeneous points
-//! P^w = (w·x, w·y, w·z, w) ([NB] §4.2), on which the knot algorithms work.
+//! P^w = (w·x, w·y, w·z, w) (\[NB\] §4.2), on which the knot algorithms work.
 
 use crate::Point3;
 
@@ -53,7 +53,7 @@ pub fn bounding_diagonal(points: &[Point3]) -> f64 {
     (hi - lo).norm()
 }
 
-/// Euclidean distance of two homogeneous points in R⁴ ([NB] A5.8 uses it for the removal test).
+/// Euclidean distance of two homogeneous points in R⁴ (\[NB\] A5.8 uses it for the removal test).
 pub(crate) fn distance4(a: &[f64; 4], b: &[f64; 4]) -> f64 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2) + (a[3] - b[3]).powi(2))
         .sqrt()

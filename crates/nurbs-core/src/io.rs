@@ -25,9 +25,9 @@ pub struct SurfaceRecord {
     /// full knot vector in v (absent for a Bézier patch)
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub knots_v: Option<Vec<f64>>,
-    /// control_points[i][j] = [x, y, z]
+    /// `control_points[i][j] = [x, y, z]`
     pub control_points: Vec<Vec<[f64; 3]>>,
-    /// weights[i][j], absent for polynomial surfaces
+    /// `weights[i][j]`, absent for polynomial surfaces
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub weights: Option<Vec<Vec<f64>>>,
 }

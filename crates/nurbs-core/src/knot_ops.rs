@@ -2,15 +2,15 @@
 //! polygons — the curve algorithms that the curve and surface methods apply (to every row or
 //! column for surfaces).
 //!
-//! - Insertion ([NB] A5.1, Boehm): inserting ū r times into span k rewrites P_{k−p+1..k−s}
+//! - Insertion (\[NB\] A5.1, Boehm): inserting ū r times into span k rewrites P_{k−p+1..k−s}
 //!   by Q_i = α_i P_i + (1 − α_i) P_{i−1}, α_i = (ū − t_i)/(t_{i+p} − t_i), repeated r times.
-//! - Refinement ([NB] A5.4 in effect): successive single insertions of a sorted knot list.
-//! - Removal ([NB] A5.8, Tiller): solves the insertion equations from both ends and accepts the
+//! - Refinement (\[NB\] A5.4 in effect): successive single insertions of a sorted knot list.
+//! - Removal (\[NB\] A5.8, Tiller): solves the insertion equations from both ends and accepts the
 //!   removal when the two solutions meet within the tolerance; the tolerance bounds the
 //!   Euclidean deviation of the curve (for rational curves scaled by w_min/(1 + max|P|), eq. 5.30).
 //! - Degree elevation: decomposition into Bézier segments (insertion), per-segment elevation
-//!   Q_i = (i/(p+1)) P_{i−1} + (1 − i/(p+1)) P_i ([NB] eq. 5.41), and exact removal of the surplus
-//!   knots — the same result as [NB] A5.9, built from the operations above.
+//!   Q_i = (i/(p+1)) P_{i−1} + (1 − i/(p+1)) P_i (\[NB\] eq. 5.41), and exact removal of the surplus
+//!   knots — the same result as \[NB\] A5.9, built from the operations above.
 //! - Extraction: the sub-curve over [a, b] by inserting a and b to multiplicity p.
 
 use crate::error::{Error, Result};
@@ -25,7 +25,7 @@ pub(crate) type Polygon = (KnotVector, Vec<[f64; 4]>);
 /// (~1e-15 relative) must pass.
 pub const EXACT_REMOVAL_REL_TOL: f64 = 1e-9;
 
-/// Inserts `u` `times` times ([NB] A5.1).
+/// Inserts `u` `times` times (\[NB\] A5.1).
 pub(crate) fn insert(kv: &KnotVector, pw: &[[f64; 4]], u: f64, times: usize) -> Result<Polygon> {
     kv.check_param(u)?;
     let p = kv.degree();
@@ -90,7 +90,7 @@ pub(crate) fn refine(kv: &KnotVector, pw: &[[f64; 4]], xs: &[f64]) -> Result<Pol
 }
 
 /// Tries to remove the interior knot `u` up to `num` times with Euclidean deviation at most
-/// `tolerance` ([NB] A5.8); returns the new polygon and how many times it was removed.
+/// `tolerance` (\[NB\] A5.8); returns the new polygon and how many times it was removed.
 pub(crate) fn remove(
     kv: &KnotVector,
     pw: &[[f64; 4]],
@@ -145,7 +145,7 @@ pub(crate) fn remove(
 }
 
 /// The removal tolerance on the homogeneous polygon for a Euclidean deviation of `tolerance`:
-/// scaled by w_min / (1 + max |P|) ([NB] eq. 5.30).
+/// scaled by w_min / (1 + max |P|) (\[NB\] eq. 5.30).
 fn homogeneous_tolerance(pw: &[[f64; 4]], tolerance: f64) -> f64 {
     let wmin = pw.iter().map(|q| q[3]).fold(f64::INFINITY, f64::min);
     let pmax = pw
@@ -155,7 +155,7 @@ fn homogeneous_tolerance(pw: &[[f64; 4]], tolerance: f64) -> f64 {
     tolerance * wmin / (1.0 + pmax)
 }
 
-/// One knot removal of [NB] A5.8: the knot `u` at `knots`, the order p + 1 and the homogeneous
+/// One knot removal of \[NB\] A5.8: the knot `u` at `knots`, the order p + 1 and the homogeneous
 /// tolerance.
 struct Removal<'a> {
     knots: &'a [f64],
@@ -218,7 +218,7 @@ impl Removal<'_> {
     }
 }
 
-/// Closes the gap the `t` removals left in `pw` around index `fout` ([NB] A5.8's last loop)
+/// Closes the gap the `t` removals left in `pw` around index `fout` (\[NB\] A5.8's last loop)
 /// and drops the last t points.
 fn drop_removed_points(pw: &mut Vec<[f64; 4]>, fout: usize, t: usize) {
     let n = pw.len() - 1;
@@ -272,7 +272,7 @@ pub(crate) fn extract(kv: &KnotVector, pw: &[[f64; 4]], a: f64, b: f64) -> Resul
 /// [u₁, u₂] continued over it (in homogeneous coordinates, so a rational curve continues its
 /// rational piece): the part over [u₁, b] is extracted, u₂ raised to multiplicity p so that
 /// the first p + 1 points are that span's Bézier polygon, the polygon extended to [a, u₂] by de
-/// Casteljau's subdivision at r = (a − u₁)/(u₂ − u₁) < 0 (the right part, [NB] §5.6 — the
+/// Casteljau's subdivision at r = (a − u₁)/(u₂ − u₁) < 0 (the right part, \[NB\] §5.6 — the
 /// same polynomial), and the copies of u₂ removed again (exactly: the curve on both sides of
 /// u₂ is what it was). The domain stays [a, b]; the curve over [u₁, b] does not change.
 pub(crate) fn merge_first_span(kv: &KnotVector, pw: &[[f64; 4]]) -> Result<Polygon> {
@@ -339,7 +339,7 @@ fn reverse(kv: &KnotVector, pw: &[[f64; 4]]) -> Result<Polygon> {
     Ok((KnotVector::new(kv.degree(), knots)?, points))
 }
 
-/// Raises the degree by `by` keeping the curve ([NB] §5.5).
+/// Raises the degree by `by` keeping the curve (\[NB\] §5.5).
 pub(crate) fn elevate(kv: &KnotVector, pw: &[[f64; 4]], by: usize) -> Result<Polygon> {
     if by == 0 {
         return Ok((kv.clone(), pw.to_vec()));

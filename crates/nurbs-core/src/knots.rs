@@ -1,8 +1,8 @@
 //! Knot vectors: validation, domain, multiplicities and span lookup.
 //!
 //! A knot vector t_0 ≤ … ≤ t_m of degree p carries n + 1 = m − p basis functions; the parameter
-//! domain is [t_p, t_{n+1}] ([NB] §2.2). Span lookup returns the index k ∈ [p, n] with
-//! t_k ≤ t < t_{k+1} (the last non-empty span at the end of the domain), [NB] A2.1.
+//! domain is [t_p, t_{n+1}] (\[NB\] §2.2). Span lookup returns the index k ∈ [p, n] with
+//! t_k ≤ t < t_{k+1} (the last non-empty span at the end of the domain), \[NB\] A2.1.
 
 use crate::error::{Error, Result};
 
@@ -174,7 +174,7 @@ impl KnotVector {
     }
 
     /// The span index k ∈ [p, n] with t_k ≤ t < t_{k+1}; parameters outside the domain are
-    /// clamped to it (the end of the domain belongs to the last non-empty span). [NB] A2.1.
+    /// clamped to it (the end of the domain belongs to the last non-empty span). \[NB\] A2.1.
     #[inline]
     pub fn span(&self, t: f64) -> usize {
         let k = &self.knots;

@@ -1,9 +1,9 @@
 //! # nurbs-core
 //!
-//! The B-spline/NURBS kernel of hier-fair: knot vectors, basis functions ([NB] A2.2/A2.3), curves
+//! The B-spline/NURBS kernel of hier-fair: knot vectors, basis functions (\[NB\] A2.2/A2.3), curves
 //! and surfaces (polynomial and rational) with derivatives, differential geometry, knot
 //! insertion/removal, degree elevation, extraction and isocurves, Gram integrals, projection,
-//! least-squares fitting with control masks, the frames of [SV] §3.1, the [`SurfaceFairing`] trait
+//! least-squares fitting with control masks, the frames of \[SV\] §3.1, the [`SurfaceFairing`] trait
 //! and a small triangle mesh. References (keys in brackets) are listed in `docs/references.md`.
 //!
 //! ```

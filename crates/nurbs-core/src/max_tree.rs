@@ -1,6 +1,6 @@
 //! A max tournament tree over a fixed set of keys: the priority structure of the local fairing
-//! methods (rank of every control point, [H] slide "Ranking number"; the largest C³ jump of KRR,
-//! [SV] §5.1).
+//! methods (rank of every control point, \[H\] slide "Ranking number"; the largest C³ jump of KRR,
+//! \[SV\] §5.1).
 //!
 //! Leaves hold one value per key; every inner node holds the larger of its two children, so the
 //! root is the maximum. Changing leaves and then refreshing their ancestors costs O(log n) per

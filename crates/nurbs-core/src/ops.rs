@@ -1,7 +1,7 @@
 //! Knot operations, degree elevation, extraction and isocurves on curves and surfaces.
 //!
 //! Surfaces apply the curve algorithms of [`crate::knot_ops`] to every column (u direction) or row
-//! (v direction) of the homogeneous net ([NB] §5.3: surface knot insertion is curve insertion on
+//! (v direction) of the homogeneous net (\[NB\] §5.3: surface knot insertion is curve insertion on
 //! the iso-polygons). Isocurves are exact: the curve v ↦ S(ū, v) has the homogeneous control points
 //! Q_j = Σ_i N_i(ū) w_ij P_ij on the v knot vector.
 

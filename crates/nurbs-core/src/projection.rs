@@ -1,4 +1,4 @@
-//! Closest-point projection (point inversion) onto curves and surfaces ([NB] §6.1).
+//! Closest-point projection (point inversion) onto curves and surfaces (\[NB\] §6.1).
 //!
 //! Minimizes f = ½|S(u, v) − P|². Start: the best of a sample grid (several samples per knot span),
 //! then safeguarded Newton on ∇f = (r·S_u, r·S_v), r = S − P, with the Hessian
@@ -6,7 +6,7 @@
 //! definite the Gauss–Newton matrix (H without the r terms) is used instead. Each step is clamped
 //! to the domain and halved until f decreases. Converged when the distance is below the point
 //! tolerance, when r is orthogonal to both tangents within the cosine tolerance (zero-cosine test
-//! of [NB] eq. 6.4), or when a clamped step no longer moves the point (for a Newton step at a
+//! of \[NB\] eq. 6.4), or when a clamped step no longer moves the point (for a Newton step at a
 //! minimum of its quadratic model, judged from the step's second-order Taylor terms before it is
 //! evaluated).
 //!
@@ -252,7 +252,7 @@ impl<'a> SurfaceProjector<'a> {
         }
     }
 
-    /// Whether r ⊥ S_u and r ⊥ S_v within the cosine tolerance ([NB] eq. 6.4), a direction
+    /// Whether r ⊥ S_u and r ⊥ S_v within the cosine tolerance (\[NB\] eq. 6.4), a direction
     /// whose gradient component (`gu`, `gv`) points out of the domain at a bound counting as
     /// met (a KKT multiplier, not a residual).
     fn is_critical(&self, it: &Iterate, gu: f64, gv: f64) -> bool {

@@ -2,7 +2,7 @@
 //!
 //! Nodes are the roots of the Legendre polynomial P_n, found by Newton's method from the
 //! Tricomi estimate cos(π(i − 1/4)/(n + 1/2)); weights w_i = 2 / ((1 − x_i²) P_n'(x_i)²)
-//! ([AS] 25.4.29).
+//! (\[AS\] 25.4.29).
 
 /// Newton stops when the node moves less than this (the nodes lie in [−1, 1]).
 const NODE_TOL: f64 = 1e-15;

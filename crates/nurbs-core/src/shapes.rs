@@ -1,5 +1,5 @@
 //! Exact reference shapes: rational circles, cylinders, spheres, tori, and the paraboloid
-//! z = x² + y² as a polynomial surface ([NB] §7.5 circles, §8.5 surfaces of revolution).
+//! z = x² + y² as a polynomial surface (\[NB\] §7.5 circles, §8.5 surfaces of revolution).
 //!
 //! They are used as closed-form truth in tests (curvature 1/r everywhere on a circle, K = 1/r² on a
 //! sphere, …) and are handy for users checking their own pipelines.
@@ -60,7 +60,7 @@ pub fn circle(r: f64) -> Result<BSplineCurve> {
 }
 
 /// Surface of revolution about the z axis: profile points (ρ, z) with weights, revolved along the
-/// given unit arc ([NB] A8.1 in tensor form: P_ij = (ρ_i a_j, ρ_i b_j, z_i), w_ij = w_i w_j).
+/// given unit arc (\[NB\] A8.1 in tensor form: P_ij = (ρ_i a_j, ρ_i b_j, z_i), w_ij = w_i w_j).
 fn revolve(
     profile: (KnotVector, Vec<(f64, f64)>, Vec<f64>),
     arc: (KnotVector, Vec<(f64, f64)>, Vec<f64>),
@@ -170,7 +170,7 @@ pub const FULL_TURN_SLACK: f64 = 1e-4;
 
 /// The unit arc from angle `start` to `end` (radians, counterclockwise; `end` > `start`, at most
 /// a full turn and [`FULL_TURN_SLACK`]) as rational quadratic Bézier segments of at most 90° joined with double knots
-/// ([NB] A7.1): control coefficients (a, b) with cos θ = Σ R_k a_k, sin θ = Σ R_k b_k exactly, and
+/// (\[NB\] A7.1): control coefficients (a, b) with cos θ = Σ R_k a_k, sin θ = Σ R_k b_k exactly, and
 /// the knots running from `start` to `end` (the parameter is not the angle inside a segment,
 /// but the ends are). A sweep past a full turn (within the slack) is a full turn: the knots
 /// still run to `end`, the arc closes exactly on its start.
@@ -220,7 +220,7 @@ pub fn unit_arc(start: f64, end: f64) -> Result<UnitArc> {
 
 /// The arc of radius `r` about `center` in the plane spanned by the orthonormal `x` and `y`,
 /// from angle `start` to `end` (radians, counterclockwise from `x` towards `y`), rational
-/// quadratic ([NB] A7.1).
+/// quadratic (\[NB\] A7.1).
 ///
 /// ```
 /// use nurbs_core::{Point3, Vector3, shapes::arc};
@@ -251,7 +251,7 @@ pub fn arc(
 
 /// The surface swept by `curve` turning about the axis through `origin` with unit direction
 /// `axis` from angle `start` to `end` (radians, right-handed about `axis`): u is the curve's
-/// parameter, v the turn ([NB] A8.1). Exact: a point P turned by θ is
+/// parameter, v the turn (\[NB\] A8.1). Exact: a point P turned by θ is
 /// O + cos θ (P − O) + sin θ (axis × (P − O)) with O its foot on the axis, and the rational arc
 /// reproduces (cos θ, sin θ), so P_ij = O_i + a_j X_i + b_j (axis × X_i), w_ij = w_i w_j. A
 /// control point on the axis gives a row collapsed to that point (a sphere's pole).
@@ -318,7 +318,7 @@ pub fn plane_patch(
 }
 
 /// The surface swept by `curve` moved along `direction`: S(u, v) = C(u) + v `direction` for v in
-/// [v0, v1], u the curve's parameter ([NB] §8.3, the general cylinder; IGES 122 and STEP's
+/// [v0, v1], u the curve's parameter (\[NB\] §8.3, the general cylinder; IGES 122 and STEP's
 /// SURFACE_OF_LINEAR_EXTRUSION). Exact for rational curves too: with row j = C's control
 /// points moved by v_j `direction` and the weights of C in both rows,
 /// Σ w_i N_i (P_i + v d) / Σ w_i N_i = C(u) + v d.
@@ -364,7 +364,7 @@ pub fn extrude_curve(
 pub const PROPORTIONAL_WEIGHTS_RELATIVE: f64 = 1e-12;
 
 /// The ruled surface S(u, v) = (1 − v) C₁(u) + v C₂(u), u ∈ [0, 1] the two curves' parameters
-/// mapped linearly onto [0, 1] (IGES 118 form 1, [NB] §8.2): the curves are made compatible —
+/// mapped linearly onto [0, 1] (IGES 118 form 1, \[NB\] §8.2): the curves are made compatible —
 /// the lower degree elevated, the knots of each inserted into the other — and the two
 /// control polygons are the rows v = 0 and v = 1.
 ///

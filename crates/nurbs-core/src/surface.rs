@@ -1,8 +1,8 @@
 //! Tensor-product B-spline and NURBS surfaces in 3D: storage and point evaluation.
 //!
-//! S(u, v) = Σ_i Σ_j N_i(u) M_j(v) w_ij P_ij / Σ_i Σ_j N_i(u) M_j(v) w_ij ([NB] eq. 4.15). The control
+//! S(u, v) = Σ_i Σ_j N_i(u) M_j(v) w_ij P_ij / Σ_i Σ_j N_i(u) M_j(v) w_ij (\[NB\] eq. 4.15). The control
 //! net is stored flat, `P[i * n_v + j]`, i over u (rows), j over v (columns). Derivatives of order
-//! ≤ 2 come from the homogeneous derivatives A_kl, w_kl by the quotient rule ([NB] A4.4, eq. 4.20):
+//! ≤ 2 come from the homogeneous derivatives A_kl, w_kl by the quotient rule (\[NB\] A4.4, eq. 4.20):
 //! S_kl = (A_kl − Σ_{j≥1} C(l,j) w_0j S_{k,l−j} − Σ_{i≥1} C(k,i) w_i0 S_{k−i,l}
 //!        − Σ_{i≥1} C(k,i) Σ_{j≥1} C(l,j) w_ij S_{k−i,l−j}) / w_00.
 
@@ -398,7 +398,7 @@ fn derivatives_fixed<const P1: usize, const Q1: usize>(
 }
 
 /// Turns homogeneous derivatives (order 00, 10, 01, 20, 11, 02) into Euclidean ones
-/// ([NB] eq. 4.20); for polynomial surfaces the w-components are ignored (Σ N = 1).
+/// (\[NB\] eq. 4.20); for polynomial surfaces the w-components are ignored (Σ N = 1).
 #[inline]
 pub(crate) fn quotient_rule(a: &[[f64; 4]; 6], rational: bool) -> SurfaceDerivatives {
     let v = |k: usize| Vector3::new(a[k][0], a[k][1], a[k][2]);

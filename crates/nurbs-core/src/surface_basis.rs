@@ -1,10 +1,10 @@
 //! The basis functions of a surface with their first and second partial derivatives at one
 //! parameter pair: the rows of systems that are linear in the control points.
 //!
-//! R_ij(u, v) = w_ij N_i(u) M_j(v) / W(u, v), W = Σ_ij w_ij N_i M_j ([NB] eq. 4.16), so that
+//! R_ij(u, v) = w_ij N_i(u) M_j(v) / W(u, v), W = Σ_ij w_ij N_i M_j (\[NB\] eq. 4.16), so that
 //! S = Σ R_ij P_ij and, with the weights held fixed, every derivative S_kl = Σ R_ij,kl P_ij is
 //! linear in the control points. For polynomial surfaces R_ij = N_i M_j. With A_ij = w_ij N_i M_j
-//! the quotient rule gives ([NB] eq. 4.20 applied to one function)
+//! the quotient rule gives (\[NB\] eq. 4.20 applied to one function)
 //! R_u = (A_u − W_u R)/W, R_uu = (A_uu − 2 W_u R_u − W_uu R)/W,
 //! R_uv = (A_uv − W_u R_v − W_v R_u − W_uv R)/W (v likewise).
 

@@ -9,7 +9,7 @@
 //!
 //! The trim points lie on the surface they were imported with; after fairing, the surface has
 //! moved by up to its deviation tolerance, and the foot of each point on the written surface
-//! (nearest point, [NB] §6.1) puts the written edges on the written face.
+//! (nearest point, \[NB\] §6.1) puts the written edges on the written face.
 //!
 //! # Tolerance
 //! [`ON_FACE_RELATIVE`] (of the surface size) bounds how far a chord's midpoint may lie off the

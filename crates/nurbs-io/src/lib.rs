@@ -1,6 +1,6 @@
 //! # nurbs-io
 //!
-//! IGES 5.3 exchange ([IGES] US PRO/IPO-100-1996) of B-spline geometry: rational B-spline
+//! IGES 5.3 exchange (\[IGES\] US PRO/IPO-100-1996) of B-spline geometry: rational B-spline
 //! surfaces (entity 128), curves (126), surfaces of revolution (120), tabulated cylinders (122)
 //! and ruled surfaces (118) as exact NURBS surfaces, planes (108) bounded by the trimmed surface
 //! (144) over them, trimmed B-spline surfaces cut to their face's parameter box, and

@@ -1,6 +1,6 @@
 //! Offset surfaces (IGES 140): S(u, v) + d N(u, v) is no NURBS surface in general, so it is
 //! approximated by a polynomial B-spline over the base surface's domain, fitted by least squares
-//! to the exact offset and refined until it is within a stated tolerance ([IGES], entity 140).
+//! to the exact offset and refined until it is within a stated tolerance (\[IGES\], entity 140).
 
 use nurbs_core::{BSplineSurface, KnotVector, Point3};
 

@@ -1,4 +1,4 @@
-//! Free-format parameter parsing ([IGES] §2.2.2–2.2.3): fields separated by the parameter
+//! Free-format parameter parsing (\[IGES\] §2.2.2–2.2.3): fields separated by the parameter
 //! delimiter, a record ended by the record delimiter, Hollerith strings `nHtext`, integers and
 //! reals with an `E` or `D` exponent, empty fields meaning "default".
 

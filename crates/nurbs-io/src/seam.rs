@@ -1,4 +1,4 @@
-//! Trim loops of a face closed around a seam, made one boundary for IGES ([IGES] §4.34).
+//! Trim loops of a face closed around a seam, made one boundary for IGES (\[IGES\] §4.34).
 //!
 //! A face on a surface closed in one direction (a cylinder, a cone, a band of a torus) between
 //! two loops that each wind once around it — two circles — has two loops that are closed in

@@ -1,8 +1,8 @@
 //! Length units: a model's unit as text, its size in millimetres, and lengths a user writes with
 //! a unit suffix.
 //!
-//! A model keeps its coordinates in its file's unit (STEP's `length_unit`, [ISO41] measure_schema;
-//! IGES's Global unit flag, [IGES] §2.2.4.3, Global parameters 14–15). Its unit is written as text: a
+//! A model keeps its coordinates in its file's unit (STEP's `length_unit`, \[ISO41\] measure_schema;
+//! IGES's Global unit flag, \[IGES\] §2.2.4.3, Global parameters 14–15). Its unit is written as text: a
 //! name this module knows ([`UNITS`]: the SI prefixes of the metre STEP uses and the IGES unit
 //! flags' units), or — for a STEP conversion-based unit without a known name — `"<factor> mm"`,
 //! its size in millimetres (`'UNKNOWN'` defined as 10 mm is `"10 mm"`). Tolerances a user gives
@@ -77,7 +77,7 @@ pub fn unit_text(mm: f64) -> String {
         .map_or_else(|| format!("{mm} mm"), |(n, _)| n.to_string())
 }
 
-/// The IGES unit flags 1–11 other than 3 ([IGES] §2.2.4.3, Global parameter 14) with the unit
+/// The IGES unit flags 1–11 other than 3 (\[IGES\] §2.2.4.3, Global parameter 14) with the unit
 /// each stands for.
 const IGES_FLAGS: [(i64, &str); 10] = [
     (1, "in"),

@@ -345,7 +345,7 @@ fn push_face(
 }
 
 /// Pushes a trim curve made of `pieces` in order: the one 126, or each piece's 126 and the
-/// composite (102, [IGES] §4.4) over them; returns the directory number of the curve.
+/// composite (102, \[IGES\] §4.4) over them; returns the directory number of the curve.
 fn push_curve(
     entities: &mut Vec<Entity>,
     pieces: &[BSplineCurve],

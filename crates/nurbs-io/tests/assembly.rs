@@ -1,5 +1,5 @@
 //! STEP assemblies: a part's faces placed once per usage, by the transformation of each
-//! placing relationship ([ISO41]; rep_1 the component, rep_2 the assembly — or, where the usage
+//! placing relationship (\[ISO41\]; rep_1 the component, rep_2 the assembly — or, where the usage
 //! occurrence says the component is rep_2, the other way round), named by their usage.
 
 use nurbs_core::Point3;

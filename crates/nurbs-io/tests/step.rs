@@ -151,7 +151,7 @@ fn written_step_reads_back_the_same_surfaces() {
     }
 }
 
-/// Every unit a model can be in is written as the LENGTH_UNIT it is ([ISO41]: the metre with its
+/// Every unit a model can be in is written as the LENGTH_UNIT it is (\[ISO41\]: the metre with its
 /// SI prefix, or a CONVERSION_BASED_UNIT defined in millimetres) and read back as the same unit;
 /// a unit the writer does not know is refused rather than written as millimetres.
 #[test]

@@ -231,7 +231,7 @@ fn a_cap_bounded_by_one_circle_reaches_the_pole_on_its_side() {
 }
 
 /// A cylinder of radius 2 about z written as a closed rational B-spline surface (the 9-point
-/// circle of [NB] §7.5 in u, degree 1 in v), bounded by its two circles as closed rational
+/// circle of \[NB\] §7.5 in u, degree 1 in v), bounded by its two circles as closed rational
 /// B-spline edges from one vertex and a seam in the QUASI_UNIFORM_CURVE form used both ways:
 /// the face is the whole surface, u over its whole closed domain.
 #[test]

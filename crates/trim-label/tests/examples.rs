@@ -1,4 +1,4 @@
-//! The three examples of [VV18], rebuilt as synthetic regions, and each of the six admissible
+//! The three examples of \[VV18\], rebuilt as synthetic regions, and each of the six admissible
 //! configurations.
 
 mod common;

@@ -3,7 +3,7 @@
 //! A rolling-ball fillet meets a plane with curvature 1/R against the plane's 0. G2 needs 0 at
 //! the contact line, and a lead-in that moves only control row 2 ([`crate::lead_in`]) must
 //! rejoin the unchanged arc beyond it: the curvature overshoots and undershoots there, two
-//! extrema too many beside each side. The whole section has to change instead ([SV] §1:
+//! extrema too many beside each side. The whole section has to change instead (\[SV\] §1:
 //! "large, monotone curvature areas"): with the contact lines and their tangent planes kept, a
 //! profile whose curvature ramps from 0 to a plateau and back turns the same angle over a
 //! slightly shorter plateau of slightly higher curvature — the railway easement between a

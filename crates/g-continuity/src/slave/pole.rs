@@ -1,5 +1,5 @@
 //! The curvature at a pole: a side collapsed to one point P, where the G2 sides that end there
-//! meet ([SV] §3.3, curvature compatibility at a vertex).
+//! meet (\[SV\] §3.3, curvature compatibility at a vertex).
 //!
 //! # Why
 //! Near a pole the surface's cross-pole parameter lines shrink to P: along the pole ring the

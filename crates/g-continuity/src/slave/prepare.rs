@@ -1,4 +1,4 @@
-//! Making a slave ready for its rows to move ([SV] §3.2 step 1): clamped, weights that are all
+//! Making a slave ready for its rows to move (\[SV\] §3.2 step 1): clamped, weights that are all
 //! equal dropped, the degree raised across each linked side (G_r needs degree ≥ r) and along it
 //! (knots inserted there later must not become creases), the curvature lead-in of G2 sides, the
 //! master's knots carried in, and control rows enough for the frames of two opposite sides. The
@@ -11,7 +11,7 @@ use super::{ConnectReport, SideLink, check_links};
 use crate::error::Result;
 use crate::params::ConnectParams;
 
-/// Makes a slave ready for the staged framework ([SV] §3.2 step 1): clamped, of sufficient
+/// Makes a slave ready for the staged framework (\[SV\] §3.2 step 1): clamped, of sufficient
 /// degree and with enough control rows for the frames of all its `links`, with the curvature
 /// lead-in of [`ConnectParams::lead_in`] at its G2 sides. The shape is unchanged (rational
 /// slaves stay rational).

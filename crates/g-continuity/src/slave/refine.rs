@@ -1,4 +1,4 @@
-//! The refinement rounds ([SV] §3.2 step 1, more freedom where it is missing): the knot spans
+//! The refinement rounds (\[SV\] §3.2 step 1, more freedom where it is missing): the knot spans
 //! along a side that hold samples missing the tolerances are halved, until the side meets them,
 //! stops improving, or has as many knots as it may take.
 //!

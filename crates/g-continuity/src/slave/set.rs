@@ -1,6 +1,6 @@
 //! The public steps: every step on a prepared slave ([`set_rows`]), one step on one side
 //! ([`set_g0`], [`set_g1`], [`set_g2`]), and one step of the staged framework on all sides with
-//! its refinement rounds ([`set_step`], [SV] §3.2 steps 3 and 5).
+//! its refinement rounds ([`set_step`], \[SV\] §3.2 steps 3 and 5).
 //!
 //! # Tolerance
 //! [`C0_FOR_G1_SHARE`]: the share of the G0 tolerance the C0 step of [`set_step`] aims at when
@@ -86,7 +86,7 @@ pub fn set_g0(
     single(master, slave, side, Continuity::G0, params)
 }
 
-/// Sets G1 across `side` by moving its tangential row ([SV] §4.1); the positional row is not
+/// Sets G1 across `side` by moving its tangential row (\[SV\] §4.1); the positional row is not
 /// touched. Returns the largest movement.
 pub fn set_g1(
     master: &BSplineSurface,
@@ -97,7 +97,7 @@ pub fn set_g1(
     single(master, slave, side, Continuity::G1, params)
 }
 
-/// Sets G2 across `side` by moving its curvature row ([SV] §4.2); rows 0–1 are not touched.
+/// Sets G2 across `side` by moving its curvature row (\[SV\] §4.2); rows 0–1 are not touched.
 /// Returns the largest movement.
 pub fn set_g2(
     master: &BSplineSurface,
@@ -131,7 +131,7 @@ pub struct StepReport {
     pub g2_slack: f64,
 }
 
-/// One step of the alternation ([SV] §3.2 steps 3 and 5, and the C0 re-attachment to faired
+/// One step of the alternation (\[SV\] §3.2 steps 3 and 5, and the C0 re-attachment to faired
 /// masters): sets continuity `step` on every link whose target is at least `step`, moving only
 /// row `step` of those sides (rows of earlier steps stay bit-identical unless knots are inserted,
 /// which keeps their shape). Sides that miss the tolerances get their failing knot spans halved

@@ -1,4 +1,4 @@
-//! The boundary's move spread into the interior ([F02], the bilinearly blended Coons
+//! The boundary's move spread into the interior (\[F02\], the bilinearly blended Coons
 //! patch). The C0 step moves the boundary rows of the linked sides onto their masters. Where a
 //! master changed shape before its slave is set (a fillet whose section was made one-hump, a
 //! master faired first), that move is up to the deviation budget. Moving only the boundary row

@@ -1,4 +1,4 @@
-//! How each control point of a side's row takes part in one step ([SV] §3.3): fixed, shared
+//! How each control point of a side's row takes part in one step (\[SV\] §3.3): fixed, shared
 //! (a twist or a common corner, averaged), sliding, an end on a free boundary, or free — from
 //! the targets of the neighbouring sides, poles and degenerate corners (see the parent module).
 //!

@@ -1,4 +1,4 @@
-//! One step (row k: C0, G1 or G2) on every linked side of a slave at once ([SV] §3.3, §4):
+//! One step (row k: C0, G1 or G2) on every linked side of a slave at once (\[SV\] §3.3, §4):
 //! every side's row solved on its own, the candidates of shared points (twists, common corners)
 //! averaged and the sides solved again with those pinned; sliding end points kept in their G0
 //! master's tangent plane, and on request the corner tangents turned after the C0 rows.
@@ -265,8 +265,8 @@ pub(super) fn step_all_with(
 /// master leaves ([`SetParams::contact_lines`]: the neighbouring side's master B is linked to
 /// this side's master A along a boundary through the corner), the row's second point turns
 /// within A's tangent plane so that the boundary leaves the corner along that line, its
-/// distance from the corner kept. Third-order compatibility at a corner of two G2 sides ([SV]
-/// §3.3's corner compatibility two orders up; [PW] for G2 along a curve): G2
+/// distance from the corner kept. Third-order compatibility at a corner of two G2 sides (\[SV\]
+/// §3.3's corner compatibility two orders up; \[PW\] for G2 along a curve): G2
 /// along this side sets the slave's mixed derivative n · S_uvv at the corner to A's, so along
 /// the other side the slave's cross curvature starts with the slope A prescribes; B is G2 to A
 /// along the contact line, so its curvature across the slave's other side starts with the same

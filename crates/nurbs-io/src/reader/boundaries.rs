@@ -1,4 +1,4 @@
-//! A trimmed or bounded surface's boundaries (142 curves on surface and 141 boundaries, [IGES]
+//! A trimmed or bounded surface's boundaries (142 curves on surface and 141 boundaries, \[IGES\]
 //! §4.32–§4.34): the composite
 //! (102) and simple model-space curves sampled, the parameter box of a B-spline face's outer
 //! boundary, and the outer and inner boundaries as loops of points on the face's surface.
@@ -92,7 +92,7 @@ impl Reader<'_> {
         Ok(sample_within_sag(&local, samples))
     }
 
-    /// The pointers of a curve on a surface (142, [IGES] §4.32): to its parameter-space curve
+    /// The pointers of a curve on a surface (142, \[IGES\] §4.32): to its parameter-space curve
     /// and to its model-space curve (0 where absent).
     /// A boundary (141) has no single curve of each kind: it is its own model-space curve
     /// (its curves in order, [`Self::boundary_samples`]) and has no parameter-space one here.
@@ -240,7 +240,7 @@ impl Reader<'_> {
             .collect())
     }
 
-    /// The boundaries of a trimmed surface (144, [IGES] §4.34) after its surface pointer: N1
+    /// The boundaries of a trimmed surface (144, \[IGES\] §4.34) after its surface pointer: N1
     /// (whether the outer boundary is the domain's), N2 (the number of inner boundaries), the
     /// outer boundary's 142 (`None` where PTO is 0) and the N2 inner boundaries' 142s.
     pub(super) fn face_boundaries<'r>(
@@ -263,7 +263,7 @@ impl Reader<'_> {
         Ok((outer, inner))
     }
 
-    /// The boundaries of a bounded surface (143, [IGES] §4.33) after its surface pointer: N and
+    /// The boundaries of a bounded surface (143, \[IGES\] §4.33) after its surface pointer: N and
     /// the N boundaries (141), the first taken as the outer one (the standard names none; the
     /// writers put the outer first), the others as inner ones.
     pub(super) fn bounded_boundaries<'r>(

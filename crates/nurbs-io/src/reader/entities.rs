@@ -1,6 +1,6 @@
 //! Access to an entity's parameters (a cursor whose errors name the entity), the entity's
 //! transformation matrices (124, composed), its name, and the curves: 110, 100 and 126 as exact
-//! NURBS curves ([IGES] §4.13, §4.3, §4.23, §4.21).
+//! NURBS curves (\[IGES\] §4.13, §4.3, §4.23, §4.21).
 
 use nurbs_core::{BSplineCurve, KnotVector, Point3};
 
@@ -211,7 +211,7 @@ impl Reader<'_> {
     }
 
     /// A curve entity as an exact NURBS curve: 110 (line segment, degree 1), 100 (circular arc,
-    /// rational quadratic, [IGES] §4.3: centre, start and end in the plane z = ZT of its
+    /// rational quadratic, \[IGES\] §4.3: centre, start and end in the plane z = ZT of its
     /// definition space, counterclockwise; start = end is a full circle) or 126. The entity's
     /// transformation applies to the control points, which is exact for a rational curve.
     pub(super) fn any_curve(&self, e: &DirEntry, scale: f64) -> Result<BSplineCurve, IgesError> {
@@ -271,7 +271,7 @@ impl Reader<'_> {
         }
     }
 
-    /// Entity 126, the rational B-spline curve ([IGES] §4.23).
+    /// Entity 126, the rational B-spline curve (\[IGES\] §4.23).
     pub(super) fn curve(&self, e: &DirEntry, scale: f64) -> Result<IgesCurve, IgesError> {
         let params = entity_params(e, &self.p, &self.global)?;
         let mut c = Cursor {

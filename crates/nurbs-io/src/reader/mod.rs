@@ -3,7 +3,7 @@
 //! its 110 / 100 / 126 generatrix), 108 (plane, bounded by the outer boundary of the 144 that
 //! trims it: its 142 and the 102 / 110 / 100 / 126 model-space curve), 126 (curve), 144 (trimmed
 //! surface), 143 (bounded surface, with its 141 boundaries: the first the outer one, each the
-//! model-space curves it lists in order) and 124 (transformation matrix) ([IGES] §2, §4.3,
+//! model-space curves it lists in order) and 124 (transformation matrix) (\[IGES\] §2, §4.3,
 //! §4.13, §4.16, §4.23, §4.24, §4.33, §4.34, §4.21).
 //! A trimmed or bounded surface's boundaries are kept as data on its surface
 //! ([`IgesSurface::trim`], the outer one, and [`IgesSurface::holes`], the inner ones): each

@@ -1,6 +1,6 @@
 //! Planes (108) bounded by their faces: the smallest rectangle in the plane that holds the
 //! outer boundary of the trimmed surface (144) over it, grown to hold the boundaries of other
-//! surfaces that lie in it ([IGES] §4.12).
+//! surfaces that lie in it (\[IGES\] §4.12).
 
 use nurbs_core::Point3;
 
@@ -11,7 +11,7 @@ use crate::error::IgesError;
 
 impl Reader<'_> {
     /// A plane (108) under a trimmed surface (144) whose outer boundary (142, its model-space
-    /// curve) bounds it ([IGES] §4.12, §4.32): the bilinear 2 × 2 patch over the smallest
+    /// curve) bounds it (\[IGES\] §4.12, §4.32): the bilinear 2 × 2 patch over the smallest
     /// rectangle in the plane that holds the boundary, its sides along one of the boundary's
     /// chords (the minimum-area rectangle of a polygon has a side along one of its edges: exact
     /// for a face bounded by lines, tight for one bounded by arcs), u and v by length.

@@ -1,4 +1,4 @@
-//! Records and sections of an IGES file ([IGES] §2): the fixed 80-column records split into
+//! Records and sections of an IGES file (\[IGES\] §2): the fixed 80-column records split into
 //! the Start, Global, Directory, Parameter and Terminate sections with their sequence numbers
 //! checked, the Global section's delimiters and parameters, the directory entries, an entity's
 //! parameter data, the Terminate counts and the unit names.
@@ -282,7 +282,7 @@ pub(crate) fn parse_directory(records: &[Record<'_>]) -> Result<Vec<DirEntry>, I
     Ok(out)
 }
 
-/// Sets each directory entry's parameter line count ([IGES] §2.2.3, field 14) to the run of
+/// Sets each directory entry's parameter line count (\[IGES\] §2.2.3, field 14) to the run of
 /// P records from its pointer that point back to it (columns 65–72), where the two disagree: the
 /// back-pointers say which lines are the entity's, and Open CASCADE reads what is there. Returns
 /// one warning for all the entries changed, naming the first.

@@ -1,7 +1,7 @@
 //! The surface entities as exact NURBS surfaces: 128 (rational B-spline surface), 120 (surface
 //! of revolution), 122 (tabulated cylinder), 118 (ruled surface), each moved by its
 //! transformation and the model scale, and 140 (offset surface, approximated within
-//! [`crate::offset::OFFSET_TOLERANCE_RELATIVE`]) ([IGES] §4.24, §4.16, §4.19, §4.14).
+//! [`crate::offset::OFFSET_TOLERANCE_RELATIVE`]) (\[IGES\] §4.24, §4.16, §4.19, §4.14).
 
 use nurbs_core::{BSplineCurve, BSplineSurface, KnotVector, Point3};
 
@@ -25,7 +25,7 @@ impl Reader<'_> {
         }
     }
 
-    /// Entity 128, the rational B-spline surface ([IGES] §4.24), its net turned to u-major order.
+    /// Entity 128, the rational B-spline surface (\[IGES\] §4.24), its net turned to u-major order.
     pub(super) fn surface(&self, e: &DirEntry, scale: f64) -> Result<IgesSurface, IgesError> {
         let params = entity_params(e, &self.p, &self.global)?;
         let mut c = Cursor {
@@ -67,7 +67,7 @@ impl Reader<'_> {
         ))
     }
 
-    /// Entity 120, the surface of revolution ([IGES] §4.16): the generatrix C turned about the
+    /// Entity 120, the surface of revolution (\[IGES\] §4.16): the generatrix C turned about the
     /// axis line L from the start angle SA to the terminate angle TA, right-handed about L's
     /// direction (start point to end point), as an exact rational surface
     /// ([`nurbs_core::shapes::revolve_curve`]): u along C, v around the axis.
@@ -130,7 +130,7 @@ impl Reader<'_> {
         Ok(Self::untrimmed(e, surface, param_range))
     }
 
-    /// Entity 122, the tabulated cylinder ([IGES] §4.19): the directrix C (110, 100 or 126)
+    /// Entity 122, the tabulated cylinder (\[IGES\] §4.19): the directrix C (110, 100 or 126)
     /// moved along the line from its start point C(t0) to the terminate point L,
     /// S(u, v) = C(u) + v (L − C(t0)), v ∈ [0, 1], exactly
     /// ([`nurbs_core::shapes::extrude_curve`]); u keeps the directrix's parameter.
@@ -151,7 +151,7 @@ impl Reader<'_> {
         self.placed(e, local, scale, [t0, t1, 0.0, 1.0])
     }
 
-    /// Entity 118, the ruled surface ([IGES] §4.14) between two curves (110, 100 or 126),
+    /// Entity 118, the ruled surface (\[IGES\] §4.14) between two curves (110, 100 or 126),
     /// S(u, v) = (1 − v) C₁(u) + v C₂(u), DIRFLG 1 joining the first end of C₁ to the last of
     /// C₂, exactly ([`nurbs_core::shapes::ruled_surface`]). Form 1 (equal relative parameter)
     /// is that surface. Form 0 rules points of equal relative arc length: it is read when the
@@ -194,7 +194,7 @@ impl Reader<'_> {
         self.placed(e, local, scale, [0.0, 1.0, 0.0, 1.0])
     }
 
-    /// An offset surface ([IGES], entity 140): S(u, v) + d N(u, v) over the base surface's
+    /// An offset surface (\[IGES\], entity 140): S(u, v) + d N(u, v) over the base surface's
     /// domain, N its unit normal, turned to the side of the offset indicator (NX, NY, NZ) where
     /// that is given. An offset is not a NURBS surface in general, so it is approximated: a
     /// polynomial B-spline of degree max(3, the base's) on the base's breakpoints, fitted by least
@@ -253,7 +253,7 @@ pub const RULED_ARC_LENGTH_RELATIVE: f64 = 1e-9;
 const ARC_LENGTH_SPANS: usize = 64;
 
 /// Arc length from the start at the relative parameters k / [`ARC_LENGTH_SPANS`], divided by
-/// the whole length (Gauss–Legendre on each piece, [AS] 25.4.29).
+/// the whole length (Gauss–Legendre on each piece, \[AS\] 25.4.29).
 fn relative_arc_lengths(c: &BSplineCurve) -> Vec<f64> {
     let rule = nurbs_core::quadrature::GaussLegendre::new(5);
     let (t0, t1) = c.knots().domain();

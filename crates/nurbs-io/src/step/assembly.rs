@@ -1,4 +1,4 @@
-//! Assemblies: every face placed once per instance of its part ([ISO41] representation schema;
+//! Assemblies: every face placed once per instance of its part (\[ISO41\] representation schema;
 //! the product structure of AP203/AP214).
 //!
 //! A part's shape is a representation (its items: solids, shells, faces); an assembly places a

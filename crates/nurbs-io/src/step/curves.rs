@@ -1,7 +1,7 @@
-//! Points along the 3D curves that bound a CURVE_BOUNDED_SURFACE ([ISO42] geometry_schema):
+//! Points along the 3D curves that bound a CURVE_BOUNDED_SURFACE (\[ISO42\] geometry_schema):
 //! B-spline curves in any form, TRIMMED_CURVEs of lines, circles, ellipses and B-splines,
 //! polylines, composite curves, and a SURFACE_CURVE's 3D curve; and the file's plane-angle
-//! unit, in which a trimmed conic's parameters are given ([ISO42] `circle`, `ellipse`: a
+//! unit, in which a trimmed conic's parameters are given (\[ISO42\] `circle`, `ellipse`: a
 //! conic's parameter is the angle).
 
 use nurbs_core::{Point3, ProjectionParams};

@@ -1,4 +1,4 @@
-//! A face's parameter box on its surface, from its bound loops ([ISO42] topology_schema:
+//! A face's parameter box on its surface, from its bound loops (\[ISO42\] topology_schema:
 //! `face_bound`, `advanced_face`). Each loop is put in the surface's own frame — it runs with the face on its
 //! left when the bound's orientation and the face's sense agree, and is reversed otherwise
 //! (the normal of every surface here is σ_u × σ_v, so "left" is the side of +v for a loop
@@ -63,7 +63,7 @@ struct Carrier {
 }
 
 impl Surface {
-    /// Its periods, natural ranges and poles ([ISO42] geometry_schema: the angle u of an elementary
+    /// Its periods, natural ranges and poles (\[ISO42\] geometry_schema: the angle u of an elementary
     /// surface in [0, 2π), a sphere's latitude in [−π/2, π/2], a torus's v an angle).
     fn carrier(&self) -> Carrier {
         let angle = Some((0.0, TAU));

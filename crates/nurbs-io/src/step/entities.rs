@@ -127,7 +127,7 @@ impl<'a> Model<'a> {
 
 /// The length unit as [`crate::units`] text: the LENGTH_UNIT of the GLOBAL_UNIT_ASSIGNED_CONTEXT,
 /// else the first LENGTH_UNIT instance (a conversion-based unit refers to an SI one, which must
-/// not win); a conversion-based unit by the size its LENGTH_MEASURE_WITH_UNIT gives it ([ISO41]:
+/// not win); a conversion-based unit by the size its LENGTH_MEASURE_WITH_UNIT gives it (\[ISO41\]:
 /// 'INCH' as 25.4 mm is "in", 'UNKNOWN' as 10 mm "cm", 12.5 mm "12.5 mm"), by its name where
 /// that size cannot be read.
 pub(super) fn units(m: &Model, ids: &[u64]) -> String {
@@ -182,7 +182,7 @@ pub(super) fn units(m: &Model, ids: &[u64]) -> String {
 /// ends here).
 const MAX_UNIT_NESTING: usize = 4;
 
-/// Millimetres per the length unit `id`: an SI_UNIT (metre with its prefix, [ISO41]) or a
+/// Millimetres per the length unit `id`: an SI_UNIT (metre with its prefix, \[ISO41\]) or a
 /// CONVERSION_BASED_UNIT, its LENGTH_MEASURE_WITH_UNIT's value times its unit's size.
 fn unit_mm(m: &Model, id: u64, depth: usize) -> Option<f64> {
     let inst = m.get(id).ok()?;

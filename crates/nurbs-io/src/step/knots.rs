@@ -1,4 +1,4 @@
-//! The knots of the B-spline forms whose knots the file leaves implied ([ISO42] geometry_schema:
+//! The knots of the B-spline forms whose knots the file leaves implied (\[ISO42\] geometry_schema:
 //! `uniform_curve` / `uniform_surface`, `quasi_uniform_curve` / `quasi_uniform_surface`,
 //! `bezier_curve` / `bezier_surface`, `piecewise_bezier_curve` / `_surface`), and which of the
 //! forms an instance is. For n + 1 control points of degree p (upper index k = n):

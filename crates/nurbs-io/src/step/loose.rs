@@ -1,4 +1,4 @@
-//! Surfaces that are not faces of a shell ([ISO42] geometry_schema and geometric_model_schema):
+//! Surfaces that are not faces of a shell (\[ISO42\] geometry_schema and geometric_model_schema):
 //! the elements of a GEOMETRIC_SET and the items of a shape representation that are surfaces —
 //! a B-spline surface in any form, an elementary surface, a RECTANGULAR_TRIMMED_SURFACE (its
 //! parameter box) or a CURVE_BOUNDED_SURFACE (the box of its boundary curves, kept as trim
@@ -187,7 +187,7 @@ enum Bounds {
 }
 
 /// The box of a RECTANGULAR_TRIMMED_SURFACE: u1 … u2 and v1 … v2 in increasing order, an angle
-/// in radians ([ISO42] `rectangular_trimmed_surface`: the trim values of an angular parameter
+/// in radians (\[ISO42\] `rectangular_trimmed_surface`: the trim values of an angular parameter
 /// are in the plane-angle unit); an angular range that runs backwards goes the other way round.
 fn rectangular_box(s: &Surface, u: [f64; 2], v: [f64; 2], angle: f64) -> ((f64, f64), (f64, f64)) {
     // per direction: whether it is an angle, and whether that angle wraps round (a sphere's

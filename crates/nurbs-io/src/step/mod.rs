@@ -4,7 +4,7 @@
 //! its own bounds.
 //!
 //! Surfaces: PLANE, CYLINDRICAL_SURFACE, CONICAL_SURFACE, SPHERICAL_SURFACE, TOROIDAL_SURFACE
-//! (rational quadratic arcs in the angular directions, [NB] A7.1 / A8.1), SURFACE_OF_LINEAR_EXTRUSION
+//! (rational quadratic arcs in the angular directions, \[NB\] A7.1 / A8.1), SURFACE_OF_LINEAR_EXTRUSION
 //! of a B-spline curve (exact, [`nurbs_core::shapes::extrude_curve`]), SURFACE_OF_REVOLUTION
 //! of a B-spline curve, and B-spline surfaces — B_SPLINE_SURFACE_WITH_KNOTS, or the
 //! QUASI_UNIFORM_, UNIFORM_ and BEZIER_SURFACE forms with their knots implied — plain or in the

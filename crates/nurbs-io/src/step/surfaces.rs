@@ -1,7 +1,7 @@
 //! The surfaces a face lies on, with the closed form that inverts a point on them: PLANE,
 //! CYLINDRICAL_SURFACE, CONICAL_SURFACE, SPHERICAL_SURFACE, TOROIDAL_SURFACE, SURFACE_OF_REVOLUTION
 //! and SURFACE_OF_LINEAR_EXTRUSION of a B-spline curve, B_SPLINE_SURFACE_WITH_KNOTS; each built
-//! as an exact NURBS surface over a parameter box ([NB] A7.1 / A8.1), and the B-spline curves
+//! as an exact NURBS surface over a parameter box (\[NB\] A7.1 / A8.1), and the B-spline curves
 //! and surfaces of a file.
 
 use nurbs_core::{BSplineCurve, BSplineSurface, KnotVector, Point3, ProjectionParams, Vector3};
@@ -219,7 +219,7 @@ fn extrusion(m: &Model, sid: u64, kind: &str) -> R<Option<Surface>> {
 }
 
 /// The knot vector of STEP's distinct knots and their multiplicities (instance `id`): each
-/// multiplicity a whole number from 1 to [`MAX_DEGREE`] + 1 ([ISO42]
+/// multiplicity a whole number from 1 to [`MAX_DEGREE`] + 1 (\[ISO42\]
 /// `b_spline_curve_with_knots`: at most the degree + 1), one per knot.
 pub(super) fn expand_knots(m: &Model, id: u64, mults: &[f64], values: &[f64]) -> R<Vec<f64>> {
     if mults.len() != values.len() {
@@ -242,7 +242,7 @@ pub(super) fn expand_knots(m: &Model, id: u64, mults: &[f64], values: &[f64]) ->
     Ok(out)
 }
 
-/// A B-spline surface in any of its forms ([ISO42] geometry_schema): B_SPLINE_SURFACE_WITH_KNOTS,
+/// A B-spline surface in any of its forms (\[ISO42\] geometry_schema): B_SPLINE_SURFACE_WITH_KNOTS,
 /// or UNIFORM_, QUASI_UNIFORM_ or BEZIER_SURFACE with their knots implied ([`implied_knots`]);
 /// simple, or in a complex instance with B_SPLINE_SURFACE and RATIONAL_B_SPLINE_SURFACE.
 /// Control points are listed row by row, u the outer index, as the crate's flat net

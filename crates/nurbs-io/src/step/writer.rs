@@ -164,7 +164,7 @@ impl StepWriter {
         self.lines.len()
     }
 
-    /// The LENGTH_UNIT of a model in `units` ([`crate::units`] text, [ISO41]): an SI unit
+    /// The LENGTH_UNIT of a model in `units` ([`crate::units`] text, \[ISO41\]): an SI unit
     /// (the metre with its prefix) where it is one, else a CONVERSION_BASED_UNIT defined in
     /// millimetres (INCH, FOOT, or one named by its size).
     fn length_unit(&mut self, units: &str) -> Result<usize, nurbs_core::Error> {
