@@ -87,6 +87,18 @@ impl CurvatureValues {
             gauss: k1 * k2,
         }
     }
+
+    /// Mean curvature (k1 + k2)/2: the field [`Self::mean`].
+    #[deprecated(note = "read the field `mean` (as the JSON names it)")]
+    pub fn mean(&self) -> f64 {
+        self.mean
+    }
+
+    /// Gaussian curvature k1·k2: the field [`Self::gauss`].
+    #[deprecated(note = "read the field `gauss` (as the JSON names it)")]
+    pub fn gauss(&self) -> f64 {
+        self.gauss
+    }
 }
 
 /// Principal curvatures and directions at a regular point.
@@ -106,6 +118,20 @@ pub struct PrincipalCurvatures {
     pub mean: f64,
     /// Gaussian curvature k1·k2 (the JSON's `gauss`)
     pub gauss: f64,
+}
+
+impl PrincipalCurvatures {
+    /// Mean curvature (k1 + k2)/2: the field [`Self::mean`].
+    #[deprecated(note = "read the field `mean` (as the JSON names it)")]
+    pub fn mean(&self) -> f64 {
+        self.mean
+    }
+
+    /// Gaussian curvature k1·k2: the field [`Self::gauss`].
+    #[deprecated(note = "read the field `gauss` (as the JSON names it)")]
+    pub fn gauss(&self) -> f64 {
+        self.gauss
+    }
 }
 
 impl SurfaceDerivatives {
@@ -253,5 +279,34 @@ impl SurfaceDerivatives {
     /// Gaussian curvature k1·k2, `None` at singular points.
     pub fn gaussian_curvature(&self) -> Option<f64> {
         self.curvature_values().map(|c| c.gauss)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use crate::shapes::torus;
+
+    /// mean and gauss are filled at construction from k1 and k2, on both paths, and the
+    /// deprecated accessors of the same names return them
+    #[test]
+    #[allow(deprecated)]
+    fn mean_and_gauss_fields_are_the_halved_sum_and_the_product() {
+        let s = torus(3.0, 1.0).unwrap();
+        for (u, v) in [(0.1, 0.2), (0.45, 0.8), (0.7, 0.05)] {
+            let d = s.derivatives(u, v);
+            let c = d.curvature_values().unwrap();
+            assert!(c.k1 > c.k2, "a torus has no umbilic points");
+            assert_eq!(c.mean, 0.5 * (c.k1 + c.k2));
+            assert_eq!(c.gauss, c.k1 * c.k2);
+            assert_eq!((c.mean(), c.gauss()), (c.mean, c.gauss));
+            let p = d.principal_curvatures().unwrap();
+            assert_eq!(p.mean, 0.5 * (p.k1 + p.k2));
+            assert_eq!(p.gauss, p.k1 * p.k2);
+            assert_eq!((p.mean(), p.gauss()), (p.mean, p.gauss));
+            assert_eq!(d.mean_curvature(), Some(c.mean));
+            assert_eq!(d.gaussian_curvature(), Some(c.gauss));
+        }
+        let built = super::CurvatureValues::new(crate::Vector3::z(), 2.0, -0.5);
+        assert_eq!((built.mean, built.gauss), (0.75, -1.0));
     }
 }
