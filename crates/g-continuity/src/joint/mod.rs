@@ -373,6 +373,24 @@ fn worst(r: &[f64]) -> f64 {
     r.iter().fold(0.0f64, |m, x| m.max(x.abs()))
 }
 
+/// The derivative fields besides the point that [`residuals`] reads for a sample of a side
+/// `side` with target `target` (`zoned`: inside a vertex zone, no G2 residual): S_u and S_v
+/// (the normal) from G1 on, and the second derivative across the side (S_uu on a u side, S_vv
+/// on a v side) at G2. S_uv enters no residual.
+fn residual_fields(side: Side, target: Continuity, zoned: bool) -> Vec<usize> {
+    let mut out = Vec::with_capacity(3);
+    if target >= Continuity::G1 {
+        out.extend([1, 2]);
+    }
+    if target >= Continuity::G2 && !zoned {
+        out.push(match side.cross_direction() {
+            Direction::U => 3,
+            Direction::V => 5,
+        });
+    }
+    out
+}
+
 impl Problem<'_> {
     /// Every sample's residuals on `s`, in sample order, with the slave's derivatives there
     /// (the normal equations of an accepted state reuse them).
@@ -392,20 +410,27 @@ impl Problem<'_> {
     }
 
     /// The derivatives of one sample's residuals with respect to each coordinate of each slave
-    /// derivative vector ([`FIELDS`]), by central differences ([`DIFF_STEP`]); S_uv enters no
-    /// residual and is skipped.
+    /// derivative vector ([`FIELDS`]), by central differences ([`DIFF_STEP`]), for the fields
+    /// the residuals read ([`residual_fields`]): the others' differences are exactly zero and
+    /// are not taken. The point enters the gap alone, whose difference is taken on its own.
     fn gradient(&self, ds: &SurfaceDerivatives, sm: &Sample) -> [[[f64; RES]; 3]; FIELDS] {
         let l = &self.links[sm.link];
         let mut g = [[[0.0; RES]; 3]; FIELDS];
         let scale = ds.du.norm().max(ds.dv.norm());
-        let fields = if l.target < Continuity::G1 { 1 } else { FIELDS };
-        for (f, gf) in g.iter_mut().enumerate().take(fields) {
-            if f == 4 {
-                continue;
-            }
-            let mut base = *ds;
-            let h = DIFF_STEP * field(&mut base, f).norm().max(scale).max(f64::MIN_POSITIVE);
-            for (d, gd) in gf.iter_mut().enumerate() {
+        let step = |base: &SurfaceDerivatives, f: usize| {
+            let mut base = *base;
+            DIFF_STEP * field(&mut base, f).norm().max(scale).max(f64::MIN_POSITIVE)
+        };
+        // the gap, (S − foot)/g0, is the only residual the point enters
+        let h = step(ds, 0);
+        for (d, gd) in g[0].iter_mut().enumerate() {
+            let (plus, minus) = (ds.point[d] + h, ds.point[d] - h);
+            gd[d] = ((plus - sm.foot[d]) / self.units.g0 - (minus - sm.foot[d]) / self.units.g0)
+                / (2.0 * h);
+        }
+        for f in residual_fields(l.side, l.target, sm.zoned) {
+            let h = step(ds, f);
+            for (d, gd) in g[f].iter_mut().enumerate() {
                 let (mut plus, mut minus) = (*ds, *ds);
                 field(&mut plus, f)[d] += h;
                 field(&mut minus, f)[d] -= h;
@@ -611,3 +636,6 @@ pub fn polish_joint(
         .fold(0.0, f64::max);
     Ok((s, report))
 }
+
+#[cfg(test)]
+mod tests;
