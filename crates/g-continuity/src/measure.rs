@@ -252,7 +252,33 @@ pub fn cross_boundary_direction(d: &SurfaceDerivatives, side: Side) -> Option<Ve
     (dir.norm_squared() > 0.0).then_some(dir)
 }
 
-/// Measures the link of `side` of `slave` on `master`.
+/// Measures the link of `side` of `slave` on `master`: the master comes first, then the slave
+/// whose side is measured.
+///
+/// Prefer [`SideLink::measure`](crate::SideLink::measure): a [`SideLink`](crate::SideLink)
+/// names the slave's side and its master, and the slave is passed alone, so the two surfaces
+/// cannot be swapped. This function stays for callers without a link at hand and gives the
+/// same figures; swapped, it would measure the master's side against the slave instead.
+///
+/// ```
+/// use g_continuity::{MeasureParams, SideLink, measure_link};
+/// use nurbs_core::{Continuity, Point3, Side, Vector3, shapes::plane_patch};
+/// // a flat master over x ∈ [0, 1] and a slave over x ∈ [1, 2] bent up by 10° at x = 1
+/// let master = plane_patch(Point3::origin(), Vector3::x(), Vector3::y(), (0.0, 1.0), (0.0, 1.0))
+///     .unwrap();
+/// let (c, s) = (10f64.to_radians().cos(), 10f64.to_radians().sin());
+/// let slave = plane_patch(Point3::new(1.0, 0.0, 0.0), Vector3::new(c, 0.0, s), Vector3::y(),
+///     (0.0, 1.0), (0.0, 1.0)).unwrap();
+/// let params = MeasureParams::default();
+/// // preferred: the link names the slave's side and the master; the slave is passed alone
+/// let link = SideLink { side: Side::U0, master: &master, target: Continuity::G1, range: None, g2_zones: [0.0; 2] };
+/// let named = link.measure(&slave, &params).unwrap();
+/// assert!(named.g0 < 1e-12 && (named.g1_deg.unwrap() - 10.0).abs() < 1e-6);
+/// // the same figures, master first
+/// assert_eq!(measure_link(&master, &slave, Side::U0, &params).unwrap(), named);
+/// // swapped, the master's side u = 0 (at x = 0) is measured: a gap of about one unit
+/// assert!(measure_link(&slave, &master, Side::U0, &params).unwrap().g0 > 0.9);
+/// ```
 pub fn measure_link(
     master: &BSplineSurface,
     slave: &BSplineSurface,
