@@ -1,11 +1,12 @@
 //! # g-continuity
 //!
 //! Numerical G0/G1/G2 continuity between a *slave* B-spline surface and its *masters* (Salvi–
-//! Várady, \[SV\] §3.1, §3.3, §4): measuring it ([`measure_link`]: gap, normal angle, relative and
-//! absolute normal-curvature difference in the slave's cross-boundary direction) and setting it by
-//! moving the slave's frames only — row 0 for C0, row 1 for G1 (\[SV\] §4.1), row 2 for G2
-//! (\[SV\] §4.2) — with consistent twists (\[SV\] §3.3) and knot insertion for more freedom
-//! ([`connect_slave`]). Masters are found by projection, so they may be trimmed.
+//! Várady, \[SV\] §3.1, §3.3, §4): measuring it ([`SideLink::measure`], or [`measure_link`] with
+//! the master first: gap, normal angle, relative and absolute normal-curvature difference in the
+//! slave's cross-boundary direction) and setting it by moving the slave's frames only — row 0
+//! for C0, row 1 for G1 (\[SV\] §4.1), row 2 for G2 (\[SV\] §4.2) — with consistent twists
+//! (\[SV\] §3.3) and knot insertion for more freedom ([`connect_slave`]). Masters are found by
+//! projection, so they may be trimmed.
 //!
 //! ```
 //! use g_continuity::{ConnectParams, MeasureParams, SideLink, connect_slave, measure_link};
@@ -24,6 +25,31 @@
 //! assert!(report.sides[0].met);
 //! let after = measure_link(&master, &set, Side::U0, &MeasureParams::default()).unwrap();
 //! assert!(after.g1_deg.unwrap() < 0.01);
+//! ```
+//!
+//! Surfaces from your own control points: a flat bilinear master and a bicubic Bézier slave
+//! (a 4 × 4 net, i over u) that starts on its edge x = 1 but rises with slope 0.1, set G1.
+//!
+//! ```
+//! use g_continuity::{ConnectParams, MeasureParams, SideLink, connect_slave};
+//! use nurbs_core::{BSplineSurface, Continuity, KnotVector, Point3, Side};
+//! let net = |n: usize, x0: f64, slope: f64| -> Vec<Point3> {
+//!     let at = |i: usize, j: usize| {
+//!         let x = x0 + i as f64 / (n - 1) as f64;
+//!         Point3::new(x, j as f64 / (n - 1) as f64, slope * (x - x0))
+//!     };
+//!     (0..n * n).map(|r| at(r / n, r % n)).collect()
+//! };
+//! let (k1, k3) = (KnotVector::bezier(1).unwrap(), KnotVector::bezier(3).unwrap());
+//! let master = BSplineSurface::new(k1.clone(), k1, net(2, 0.0, 0.0), None).unwrap();
+//! let slave = BSplineSurface::new(k3.clone(), k3, net(4, 1.0, 0.1), None).unwrap();
+//! let link = SideLink { side: Side::U0, master: &master, target: Continuity::G1, range: None, g2_zones: [0.0; 2] };
+//! let (set, report) = connect_slave(&slave, &[link], &ConnectParams::default()).unwrap();
+//! assert!(report.sides[0].met);
+//! let after = link.measure(&set, &MeasureParams::default()).unwrap();
+//! assert!(after.g0 < 1e-9 && after.g1_deg.unwrap() < 0.01);
+//! // row 0 stays on the master's edge: the slave's corner control points there do not move
+//! assert_eq!(set.control_points()[0], slave.control_points()[0]);
 //! ```
 //!
 //! Two surfaces read from the JSON format of `docs/model-format.md`: the link named by a

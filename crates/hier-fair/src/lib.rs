@@ -21,6 +21,35 @@
 //! assert_eq!(checks.len(), model.links.len());
 //! ```
 //!
+//! A model of surfaces from your own control points: a flat bilinear square as the primary and
+//! a bicubic Bézier patch beside it (a 4 × 4 net, i over u) that starts on its edge x = 1 but
+//! rises with slope 0.1 (a kink of 5.7°), linked G1 along its side u0 and connected.
+//!
+//! ```
+//! use hier_fair::{ConnectOptions, Link, Model, Role, connect};
+//! use nurbs_core::{BSplineSurface, Continuity, KnotVector, Point3, Side};
+//! let net = |n: usize, x0: f64, slope: f64| -> Vec<Point3> {
+//!     let at = |i: usize, j: usize| {
+//!         let x = x0 + i as f64 / (n - 1) as f64;
+//!         Point3::new(x, j as f64 / (n - 1) as f64, slope * (x - x0))
+//!     };
+//!     (0..n * n).map(|r| at(r / n, r % n)).collect()
+//! };
+//! let (k1, k3) = (KnotVector::bezier(1).unwrap(), KnotVector::bezier(3).unwrap());
+//! let primary = BSplineSurface::new(k1.clone(), k1, net(2, 0.0, 0.0), None).unwrap();
+//! let slave = BSplineSurface::new(k3.clone(), k3, net(4, 1.0, 0.1), None).unwrap();
+//! let mut model = Model::from_primaries(vec![primary, slave]);
+//! model.surfaces[1].role = Role::Connecting;
+//! model.links.push(Link { slave: 1, side: Side::U0, master: 0, continuity: Continuity::G1 });
+//! model.validate().unwrap();
+//! let (connected, report) = connect(&model, &ConnectOptions::default()).unwrap();
+//! let link = &report.links[0];
+//! assert!((link.before.g1_deg.unwrap() - 0.1f64.atan().to_degrees()).abs() < 1e-6);
+//! assert!(link.after.g0 < 1e-9 && link.after.g1_deg.unwrap() < 0.01, "{link:?}");
+//! // the primary, a master, never moves
+//! assert_eq!(connected.surfaces[0].surface, model.surfaces[0].surface);
+//! ```
+//!
 //! A model of your own, from the JSON of `model-format.md`: two unit squares side by side, the
 //! second a connecting surface linked G1 to the first along its side u0, checked.
 //!

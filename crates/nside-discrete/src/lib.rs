@@ -24,6 +24,54 @@
 //! assert_eq!(quads.len(), 3);
 //! assert!(report.closure_gap < 1e-12);
 //! ```
+//!
+//! A neighbour surface from your own control points: a square hole in the plane z = 0 whose
+//! first side borders a flat bilinear strip (a 2 × 2 net, i over u, its side v = 0 on the hole's
+//! side); the whole stage in one call keeps the filling in the plane and tangent to the strip.
+//!
+//! ```
+//! use nside_discrete::{Neighbour, NsidedParams, fill_corner};
+//! use nurbs_core::{BSplineCurve, BSplineSurface, KnotVector, Point3, Side};
+//! let c = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]].map(|[x, y]| Point3::new(x, y, 0.0));
+//! // the sides: straight cubic Bézier curves, counter-clockwise around the hole
+//! let side = |a: Point3, b: Point3| {
+//!     let pts = (0..4).map(|i| a + (b - a) * (i as f64 / 3.0)).collect();
+//!     BSplineCurve::new(KnotVector::bezier(3).unwrap(), pts, None).unwrap()
+//! };
+//! let sides: Vec<_> = (0..4).map(|k| side(c[k], c[(k + 1) % 4])).collect();
+//! // the strip below the first side (y ∈ [−0.3, 0]): P(0,0), P(0,1), P(1,0), P(1,1)
+//! let out = nurbs_core::Vector3::new(0.0, -0.3, 0.0);
+//! let bilinear = KnotVector::bezier(1).unwrap();
+//! let strip = BSplineSurface::new(bilinear.clone(), bilinear, vec![c[0], c[0] + out, c[1], c[1] + out], None)
+//!     .unwrap();
+//! let neighbours = [Some(Neighbour { surface: &strip, side: Side::V0 }), None, None, None];
+//! let (quads, report) = fill_corner(&sides, &neighbours, &NsidedParams::default()).unwrap();
+//! assert_eq!(quads.len(), 4);
+//! assert!(quads.iter().flat_map(|q| q.control_points()).all(|p| p.z.abs() < 1e-9));
+//! assert!(report.refit.max_boundary_angle_deg.unwrap() < 1e-6);
+//! ```
+//!
+//! The same strip read from the JSON format of `docs/model-format.md` (knot vectors left out
+//! make a Bézier patch), here tilted: z = 0.5·y, and the hole's sides on that plane.
+//!
+//! ```
+//! use nside_discrete::{Neighbour, NsidedParams, fill_corner};
+//! use nurbs_core::{BSplineCurve, KnotVector, Point3, Side};
+//! let json = r#"{"degree_u": 1, "degree_v": 1,
+//!     "control_points": [[[0, 0, 0], [0, -0.3, -0.15]], [[1, 0, 0], [1, -0.3, -0.15]]]}"#;
+//! let strip = &nurbs_core::io::surfaces_from_json(json).unwrap()[0];
+//! let c = [[0.0, 0.0], [1.0, 0.0], [1.0, 1.0], [0.0, 1.0]].map(|[x, y]| Point3::new(x, y, 0.5 * y));
+//! let side = |a: Point3, b: Point3| {
+//!     let pts = (0..4).map(|i| a + (b - a) * (i as f64 / 3.0)).collect();
+//!     BSplineCurve::new(KnotVector::bezier(3).unwrap(), pts, None).unwrap()
+//! };
+//! let sides: Vec<_> = (0..4).map(|k| side(c[k], c[(k + 1) % 4])).collect();
+//! let neighbours = [Some(Neighbour { surface: strip, side: Side::V0 }), None, None, None];
+//! let (quads, report) = fill_corner(&sides, &neighbours, &NsidedParams::default()).unwrap();
+//! // every control point of the filling on the plane z = 0.5·y, tangent to the strip
+//! assert!(quads.iter().flat_map(|q| q.control_points()).all(|p| (p.z - 0.5 * p.y).abs() < 1e-9));
+//! assert!(report.refit.max_boundary_angle_deg.unwrap() < 1e-6);
+//! ```
 
 pub mod corner;
 pub mod error;
