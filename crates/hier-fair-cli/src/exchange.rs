@@ -144,7 +144,7 @@ pub fn model_from_iges(input: &Path) -> Result<(Model, String, hier_fair::BuildL
     let log = hier_fair::build_hierarchy(&mut model);
     let trimmed = file.surfaces.iter().filter(|s| s.trimmed).count();
     let summary = format!(
-        "imported {} surfaces ({} trimmed by entity 144 or bounded by 143: each kept over its face's box with its outer and inner boundaries kept as trim loops); {} curves (126) not imported; other entities skipped: {}; surfaces with no exact form, not imported: {}; {}{}",
+        "imported {} surfaces ({} trimmed by entity 144, bounded by 143 or a face (510) of a B-rep solid: each kept over its face's box with its outer and inner boundaries kept as trim loops); {} curves (126) not imported; other entities skipped: {}; surfaces with no exact form, not imported: {}; {}{}",
         file.surfaces.len(),
         trimmed,
         file.curves.len(),

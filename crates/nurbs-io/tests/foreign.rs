@@ -139,3 +139,90 @@ fn bounded_surfaces_with_boundaries_are_read() {
         f.skipped
     );
 }
+
+/// Inventor's spring as a manifold solid B-rep (186 → 514 → six 510 faces with 508 loops over
+/// a 504 edge list): all six faces Open CASCADE reads — the two helical sweeps (128) cut to
+/// their faces, and the four plane surfaces (190) each through its point (116) and along its
+/// normal (123) as the file gives them, bounded by its loop. Before, the faces were skipped
+/// and only the two sweeps came in, untrimmed.
+#[test]
+fn brep_solid_faces_are_read() {
+    let f = read_iges(&fixture("bug22869_Spring.igs")).unwrap();
+    assert_eq!(f.surfaces.len(), 6);
+    assert_eq!(f.trimmed_entities, 6);
+    for t in [186, 514, 510, 508, 504, 502, 190] {
+        assert!(!f.skipped.contains_key(&t), "{t} skipped: {:?}", f.skipped);
+    }
+    // the plane surfaces: (D of the 190, its 116 point, its 123 normal)
+    let planes = [
+        (
+            31,
+            [23.9105317365664, 0.0, 0.586137973858172],
+            [0.0, 0.0, -1.0],
+        ),
+        (47, [-15.0, 0.0, 0.586137973858172], [0.0, 1.0, 0.0]),
+        (
+            63,
+            [-1.94682718328477, 18.5228233511589, 73.0861379738582],
+            [0.0, 0.0, 1.0],
+        ),
+        (
+            79,
+            [1.56792694901481, -14.9178284305241, 73.0861379738582],
+            [0.994521895368273, 0.104528463267654, 0.0],
+        ),
+    ];
+    for (de, at, normal) in planes {
+        let s = f
+            .surfaces
+            .iter()
+            .find(|s| s.de == de)
+            .unwrap_or_else(|| panic!("D{de}"));
+        assert_eq!(
+            (s.surface.degree_u(), s.surface.degree_v()),
+            (1, 1),
+            "D{de}"
+        );
+        let ((u0, u1), (v0, v1)) = (s.surface.domain_u(), s.surface.domain_v());
+        let d = s.surface.derivatives(0.5 * (u0 + u1), 0.5 * (v0 + v1));
+        let n = d.normal().unwrap();
+        let want = nurbs_core::Vector3::new(normal[0], normal[1], normal[2]).normalize();
+        assert!(n.cross(&want).norm() < 1e-12, "D{de}: normal {n:?}");
+        let p = Point3::new(at[0], at[1], at[2]);
+        assert!(
+            (p - d.point).dot(&want).abs() < 1e-9,
+            "D{de}: the 116 point off the plane"
+        );
+        // the loop is the trim, in the plane up to the edge curves' own fit (the sweeps' ends
+        // are cubic B-splines that Inventor fits to the planar end curves: within 2e-3 mm of
+        // the 75 mm part)
+        assert!(s.trim.len() >= 3, "D{de}");
+        for q in &s.trim {
+            assert!(
+                (q - d.point).dot(&want).abs() < 3e-3,
+                "D{de}: trim point off"
+            );
+        }
+    }
+    // the sweeps are cut to their faces, their trims on them. A sweep runs seven turns over
+    // 96 spans along the wire: the projector's starts must sample every span (the default
+    // 64 samples per direction put starts on the neighbouring turn)
+    let params = nurbs_core::ProjectionParams {
+        max_samples_per_direction: 1024,
+        ..Default::default()
+    };
+    let sweeps: Vec<_> = f
+        .surfaces
+        .iter()
+        .filter(|s| s.surface.degree_u() == 3)
+        .collect();
+    assert_eq!(sweeps.len(), 2);
+    for s in sweeps {
+        assert!(s.underlying.is_some() && s.trim.len() >= 3, "D{}", s.de);
+        let mut projector = nurbs_core::SurfaceProjector::new(&s.surface, params);
+        for p in s.trim.iter().step_by((s.trim.len() / 200).max(1)) {
+            let d = projector.project(p).distance;
+            assert!(d < 1e-9 * s.surface.size(), "D{}: trim point {d} off", s.de);
+        }
+    }
+}

@@ -87,6 +87,9 @@ impl Reader<'_> {
                 }
                 return Ok(out);
             }
+            // a loop of a B-rep face (508, [IGES] §4.149): its edges in order, each run
+            // backwards where it is against its model-space curve
+            508 => return self.loop_samples(e, depth, samples),
             _ => self.any_curve(e, 1.0)?,
         };
         Ok(sample_within_sag(&local, samples))
@@ -96,8 +99,9 @@ impl Reader<'_> {
     /// and to its model-space curve (0 where absent).
     /// A boundary (141) has no single curve of each kind: it is its own model-space curve
     /// (its curves in order, [`Self::boundary_samples`]) and has no parameter-space one here.
+    /// A loop (508) is its own model-space curve too ([`Self::loop_samples`]).
     pub(super) fn curve_on_surface(&self, e: &DirEntry) -> Result<(i64, i64), IgesError> {
-        if e.entity_type == 141 {
+        if matches!(e.entity_type, 141 | 508) {
             return Ok((0, e.seq as i64));
         }
         let params = entity_params(e, &self.p, &self.global)?;
@@ -278,6 +282,169 @@ impl Reader<'_> {
         }
         let mut all = all.into_iter();
         Ok((all.next(), all.collect()))
+    }
+
+    /// The loops of a face of a B-rep solid (510, \[IGES\] §4.150) after its surface pointer: N,
+    /// OF (the first loop is the outer one; without it the face has no outer loop and is its
+    /// surface's whole domain) and the N loops (508).
+    pub(super) fn loop_boundaries<'r>(
+        &'r self,
+        c: &mut Cursor<'_>,
+        e: &DirEntry,
+    ) -> Result<(Option<&'r DirEntry>, Vec<&'r DirEntry>), IgesError> {
+        let n = c.count("N (number of loops of the face)", 0)?;
+        let outer_first = c.int()? == 1;
+        let mut all = Vec::with_capacity(n);
+        for _ in 0..n {
+            all.push(self.entry(c.int()?, e)?);
+        }
+        let mut all = all.into_iter();
+        let outer = if outer_first { all.next() } else { None };
+        Ok((outer, all.collect()))
+    }
+
+    /// Points along a loop (508, \[IGES\] §4.149): per edge TYPE (0 an edge, 1 a vertex: a
+    /// point, no curve), the edge list (504, §4.148) and the edge's index in it (from 1), OF
+    /// (1: the edge runs along its model-space curve, 0: against it) and K parameter-space
+    /// curves (ISOP, CURV pairs, not read: the model-space curve is the edge); each edge's
+    /// curve sampled with `samples` points per member, as [`Self::boundary_samples`] does.
+    fn loop_samples(
+        &self,
+        e: &DirEntry,
+        depth: usize,
+        samples: usize,
+    ) -> Result<Vec<Point3>, IgesError> {
+        let params = entity_params(e, &self.p, &self.global)?;
+        let mut c = Cursor {
+            params: &params,
+            next: 1,
+            e,
+        };
+        let n = c.count("N (number of edges of the loop)", 0)?;
+        let mut out = Vec::new();
+        for _ in 0..n {
+            let kind = c.int()?;
+            let list = self.entry(c.int()?, e)?;
+            let index = c.int()?;
+            let along = c.int()? != 0;
+            let k = c.count("K (parameter-space curves of a loop edge)", 0)?;
+            for _ in 0..2 * k {
+                c.int()?;
+            }
+            if kind != 0 {
+                continue;
+            }
+            let mut pts = self.edge_points(list, index, e, (depth, samples))?;
+            if !along {
+                pts.reverse();
+            }
+            out.extend(pts);
+        }
+        Ok(out)
+    }
+
+    /// Points along edge `index` (from 1) of the edge list (504, \[IGES\] §4.148) `list`, named
+    /// by the loop `from`: its entries are CURV, SVP, SV, TVP, TV — the model-space curve and
+    /// the start and terminate vertices (502 lists and indices from 1). An edge is the part of
+    /// its curve between its vertices, which a writer may put inside a longer curve (Inventor's
+    /// spring: a helix edge on a curve past its end face): a line, arc or B-spline is cut at the
+    /// vertices' feet on it, across its closing point where the curve is closed and the end
+    /// comes before the start; an edge whose vertices are one point, and a composite curve,
+    /// are taken whole.
+    fn edge_points(
+        &self,
+        list: &DirEntry,
+        index: i64,
+        from: &DirEntry,
+        (depth, samples): (usize, usize),
+    ) -> Result<Vec<Point3>, IgesError> {
+        let bad = |detail: String| IgesError::Entity {
+            de: from.seq,
+            entity_type: from.entity_type,
+            detail,
+        };
+        if list.entity_type != 504 {
+            return Err(bad(format!(
+                "an edge of the loop names entity {} (D{}), not an edge list (504)",
+                list.entity_type, list.seq
+            )));
+        }
+        let params = entity_params(list, &self.p, &self.global)?;
+        let mut c = Cursor {
+            params: &params,
+            next: 1,
+            e: list,
+        };
+        let n = c.count("N (number of edges of the edge list)", 0)?;
+        if index < 1 || index as usize > n {
+            return Err(bad(format!(
+                "edge {index} of the edge list D{} that has {n}",
+                list.seq
+            )));
+        }
+        c.next += 5 * (index as usize - 1);
+        let curve = self.entry(c.int()?, list)?;
+        let start = self.vertex(c.int()?, c.int()?, list)?;
+        let end = self.vertex(c.int()?, c.int()?, list)?;
+        if !matches!(curve.entity_type, 100 | 110 | 126) {
+            return self.boundary_samples(curve, depth + 1, samples);
+        }
+        let whole = self.any_curve(curve, 1.0)?;
+        let size = whole
+            .control_points()
+            .iter()
+            .fold(0.0f64, |m, p| m.max((p - whole.control_points()[0]).norm()));
+        if (end - start).norm() <= ON_SURFACE_RELATIVE * size {
+            return Ok(sample_within_sag(&whole, samples));
+        }
+        let feet = nurbs_core::ProjectionParams::default();
+        let t0 = nurbs_core::projection::project_to_curve(&whole, &start, &feet).t;
+        let t1 = nurbs_core::projection::project_to_curve(&whole, &end, &feet).t;
+        let piece = |a: f64, b: f64| -> Result<Vec<Point3>, IgesError> {
+            let part = whole.extract(a, b).map_err(Self::geometry_err(curve))?;
+            Ok(sample_within_sag(&part, samples))
+        };
+        let (a, b) = whole.domain();
+        let closed = (whole.point(a) - whole.point(b)).norm() <= ON_SURFACE_RELATIVE * size;
+        Ok(if t0 < t1 {
+            piece(t0, t1)?
+        } else if closed {
+            let mut out = if t0 < b { piece(t0, b)? } else { Vec::new() };
+            if t1 > a {
+                out.extend(piece(a, t1)?);
+            }
+            out
+        } else {
+            let mut out = piece(t1, t0)?;
+            out.reverse();
+            out
+        })
+    }
+
+    /// Vertex `index` (from 1) of the vertex list (502, \[IGES\] §4.147) at `pointer`, named by
+    /// the edge list `from`: its N, then X, Y, Z per vertex.
+    fn vertex(&self, pointer: i64, index: i64, from: &DirEntry) -> Result<Point3, IgesError> {
+        let list = self.entry(pointer, from)?;
+        let params = entity_params(list, &self.p, &self.global)?;
+        let mut c = Cursor {
+            params: &params,
+            next: 1,
+            e: list,
+        };
+        let n = c.count("N (number of vertices of the vertex list)", 0)?;
+        if list.entity_type != 502 || index < 1 || index as usize > n {
+            return Err(IgesError::Entity {
+                de: from.seq,
+                entity_type: from.entity_type,
+                detail: format!(
+                    "vertex {index} of D{} (entity {}, {n} vertices) is not a vertex",
+                    list.seq, list.entity_type
+                ),
+            });
+        }
+        c.next += 3 * (index as usize - 1);
+        let xyz = c.reals(3)?;
+        Ok(Point3::new(xyz[0], xyz[1], xyz[2]))
     }
 
     /// The inner boundaries (142s) `inner` of a face on the B-spline surface `surface` as

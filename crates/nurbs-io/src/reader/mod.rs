@@ -3,8 +3,11 @@
 //! its 110 / 100 / 126 generatrix), 108 (plane, bounded by the outer boundary of the 144 that
 //! trims it: its 142 and the 102 / 110 / 100 / 126 model-space curve), 126 (curve), 144 (trimmed
 //! surface), 143 (bounded surface, with its 141 boundaries: the first the outer one, each the
-//! model-space curves it lists in order) and 124 (transformation matrix) (\[IGES\] §2, §4.3,
-//! §4.13, §4.16, §4.23, §4.24, §4.33, §4.34, §4.21).
+//! model-space curves it lists in order), 510 (a face of a manifold solid B-rep 186, read as a
+//! trimmed surface: its 508 loops, each edge the part of its 504 edge's curve between its 502
+//! vertices, over a 128, an exact surface, a 108 or a 190 plane surface) and 124
+//! (transformation matrix) (\[IGES\] §2, §4.3, §4.13, §4.16, §4.23, §4.24, §4.33, §4.34, §4.21,
+//! §4.147–§4.151).
 //! A trimmed or bounded surface's boundaries are kept as data on its surface
 //! ([`IgesSurface::trim`], the outer one, and [`IgesSurface::holes`], the inner ones): each
 //! 142's parameter-space curve through a B-spline surface where it has one, else its
@@ -302,16 +305,19 @@ impl Reader<'_> {
             118 => keep_or_refuse(self.ruled(e, scale), file)?,
             126 => file.curves.push(self.curve(e, scale)?),
             140 => keep_or_refuse(self.offset(e, scale), file)?,
-            144 | 143 => self.trimmed_surface(e, scale, file, pending)?,
-            // planes are read through the trimmed surfaces that bound them
-            124 | 108 => {}
+            144 | 143 | 510 => self.trimmed_surface(e, scale, file, pending)?,
+            // planes are read through the trimmed surfaces and faces that bound them; a
+            // manifold solid (186) and its shells (514), loops (508), edges (504) and vertices
+            // (502) through its faces (510, [IGES] §4.151), each of which names its surface
+            124 | 108 | 190 | 186 | 514 | 508 | 504 | 502 => {}
             other => *file.skipped.entry(other).or_default() += 1,
         }
         Ok(())
     }
 
-    /// A trimmed surface (144) `e`: counted, its surface marked trimmed; a plane under it read
-    /// bounded by it, a B-spline or exact surface's face kept in `pending`.
+    /// A trimmed surface (144), bounded surface (143) or face of a B-rep solid (510) `e`:
+    /// counted, its surface marked trimmed; a plane (108, 190) under it read bounded by it, a
+    /// B-spline or exact surface's face kept in `pending`.
     fn trimmed_surface<'r>(
         &'r self,
         e: &'r DirEntry,
@@ -335,10 +341,10 @@ impl Reader<'_> {
         let target = self.entry(pts, e)?;
         pending.trimmed_targets.push(target.seq);
         file.trimmed_entities += 1;
-        let boundaries = if e.entity_type == 143 {
-            self.bounded_boundaries(&mut c, e)?
-        } else {
-            self.face_boundaries(&mut c, e)?
+        let boundaries = match e.entity_type {
+            143 => self.bounded_boundaries(&mut c, e)?,
+            510 => self.loop_boundaries(&mut c, e)?,
+            _ => self.face_boundaries(&mut c, e)?,
         };
         if target.entity_type == 128 {
             // a B-spline face is its surface over the face's parameter box, cut once
@@ -351,7 +357,7 @@ impl Reader<'_> {
             if let (Some(outer), inner) = boundaries {
                 pending.exact_faces.push((target.seq, (e, outer, inner)));
             }
-        } else if target.entity_type == 108 {
+        } else if matches!(target.entity_type, 108 | 190) {
             // a plane is as large as its face: bounded by the outer boundary
             if let (Some(outer), inner) = boundaries
                 && !pending.planes_read.contains(&target.seq)

@@ -76,6 +76,9 @@ impl Reader<'_> {
         plane: &DirEntry,
         face: &DirEntry,
     ) -> Result<(Point3, nurbs_core::Vector3), IgesError> {
+        if plane.entity_type == 190 {
+            return self.plane_surface_frame(plane, face);
+        }
         let params = entity_params(plane, &self.p, &self.global)?;
         let mut c = Cursor {
             params: &params,
@@ -100,6 +103,60 @@ impl Reader<'_> {
                 .try_normalize(0.0)
                 .ok_or_else(|| face_err(face, "the plane's transformation is singular".into()))?;
         }
+        Ok((origin, n))
+    }
+
+    /// The plane surface (190, \[IGES\] §4.51) `plane` as a point on it and its unit normal:
+    /// its point (116) and normal direction (123), each with its own transformation, then the
+    /// plane's (errors name the face `face`). The reference direction of form 1 is not needed:
+    /// the plane is framed by its boundary ([`Self::bounded_plane`]).
+    fn plane_surface_frame(
+        &self,
+        plane: &DirEntry,
+        face: &DirEntry,
+    ) -> Result<(Point3, nurbs_core::Vector3), IgesError> {
+        let params = entity_params(plane, &self.p, &self.global)?;
+        let mut c = Cursor {
+            params: &params,
+            next: 1,
+            e: plane,
+        };
+        let (at, normal) = (self.entry(c.int()?, plane)?, self.entry(c.int()?, plane)?);
+        let read = |e: &DirEntry, kind: i64| -> Result<Point3, IgesError> {
+            if e.entity_type != kind {
+                return Err(face_err(
+                    face,
+                    format!(
+                        "the plane surface D{} names entity {} (D{}) where a {kind} belongs",
+                        plane.seq, e.entity_type, e.seq
+                    ),
+                ));
+            }
+            let params = entity_params(e, &self.p, &self.global)?;
+            let xyz = Cursor {
+                params: &params,
+                next: 1,
+                e,
+            }
+            .reals(3)?;
+            Ok(Point3::new(xyz[0], xyz[1], xyz[2]))
+        };
+        let mut origin = read(at, 116)?;
+        if let Some(a) = self.transform(at)? {
+            origin = a.apply(&origin);
+        }
+        let mut tip = origin + read(normal, 123)?.coords;
+        if let Some(a) = self.transform(normal)? {
+            // a direction moves by the map's linear part: the image of the tip less the origin's
+            tip = origin + (a.apply(&Point3::from(tip - origin)) - a.apply(&Point3::origin()));
+        }
+        if let Some(a) = self.transform(plane)? {
+            tip = a.apply(&tip);
+            origin = a.apply(&origin);
+        }
+        let n = (tip - origin)
+            .try_normalize(0.0)
+            .ok_or_else(|| face_err(face, "the plane surface's normal is zero".into()))?;
         Ok((origin, n))
     }
 
