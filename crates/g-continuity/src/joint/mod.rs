@@ -1,6 +1,6 @@
-//! The joint polish of a slave's frames: every condition of every linked side ([SV] §4: the gap,
+//! The joint polish of a slave's frames: every condition of every linked side (\[SV\] §4: the gap,
 //! the normal and the normal curvature across each side) solved at once over rows 0..=r of all
-//! the sides, by damped Gauss–Newton (Levenberg–Marquardt, [NW] §10.3).
+//! the sides, by damped Gauss–Newton (Levenberg–Marquardt, \[NW\] §10.3).
 //!
 //! The staged steps decide a side's rows level by level and side by side: at a corner of two
 //! sides the first three points of one side's row 2 are rows 0 and 1 of the other side, fixed
@@ -90,7 +90,7 @@ pub const JOINT_SPAN_SAMPLES: usize = 2;
 pub const JOINT_GOAL: f64 = 0.5;
 
 /// The Levenberg–Marquardt damping the first iteration starts from, relative to the diagonal of
-/// the normal equations ([NW] §10.3: a step between Gauss–Newton and a short gradient step);
+/// the normal equations (\[NW\] §10.3: a step between Gauss–Newton and a short gradient step);
 /// divided by [`DAMPING_DOWN`] after an accepted step, multiplied by [`DAMPING_UP`] after a
 /// rejected one, and the polish ends when it passes [`DAMPING_MAX`] (no step lowers the cost).
 const DAMPING_START: f64 = 1e-3;

@@ -1,5 +1,5 @@
 //! The polish's linear algebra: the block pattern of JᵀJ, the normal equations in 3 × 3 point
-//! blocks, and the damped step solved by sparse Cholesky ([NW] §10.3).
+//! blocks, and the damped step solved by sparse Cholesky (\[NW\] §10.3).
 
 use nalgebra::DMatrix;
 use nurbs_core::sparse::{FillOrdering, SparseSpd, SpdSymbolic};
@@ -239,7 +239,7 @@ pub(super) struct Lm {
 }
 
 impl Problem<'_> {
-    /// Damped Gauss–Newton steps from `lm` ([NW] §10.3) until every residual is within
+    /// Damped Gauss–Newton steps from `lm` (\[NW\] §10.3) until every residual is within
     /// [`JOINT_GOAL`], every link meets its target by the measure of `params`, no step lowers
     /// the cost, or `limit` steps; no point moves more than `max_move` from the start. Returns
     /// the steps taken.

@@ -1,5 +1,5 @@
 //! The deviation budget of one surface: how its tolerance τ is shared between the continuity
-//! steps, the fairing stages, a master's slaves and a corner group's mesh fairing ([SV] §3.2).
+//! steps, the fairing stages, a master's slaves and a corner group's mesh fairing (\[SV\] §3.2).
 //!
 //! The shares are settings ([`DeviationBudget`], [`super::FairParams::budget`]); their defaults
 //! are the constants below, each with the reason for its value. Two things follow from the

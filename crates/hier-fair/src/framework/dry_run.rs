@@ -1,4 +1,4 @@
-//! The continuity steps alone ([SV] §3.2 steps 1, 3, 5 without fairing), run before the stages:
+//! The continuity steps alone (\[SV\] §3.2 steps 1, 3, 5 without fairing), run before the stages:
 //! their deviation decides the highest level the tolerance allows, and the width of a G2
 //! lead-in is searched here ([`g_continuity::lead_in`]).
 

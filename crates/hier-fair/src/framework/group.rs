@@ -1,4 +1,4 @@
-//! The n-sided stage of a corner group ([SV] §3.4): the group's patches faired as one mesh and
+//! The n-sided stage of a corner group (\[SV\] §3.4): the group's patches faired as one mesh and
 //! refitted, used only when fairer and within the group's share of the tolerance.
 
 use super::*;

@@ -1,4 +1,4 @@
-//! One surface's run ([SV] §3.2): the per-surface state and what the run reports — the result
+//! One surface's run (\[SV\] §3.2): the per-surface state and what the run reports — the result
 //! of its stages, its energy, creases and the problems it met — and what a surface knows of its
 //! place in the model: its set-step settings, the sides its slaves hang on, its links.
 

@@ -84,7 +84,7 @@ pub fn stage_mask(surface: &BSplineSurface, links: &[SideLink], level: Continuit
 /// on those columns staying collinear, which a fairing method that moves points one by one does
 /// not keep (a torus of three arcs came out of the local scheme with 7.4° creases); fixed, the
 /// join stays exactly as it came. A line that was already a crease in `start` (C⁰-joined
-/// Bézier patches) is left to the method, which may make it C¹ ([H] part ②).
+/// Bézier patches) is left to the method, which may make it C¹ (\[H\] part ②).
 pub fn smooth_join_points(
     start: &BSplineSurface,
     s: &BSplineSurface,

@@ -1,4 +1,4 @@
-//! The hierarchical constrained fairing framework ([SV] §1.1, §3.2): every surface of a model,
+//! The hierarchical constrained fairing framework (\[SV\] §1.1, §3.2): every surface of a model,
 //! masters before slaves, alternating fairing and continuity setting.
 //!
 //! # Order
@@ -7,14 +7,14 @@
 //! depend only on earlier waves and run in parallel (rayon). Every result is a function of the
 //! input and the earlier waves only, so the output does not depend on the thread count.
 //!
-//! # One surface ([SV] §3.2)
+//! # One surface (\[SV\] §3.2)
 //! 0. *prepare*: clamped, polynomial, degree ≥ r across a G_r side, and knots inserted (widest
 //!    span halved) until every direction has [`FairParams::min_free_rows`] rows besides the fixed
 //!    frames of both ends (step 1 of the paper);
 //! 1. *set G0*: the boundary rows are fitted to the masters as they are now (faired), so the C0
 //!    that step 2 keeps is C0 to the final masters;
 //! 2. *fair keeping C0* (positional frame fixed on every side);
-//! 3. *set G1* on the sides whose target is ≥ G1 (twists averaged, [SV] §3.3);
+//! 3. *set G1* on the sides whose target is ≥ G1 (twists averaged, \[SV\] §3.3);
 //! 4. *fair keeping G1* (tangential frame fixed on those sides, positional on the others);
 //! 5. *set G2*; 6. *fair keeping G2*.
 //!
@@ -104,7 +104,7 @@ pub use verify::VERIFY_FACTOR;
 
 /// The framework's [`g_continuity::SetParams::g2_move_factor`]: a lighter-weighted G2 solution
 /// (closer to the exact scalar condition) is taken only when no control point moves more than
-/// the paper's well-conditioned solution ([SV] §4.2, tangential weight 1) moves. Why 1: in the
+/// the paper's well-conditioned solution (\[SV\] §4.2, tangential weight 1) moves. Why 1: in the
 /// framework a fairing stage follows every continuity step within a shrinking deviation budget,
 /// and a move the paper's system did not need is deviation that stage no longer has — so the
 /// framework takes nothing beyond the paper's own solution's largest move. `connect`, which no
@@ -217,7 +217,7 @@ pub fn fair_model(
     fair_model_with(model, built.fairers(), params, &|_| {})
 }
 
-/// Fairs every surface of `model` in hierarchy order with the given methods ([SV] §3.2), calling
+/// Fairs every surface of `model` in hierarchy order with the given methods (\[SV\] §3.2), calling
 /// `progress` after each surface. An invalid model is an error; anything that goes wrong with a
 /// single surface is a problem in the report (the surface is left as it was).
 pub fn fair_model_with(

@@ -1,4 +1,4 @@
-//! The plan of a run: the waves of the hierarchy, masters before slaves ([SV] §1.1).
+//! The plan of a run: the waves of the hierarchy, masters before slaves (\[SV\] §1.1).
 
 use super::*;
 
@@ -54,7 +54,7 @@ const SEAM_LINKED: &str = "run again after the part it meets there, with its sea
 const SEAM_KEPT: &str = "run again with the seam kept as it came, so its links follow the input's cross-section at the seam's ends";
 
 impl Plan<'_> {
-    /// Runs the waves one after another into `out`: each wave's corner groups first ([SV]
+    /// Runs the waves one after another into `out`: each wave's corner groups first (\[SV\]
     /// §3.4), then its surfaces ([`Plan::wave`]), reporting each surface as it finishes.
     pub(super) fn run(
         &self,

@@ -2,7 +2,7 @@
 
 use super::*;
 
-/// A step of the per-surface alternation ([SV] §3.2).
+/// A step of the per-surface alternation (\[SV\] §3.2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
 pub enum Stage {
     /// knot insertion, degree elevation, rational to polynomial
@@ -237,7 +237,7 @@ pub struct FairModelReport {
     pub surfaces: Vec<SurfaceFair>,
     /// per link, in model order
     pub links: Vec<LinkFair>,
-    /// the n-sided stage of each corner group ([SV] §3.4)
+    /// the n-sided stage of each corner group (\[SV\] §3.4)
     pub groups: Vec<GroupFair>,
     /// everything that did not go as asked
     pub problems: Vec<Problem>,

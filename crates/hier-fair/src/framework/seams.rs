@@ -9,7 +9,7 @@
 //! it came, the seam holds the input's rolling-ball cross-section at the corners, which no G2
 //! join to the masters can follow. Linked instead, the later part takes the earlier one as the
 //! master of its seam sides: at a seam's end the earlier part is G2 to the same masters, so the
-//! later part's corner asks for one curvature from both its masters ([SV] §3.2: the slave follows
+//! later part's corner asks for one curvature from both its masters (\[SV\] §3.2: the slave follows
 //! its master; its corner is the two-master corner of a vertex blend, [`super::vertex`]).
 
 use super::*;

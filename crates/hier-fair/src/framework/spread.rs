@@ -22,7 +22,7 @@ use super::*;
 type StagesResult = std::result::Result<(BSplineSurface, Vec<StageReport>), String>;
 
 impl Job<'_> {
-    /// The stages of this surface from `original` ([SV] §3.2): the dry run decides the highest
+    /// The stages of this surface from `original` (\[SV\] §3.2): the dry run decides the highest
     /// level the tolerance allows (conflicts and misses go to `problems` and `missed`), the set
     /// and fairing stages run up to it, and the never-worse fallback picks the result.
     ///

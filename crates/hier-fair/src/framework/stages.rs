@@ -1,4 +1,4 @@
-//! The stages of one surface ([SV] §3.2): the set and fairing stages from the dry run's plan,
+//! The stages of one surface (\[SV\] §3.2): the set and fairing stages from the dry run's plan,
 //! each fairing stage checked ([`nurbs_core::FairingProblem`]), and the fallback that keeps a
 //! surface never worse than the input.
 
@@ -268,7 +268,7 @@ impl Job<'_> {
         Ok(refined)
     }
 
-    /// The alternation up to the plan's highest level ([SV] §3.2): set a level, fair keeping it,
+    /// The alternation up to the plan's highest level (\[SV\] §3.2): set a level, fair keeping it,
     /// each fairing stage with its share of the deviation budget left. Returns the result.
     fn run_levels(
         &self,

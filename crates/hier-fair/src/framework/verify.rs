@@ -1,4 +1,4 @@
-//! The deviation an unmet link needs, verified by a run ([SV] §1.1: connections and corners may
+//! The deviation an unmet link needs, verified by a run (\[SV\] §1.1: connections and corners may
 //! deviate more than primaries, so the figure a user would raise is each surface's own).
 //!
 //! Within one run a link is called a conflict only from the dry run's trials, which set the

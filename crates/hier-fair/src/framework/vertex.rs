@@ -1,6 +1,6 @@
 //! Vertex conflicts in the report, and the contact lines of a slave's corners: where two G2
 //! links meet at a corner whose masters disagree in curvature beyond what one surface can meet
-//! there ([SV] §3.3; [`crate::zones`] has the condition and the vertex zones that relax G2 next
+//! there (\[SV\] §3.3; [`crate::zones`] has the condition and the vertex zones that relax G2 next
 //! to such a corner), the phrase that names a missed link's corner and the conflict problems of
 //! the zones; where the masters touch along a line through the corner, the direction the
 //! slave's boundary leaves it in.
