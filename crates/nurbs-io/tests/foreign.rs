@@ -226,3 +226,26 @@ fn brep_solid_faces_are_read() {
         }
     }
 }
+
+/// CATIA V4's part with two form features: the twelve faces of the part's solid, which Open
+/// CASCADE transfers; the eight faces of the features' "explicit geometry branch" solids
+/// (representations of a SHAPE_ASPECT, not of the product definition) are left out and named
+/// in one warning. Before, all twenty came in.
+#[test]
+fn faces_of_shape_aspects_are_not_the_parts() {
+    let text = String::from_utf8(fixture("trj2_f1-db-214.stp")).unwrap();
+    let f = read_step(&text).unwrap();
+    assert_eq!(f.faces.len(), 12);
+    let ids: Vec<u64> = f.faces.iter().map(|x| x.id).collect();
+    let aspects = [896, 964, 1005, 1016, 1191, 1259, 1300, 1311];
+    assert!(aspects.iter().all(|id| !ids.contains(id)), "{ids:?}");
+    let warning = f
+        .warnings
+        .iter()
+        .find(|w| w.contains("shape aspects"))
+        .expect("the faces left out are named");
+    assert!(
+        warning.starts_with("8 faces") && warning.contains("#1311"),
+        "{warning}"
+    );
+}

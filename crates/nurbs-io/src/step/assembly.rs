@@ -160,7 +160,7 @@ fn refs(v: Option<&Value>) -> Vec<u64> {
 }
 
 /// The representations of the file: (name, items, context) instances, by id, with their items.
-fn representations(m: &Model, ids: &[u64]) -> BTreeMap<u64, Vec<u64>> {
+pub(super) fn representations(m: &Model, ids: &[u64]) -> BTreeMap<u64, Vec<u64>> {
     let mut out = BTreeMap::new();
     for &id in ids {
         let Ok(inst) = m.get(id) else { continue };
@@ -177,7 +177,7 @@ fn representations(m: &Model, ids: &[u64]) -> BTreeMap<u64, Vec<u64>> {
 }
 
 /// The faces (of `faces`) that the items `items` hold through the containers.
-fn faces_under(m: &Model, items: &[u64], faces: &BTreeSet<u64>) -> BTreeSet<u64> {
+pub(super) fn faces_under(m: &Model, items: &[u64], faces: &BTreeSet<u64>) -> BTreeSet<u64> {
     let mut out = BTreeSet::new();
     let mut seen = BTreeSet::new();
     let mut stack: Vec<u64> = items.to_vec();

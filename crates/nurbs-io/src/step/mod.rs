@@ -32,6 +32,7 @@
 //! `faces` (a face's bound loops and their parameters), `domain` (a face's parameter box),
 //! `loose` (surfaces outside faces), `writer` (the AP214 writer).
 
+mod aspects;
 mod assembly;
 mod curves;
 mod domain;
@@ -165,6 +166,7 @@ pub fn read_step(text: &str) -> Result<StepFile, StepError> {
         }
     }
     loose::read_loose(&m, &ids, &mut file, &mut first_error);
+    drop_aspect_faces(&m, &ids, &mut file);
     file.faces = assembly::place(
         &m,
         &ids,
@@ -175,6 +177,23 @@ pub fn read_step(text: &str) -> Result<StepFile, StepError> {
         Some(e) if file.faces.is_empty() => Err(e),
         _ => Ok(file),
     }
+}
+
+/// `file` without the faces only representations of shape aspects hold ([`aspects`]), named
+/// in one warning.
+fn drop_aspect_faces(m: &Model, ids: &[u64], file: &mut StepFile) {
+    let read: std::collections::BTreeSet<u64> = file.faces.iter().map(|f| f.id).collect();
+    let only = aspects::aspect_only_faces(m, ids, &read);
+    if only.is_empty() {
+        return;
+    }
+    file.faces.retain(|f| !only.contains(&f.id));
+    let list: Vec<String> = only.iter().map(|id| format!("#{id}")).collect();
+    file.warnings.push(format!(
+        "{} faces of shape aspects (form features' geometry, SHAPE_ASPECT representations) not read as the part's: {}",
+        only.len(),
+        list.join(", ")
+    ));
 }
 
 /// Face `id` (an ADVANCED_FACE or FACE_SURFACE, `kind`) over its parameter box, or the type of
