@@ -55,6 +55,7 @@ fn surface_json(s: &crate::framework::SurfaceFair) -> Value {
         "section_ramp": s.stages.first().and_then(|st| st.section_ramp),
         "stages": s.stages.iter().map(|st| json!({
             "stage": st.stage.name(),
+            "seconds": st.seconds,
             "max_move": if st.max_move.is_finite() { json!(st.max_move) } else { Value::Null },
             "deviation": st.deviation,
             "energy": st.energy,

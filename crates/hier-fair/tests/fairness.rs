@@ -188,6 +188,12 @@ fn torus_fillets_get_one_hump_by_default() {
         ramp < hier_fair::framework::MIN_RAMP,
         "F02_torus: ramp {ramp}"
     );
+    // every stage carries its wall time, and together they stay within the surface's own
+    for s in &report.surfaces {
+        let staged: f64 = s.stages.iter().map(|st| st.seconds).sum();
+        assert!(s.stages.iter().all(|st| st.seconds >= 0.0), "{}", s.name);
+        assert!(staged <= s.seconds + 1e-9, "{}: {staged} > {}", s.name, s.seconds);
+    }
 }
 
 /// box12_r5's sphere corners are vertex blends with a pole (a side collapsed to a point) where

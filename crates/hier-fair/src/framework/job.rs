@@ -32,8 +32,12 @@ impl Run<'_> {
         } else {
             f64::NAN
         };
+        let now = std::time::Instant::now();
+        let seconds = now.duration_since(self.last).as_secs_f64();
+        self.last = now;
         self.stages.push(StageReport {
             stage,
+            seconds,
             max_move,
             deviation: max_deviation(self.original, after, self.grid),
             energy: energy.unwrap_or_else(|| thin_plate_energy(after)),

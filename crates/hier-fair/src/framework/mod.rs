@@ -387,6 +387,8 @@ struct Run<'a> {
     original: &'a BSplineSurface,
     grid: usize,
     stages: Vec<StageReport>,
+    /// when the last stage was recorded (or the run began): a stage's seconds run from here
+    last: std::time::Instant,
 }
 
 /// The continuity steps alone from one prepared surface.

@@ -61,6 +61,12 @@ impl Stage {
 pub struct StageReport {
     /// the stage
     pub stage: Stage,
+    /// wall time of the stage: from the end of the stage before it (or the start of the
+    /// surface's run) to its record — `prepare` holds the dry run, the lead-in and section
+    /// trials; a continuity setting the dry run computed and a later stage takes over is
+    /// recorded in about no time. Work a fallback tried and dropped (the spread or the section
+    /// run again without, a joint polish that is not kept) is in the surface's own seconds only.
+    pub seconds: f64,
     /// largest control-point move of the stage (model units)
     pub max_move: f64,
     /// sampled deviation from the original after the stage

@@ -55,6 +55,7 @@ impl Job<'_> {
             original,
             grid: self.params.deviation_grid,
             stages: Vec::new(),
+            last: std::time::Instant::now(),
         };
         // 0. prepare, with the curvature lead-in the continuity steps alone can afford
         let (dry, needed) = self.prepare_and_dry_run(&links, spread)?;
@@ -564,6 +565,7 @@ impl Job<'_> {
             original,
             grid: self.params.deviation_grid,
             stages: vec![prepare.clone()],
+            last: std::time::Instant::now(),
         };
         once.record(Stage::set(h), &plan.prepared, &plan.connected);
         let known = once.stages.last().map(|r| r.energy);
