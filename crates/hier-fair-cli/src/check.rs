@@ -13,6 +13,8 @@ pub struct CheckOutcome {
     pub text: String,
     /// true when a link exceeds the `--fail-above` preset
     pub exceeded: bool,
+    /// how many links were measured (`--samples` applies to them alone)
+    pub links: usize,
 }
 
 /// Runs `check` on the text of a model (or bare surface) file; `source` names it in errors.
@@ -90,7 +92,11 @@ pub fn run_with(
         }
         text + &verdict(&model, &checks)
     };
-    Ok(CheckOutcome { text, exceeded })
+    Ok(CheckOutcome {
+        text,
+        exceeded,
+        links: checks.len(),
+    })
 }
 
 fn opt(x: Option<f64>) -> Value {

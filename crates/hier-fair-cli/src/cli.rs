@@ -8,6 +8,7 @@
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+use crate::kind::FileKind;
 use crate::{eval, files};
 use anyhow::{Result, bail};
 use clap::{Parser, Subcommand};
@@ -51,9 +52,9 @@ enum Command {
     Check {
         /// Model file (or a bare surface file: then there are no links).
         model: PathBuf,
-        /// Samples per link, both ends included.
-        #[arg(long, default_value_t = 101)]
-        samples: usize,
+        /// Samples per link, both ends included (default 101; on a file without links a warning).
+        #[arg(long)]
+        samples: Option<usize>,
         /// Prints JSON (cli-contract.md) instead of a table.
         #[arg(long)]
         json: bool,
@@ -214,6 +215,7 @@ fn fair_mesh_command(
     inputs.extend(fixed.as_deref());
     files::check_outputs(&[("-o", &output)], &inputs)?;
     crate::kind::expect("fair-mesh", &input, &[crate::kind::FileKind::Obj])?;
+    crate::kind::expect_option("fair-mesh --fixed", fixed.as_deref(), FileKind::Indices)?;
     crate::kind::expect_extension("-o", &output, crate::kind::MESH_OUTPUTS)?;
     println!(
         "{}",
@@ -224,7 +226,6 @@ fn fair_mesh_command(
 
 /// `hier-fair build`.
 fn build_command(input: PathBuf, output: PathBuf, explain: bool) -> Result<()> {
-    use crate::kind::FileKind;
     files::check_outputs(&[("-o", &output)], &[&input])?;
     crate::kind::expect("build", &input, &[FileKind::Model, FileKind::Surfaces])?;
     crate::kind::expect_extension("-o", &output, crate::kind::JSON_OUTPUTS)?;
@@ -235,7 +236,7 @@ fn build_command(input: PathBuf, output: PathBuf, explain: bool) -> Result<()> {
 /// `hier-fair check`.
 fn check_command(
     model: PathBuf,
-    samples: usize,
+    samples: Option<usize>,
     json: bool,
     fail_above: Option<String>,
     fairness: bool,
@@ -252,11 +253,17 @@ fn check_command(
     let outcome = crate::check::run_with(
         &text,
         &model.display().to_string(),
-        samples,
+        samples.unwrap_or(101),
         json,
         fail_above.as_deref(),
         fairness,
     )?;
+    if let (Some(k), 0) = (samples, outcome.links) {
+        eprintln!(
+            "warning: --samples {k} applies to a model's links; {} has no links: nothing was sampled",
+            model.display()
+        );
+    }
     print!("{}", outcome.text);
     if outcome.exceeded {
         use std::io::Write;
@@ -317,6 +324,7 @@ fn label_command(
     inputs.extend(segments.as_deref());
     files::check_outputs(&outputs, &inputs)?;
     crate::kind::expect("label", &input, &[crate::kind::FileKind::Obj])?;
+    crate::kind::expect_option("label --segments", segments.as_deref(), FileKind::Segments)?;
     crate::kind::expect_extension("-o", &output, crate::kind::JSON_OUTPUTS)?;
     if let Some(p) = &svg {
         crate::kind::expect_extension("--svg", p, crate::kind::SVG_OUTPUTS)?;
@@ -342,7 +350,7 @@ fn eval_command(args: EvalArgs) -> Result<()> {
         summary,
         index,
     } = args;
-    use crate::kind::FileKind;
+    crate::kind::expect_option("eval --params", params.as_deref(), FileKind::Params)?;
     // a model's surfaces are evaluated as a surface file's are (chosen by --index)
     let mut surfaces =
         match crate::kind::expect("eval", &surface, &[FileKind::Surfaces, FileKind::Model])? {

@@ -26,6 +26,13 @@ pub enum FileKind {
     Report,
     /// a Wavefront OBJ mesh (`v`, `f` records)
     Obj,
+    /// the parameters `eval --params` takes: `{"params": [[u, v], ...]}`
+    Params,
+    /// a JSON list of vertex indices (`fair-mesh --fixed`): `[i, ...]`
+    Indices,
+    /// boundary segments (`label --segments`): `[[i, ...], ...]`, `{"segments": [...]}` or
+    /// `label`'s own output
+    Segments,
     /// anything else
     Unknown,
 }
@@ -40,6 +47,9 @@ impl FileKind {
             FileKind::Surfaces => "a surface file (JSON)",
             FileKind::Report => "a report JSON",
             FileKind::Obj => "an OBJ mesh",
+            FileKind::Params => "a params JSON ({\"params\": [[u, v], …]})",
+            FileKind::Indices => "an index JSON (a list of vertex indices, [i, …])",
+            FileKind::Segments => "a segments JSON (lists of boundary vertex indices, [[i, …], …])",
             FileKind::Unknown => "no file kind hier-fair reads",
         }
     }
@@ -56,6 +66,9 @@ impl FileKind {
             }
             FileKind::Report => "reports are written by `fair` and `connect`, not read",
             FileKind::Obj => "`fair-mesh` and `label` take meshes",
+            FileKind::Params => "`eval --params` takes it",
+            FileKind::Indices => "`fair-mesh --fixed` takes it",
+            FileKind::Segments => "`label --segments` takes it",
             FileKind::Unknown => {
                 "hier-fair reads STEP, IGES, model and surface JSON, and OBJ meshes"
             }
@@ -117,8 +130,26 @@ fn json_kind(text: &str) -> FileKind {
         FileKind::Model
     } else if has("degree_u") || has("patches") {
         FileKind::Surfaces
+    } else if has("params") {
+        FileKind::Params
+    } else if has("segments") || has("vertices") {
+        FileKind::Segments
     } else {
-        FileKind::Unknown
+        list_kind(text)
+    }
+}
+
+/// The kind of a JSON list of numbers (`[i, ...]`: indices) or of lists of numbers (`[[i, ...],
+/// ...]`: segments); anything else (an empty list, a list of strings) names no kind.
+fn list_kind(text: &str) -> FileKind {
+    let number = |t: &str| t.starts_with(|c: char| c.is_ascii_digit() || c == '-');
+    let Some(inner) = text.strip_prefix('[').map(str::trim_start) else {
+        return FileKind::Unknown;
+    };
+    match inner.strip_prefix('[').map(str::trim_start) {
+        Some(first) if number(first) => FileKind::Segments,
+        None if number(inner) => FileKind::Indices,
+        _ => FileKind::Unknown,
     }
 }
 
@@ -145,13 +176,29 @@ pub fn expect(command: &str, path: &Path, takes: &[FileKind]) -> Result<FileKind
     )
 }
 
+/// Refuses the file an option names (`eval --params`, `fair-mesh --fixed`, `label --segments`;
+/// `option` is the command and the option) unless it holds `kind`, saying what it got and what
+/// the option expects, before its reader can answer with a parser's message ("missing field").
+pub fn expect_option(option: &str, path: Option<&Path>, kind: FileKind) -> Result<()> {
+    match path {
+        Some(p) => expect(option, p, &[kind]).map(|_| ()),
+        None => Ok(()),
+    }
+}
+
 /// The kind of `takes` that the extension of `path` names (`.json`: the first JSON kind).
 fn by_extension(path: &Path, takes: &[FileKind]) -> Option<FileKind> {
     let ext = path.extension()?.to_str()?.to_ascii_lowercase();
     let named: &[FileKind] = match ext.as_str() {
         "step" | "stp" => &[FileKind::Step],
         "igs" | "iges" => &[FileKind::Iges],
-        "json" => &[FileKind::Model, FileKind::Surfaces],
+        "json" => &[
+            FileKind::Model,
+            FileKind::Surfaces,
+            FileKind::Params,
+            FileKind::Indices,
+            FileKind::Segments,
+        ],
         "obj" => &[FileKind::Obj],
         _ => &[],
     };
@@ -276,6 +323,14 @@ mod tests {
             classify("# mesh\nv 0 0 0\nv 1 0 0\nf 1 2 3\n"),
             FileKind::Obj
         );
+        assert_eq!(classify(r#"{"params": [[0.5, 0.5]]}"#), FileKind::Params);
+        assert_eq!(classify("[0, 4, 17]\n"), FileKind::Indices);
+        assert_eq!(classify("[[0, 1, 2], [2, 3]]"), FileKind::Segments);
+        assert_eq!(
+            classify(r#"{"segments": [{"vertices": [0, 1], "label": "south"}]}"#),
+            FileKind::Segments
+        );
+        assert_eq!(classify("[]"), FileKind::Unknown);
         assert_eq!(classify("hello"), FileKind::Unknown);
         assert_eq!(classify(""), FileKind::Unknown);
     }

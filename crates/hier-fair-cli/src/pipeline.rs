@@ -339,8 +339,8 @@ pub fn demo(dir: &Path, quiet: bool) -> Result<String> {
         &report,
         "hier-fair demo: the X-node (fixtures/models/x_node.json)",
         model.units.as_deref(),
-    ) + &format!("## Verdict\n\n{verdict}; wrote faired.json, faired.igs\n\n")
-        + &images_legend();
+    ) + &images_legend()
+        + &format!("\n## Verdict\n\n{verdict}; wrote faired.json, faired.igs\n");
     files::write_atomic(&dir.join("report.md"), md.as_bytes())?;
     let images = write_images(&dir.join("images"), &model, &faired, &report)?;
     let mut text = crate::verdict::summary(
@@ -407,6 +407,13 @@ pub fn run_fair(
     } else {
         Model::from_json(text).with_context(|| format!("{}", input.display()))?
     };
+    if let (Some(t), true) = (options.target, model.links.is_empty()) {
+        // an option that does not apply is said, never silently ignored
+        eprintln!(
+            "warning: --target {t:?} has nothing to apply to: {} has no links (`build` finds a model's links from its geometry)",
+            input.display()
+        );
+    }
     let (faired, report) = fair(&model, options)?;
     let written = if crate::exchange::is_iges(output) || crate::exchange::is_step(output) {
         crate::exchange::cad_text(&faired, output)?

@@ -73,6 +73,13 @@ fn demo_shows_before_and_after_and_ends_with_a_verdict() {
         )),
         "{md}"
     );
+    // the report ends with that line: stdout's verdict line as printed, and what was written
+    // (which stdout names on its own last line)
+    assert_eq!(
+        md.trim_end().lines().last(),
+        Some(format!("{}; wrote faired.json, faired.igs", lines[lines.len() - 2]).as_str()),
+        "{md}"
+    );
 }
 
 #[test]
