@@ -15,6 +15,8 @@ pub struct CheckOutcome {
     pub exceeded: bool,
     /// how many links were measured (`--samples` applies to them alone)
     pub links: usize,
+    /// how many surfaces have C⁰ knot lines (`--fail-above` judges them with the links)
+    pub joins: usize,
 }
 
 /// Runs `check` on the text of a model (or bare surface) file; `source` names it in errors.
@@ -96,6 +98,7 @@ pub fn run_with(
         text,
         exceeded,
         links: checks.len(),
+        joins: joins.len(),
     })
 }
 

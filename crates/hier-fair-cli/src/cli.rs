@@ -264,6 +264,12 @@ fn check_command(
             model.display()
         );
     }
+    if let (Some(p), 0, 0) = (&fail_above, outcome.links, outcome.joins) {
+        eprintln!(
+            "warning: --fail-above {p} has nothing to judge: {} has no links and no surface with C0 knot lines",
+            model.display()
+        );
+    }
     print!("{}", outcome.text);
     if outcome.exceeded {
         use std::io::Write;

@@ -20,6 +20,7 @@
 // citation keys are written `\[SV\]` (docs/references.md): a bare `[SV]` is a broken link
 #![deny(rustdoc::broken_intra_doc_links)]
 
+pub mod applies;
 pub mod check;
 pub mod cli;
 pub mod connect;

@@ -407,12 +407,9 @@ pub fn run_fair(
     } else {
         Model::from_json(text).with_context(|| format!("{}", input.display()))?
     };
-    if let (Some(t), true) = (options.target, model.links.is_empty()) {
-        // an option that does not apply is said, never silently ignored
-        eprintln!(
-            "warning: --target {t:?} has nothing to apply to: {} has no links (`build` finds a model's links from its geometry)",
-            input.display()
-        );
+    // an option that does not apply is said, never silently ignored
+    for warning in crate::applies::unused_options(&model, options, &input.display().to_string()) {
+        eprintln!("warning: {warning}");
     }
     let (faired, report) = fair(&model, options)?;
     let written = if crate::exchange::is_iges(output) || crate::exchange::is_step(output) {

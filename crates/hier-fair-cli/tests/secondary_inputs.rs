@@ -1,8 +1,9 @@
 //! The files options name are known by their content too (cli-contract.md, "Files"):
 //! `eval --params`, `fair-mesh --fixed` and `label --segments` given a STEP, IGES, model JSON,
 //! OBJ or report JSON say in one line what they got and what the option expects (exit code 2,
-//! never a parser's "missing field"); and options that do not apply to the input are said
-//! (`check --samples` on a file without links, `fair --target` on a model without links).
+//! never a parser's "missing field"); and options that do not apply to the input are said in a
+//! `warning:` line (`check --samples`, `--fail-above` on a file without links; `fair`'s link
+//! options on a model without links, `--tolerance` and `--tolerance-role` that no surface takes).
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -179,7 +180,7 @@ fn label_segments_names_what_it_got() {
 }
 
 #[test]
-fn check_samples_on_a_file_without_links_is_a_warning() {
+fn check_options_on_a_file_without_links_are_warnings() {
     let tmp = tempfile::tempdir().unwrap();
     let surface = root("fixtures/surfaces/hood_panel.json");
     let o = run_in(
@@ -194,41 +195,127 @@ fn check_samples_on_a_file_without_links_is_a_warning() {
             && e.contains("has no links: nothing was sampled"),
         "{e}"
     );
+    // --fail-above with neither links nor C0 knot lines to judge
+    let o = run_in(
+        tmp.path(),
+        &[
+            "check",
+            surface.to_str().unwrap(),
+            "--fail-above",
+            "standard",
+        ],
+    );
+    assert!(o.status.success(), "{o:?}");
+    assert_eq!(
+        String::from_utf8_lossy(&o.stderr).trim_end(),
+        format!(
+            "warning: --fail-above standard has nothing to judge: {} has no links and no surface with C0 knot lines",
+            surface.display()
+        )
+    );
     // without the option, or on a model with links, no warning
     let o = run_in(tmp.path(), &["check", surface.to_str().unwrap()]);
     assert!(o.status.success() && o.stderr.is_empty(), "{o:?}");
     let model = root("fixtures/occt/occt_plate_boss.json");
     let o = run_in(
         tmp.path(),
-        &["check", model.to_str().unwrap(), "--samples", "21"],
+        &[
+            "check",
+            model.to_str().unwrap(),
+            "--samples",
+            "21",
+            "--fail-above",
+            "exchange",
+        ],
     );
     assert!(o.status.success() && o.stderr.is_empty(), "{o:?}");
 }
 
-#[test]
-fn fair_target_on_a_model_without_links_is_a_warning() {
-    let tmp = tempfile::tempdir().unwrap();
+/// A model of the hood panel alone (no links), with `extra` fields on its surface entry.
+fn hood_model(dir: &Path, name: &str, extra: serde_json::Value) {
     let surface: serde_json::Value = serde_json::from_str(
         &std::fs::read_to_string(root("fixtures/surfaces/hood_panel.json")).unwrap(),
     )
     .unwrap();
-    let model = serde_json::json!({
-        "surfaces": [{"name": "hood", "role": "primary", "surface": surface}],
-        "links": []
-    });
-    std::fs::write(tmp.path().join("m.json"), model.to_string()).unwrap();
-    let o = run_in(
-        tmp.path(),
+    let mut entry = serde_json::json!({"name": "hood", "role": "primary", "surface": surface});
+    for (k, v) in extra.as_object().unwrap() {
+        entry[k] = v.clone();
+    }
+    let model = serde_json::json!({"surfaces": [entry], "links": []});
+    std::fs::write(dir.join(name), model.to_string()).unwrap();
+}
+
+/// The stderr lines of a `fair` run that succeeded and wrote its output.
+fn fair_warnings(dir: &Path, args: &[&str]) -> Vec<String> {
+    let mut all = vec!["fair"];
+    all.extend_from_slice(args);
+    all.extend_from_slice(&["-o", "f.json", "--quiet"]);
+    let _ = std::fs::remove_file(dir.join("f.json"));
+    let o = run_in(dir, &all);
+    assert!(o.status.success(), "{o:?}");
+    assert!(dir.join("f.json").exists());
+    assert_eq!(String::from_utf8_lossy(&o.stdout).lines().count(), 1);
+    String::from_utf8_lossy(&o.stderr)
+        .lines()
+        .map(str::to_string)
+        .collect()
+}
+
+#[test]
+fn fair_options_a_model_gives_nothing_to_are_warnings() {
+    let tmp = tempfile::tempdir().unwrap();
+    let dir = tmp.path();
+    hood_model(dir, "m.json", serde_json::json!({}));
+    hood_model(dir, "own.json", serde_json::json!({"deviation": 0.05}));
+    // the link options on a model without links
+    assert_eq!(
+        fair_warnings(dir, &["m.json", "--target", "G2"]),
+        [
+            "warning: --target G2 has nothing to apply to: m.json has no links (`build` finds a model's links from its geometry)"
+        ]
+    );
+    let e = fair_warnings(
+        dir,
         &[
-            "fair", "m.json", "-o", "f.json", "--target", "G2", "--quiet",
+            "m.json",
+            "--no-verify",
+            "--keep-faired",
+            "--tolerance-role",
+            "corner=0.1",
         ],
     );
-    assert!(o.status.success(), "{o:?}");
-    let e = String::from_utf8_lossy(&o.stderr);
-    assert_eq!(e.lines().count(), 1, "{e}");
+    assert_eq!(e.len(), 2, "{e:?}");
     assert!(
-        e.starts_with("warning: --target G2 has nothing to apply to: m.json has no links"),
-        "{e}"
+        e[0].starts_with(
+            "warning: --no-verify, --keep-faired have nothing to apply to: m.json has no links"
+        ),
+        "{e:?}"
     );
-    assert!(tmp.path().join("f.json").exists());
+    // a role no surface has, and --tolerance where every surface has its own deviation
+    assert_eq!(
+        e[1],
+        "warning: --tolerance-role corner=… applies to no surface: m.json has no corner surface without its own deviation"
+    );
+    let e = fair_warnings(dir, &["own.json", "--tolerance", "0.1"]);
+    assert_eq!(e.len(), 1, "{e:?}");
+    assert!(
+        e[0].starts_with(
+            "warning: --tolerance applies to no surface of own.json: each has its own deviation"
+        ),
+        "{e:?}"
+    );
+    // options that apply are not warned about
+    assert!(fair_warnings(dir, &["m.json", "--tolerance", "0.1"]).is_empty());
+    let x_node = root("fixtures/models/x_node.json");
+    let e = fair_warnings(
+        dir,
+        &[
+            x_node.to_str().unwrap(),
+            "--target",
+            "G1",
+            "--tolerance-role",
+            "corner=0.2",
+        ],
+    );
+    assert!(e.is_empty(), "{e:?}");
 }
