@@ -32,10 +32,20 @@ pub struct ProjectionParams {
     pub samples_per_span: usize,
     /// How many of the best samples Newton starts from (default 3).
     pub starts: usize,
-    /// Cap on start samples per direction (default 64), so that surfaces with many spans do not
-    /// make every projection cost a dense grid; above it the samples are uniform in parameter.
+    /// Cap on start samples per direction (default [`MAX_START_SAMPLES`]), so that surfaces with
+    /// many spans do not make every projection cost a dense grid; above it the samples are
+    /// uniform in parameter.
     pub max_samples_per_direction: usize,
 }
+
+/// Default cap on the start samples per direction: 256, four per span up to 64 spans. The
+/// nearest start must lie in the basin of the true foot, so the samples must be closer together
+/// than the surface comes back near itself: a swept spring of seven turns over 96 spans
+/// (Inventor's, fixtures/foreign/bug22869_Spring.igs) with 64 uniform samples had them 12 mm
+/// apart along a wire whose turns are 10.5 mm apart, and its trim points projected onto the
+/// neighbouring turn, 3–6 mm off; with 256 every one lies on it. A global projection scans
+/// the grid once (a surface of 256 × 37 starts: about 10⁴ distances), a warm start none.
+pub const MAX_START_SAMPLES: usize = 256;
 
 impl Default for ProjectionParams {
     fn default() -> Self {
@@ -45,7 +55,7 @@ impl Default for ProjectionParams {
             max_iterations: 50,
             samples_per_span: 4,
             starts: 3,
-            max_samples_per_direction: 64,
+            max_samples_per_direction: MAX_START_SAMPLES,
         }
     }
 }

@@ -204,13 +204,9 @@ fn brep_solid_faces_are_read() {
             );
         }
     }
-    // the sweeps are cut to their faces, their trims on them. A sweep runs seven turns over
-    // 96 spans along the wire: the projector's starts must sample every span (the default
-    // 64 samples per direction put starts on the neighbouring turn)
-    let params = nurbs_core::ProjectionParams {
-        max_samples_per_direction: 1024,
-        ..Default::default()
-    };
+    // the sweeps are cut to their faces, their trims on them (a sweep runs seven turns over 96
+    // spans along the wire: the projector's default starts sample it finely enough,
+    // nurbs_core::projection::MAX_START_SAMPLES)
     let sweeps: Vec<_> = f
         .surfaces
         .iter()
@@ -219,7 +215,8 @@ fn brep_solid_faces_are_read() {
     assert_eq!(sweeps.len(), 2);
     for s in sweeps {
         assert!(s.underlying.is_some() && s.trim.len() >= 3, "D{}", s.de);
-        let mut projector = nurbs_core::SurfaceProjector::new(&s.surface, params);
+        let mut projector =
+            nurbs_core::SurfaceProjector::new(&s.surface, nurbs_core::ProjectionParams::default());
         for p in s.trim.iter().step_by((s.trim.len() / 200).max(1)) {
             let d = projector.project(p).distance;
             assert!(d < 1e-9 * s.surface.size(), "D{}: trim point {d} off", s.de);
