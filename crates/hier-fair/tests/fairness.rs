@@ -192,7 +192,12 @@ fn torus_fillets_get_one_hump_by_default() {
     for s in &report.surfaces {
         let staged: f64 = s.stages.iter().map(|st| st.seconds).sum();
         assert!(s.stages.iter().all(|st| st.seconds >= 0.0), "{}", s.name);
-        assert!(staged <= s.seconds + 1e-9, "{}: {staged} > {}", s.name, s.seconds);
+        assert!(
+            staged <= s.seconds + 1e-9,
+            "{}: {staged} > {}",
+            s.name,
+            s.seconds
+        );
     }
 }
 
