@@ -350,7 +350,8 @@ impl Reader<'_> {
     /// spring: a helix edge on a curve past its end face): a line, arc or B-spline is cut at the
     /// vertices' feet on it, across its closing point where the curve is closed and the end
     /// comes before the start; an edge whose vertices are one point, and a composite curve,
-    /// are taken whole.
+    /// are taken whole. The points run in the curve's sense (the loop's flag OF says whether
+    /// the loop runs that way).
     fn edge_points(
         &self,
         list: &DirEntry,
@@ -415,9 +416,10 @@ impl Reader<'_> {
             }
             out
         } else {
-            let mut out = piece(t1, t0)?;
-            out.reverse();
-            out
+            // an open curve whose start vertex lies after its end: the edge runs against it,
+            // which the standard does not let an edge do; its points stay in the curve's sense
+            // as every edge's do, and the loop's flag orients them
+            piece(t1, t0)?
         })
     }
 

@@ -308,7 +308,7 @@ impl Reader<'_> {
             144 | 143 | 510 => self.trimmed_surface(e, scale, file, pending)?,
             // planes are read through the trimmed surfaces and faces that bound them; a
             // manifold solid (186) and its shells (514), loops (508), edges (504) and vertices
-            // (502) through its faces (510, [IGES] §4.151), each of which names its surface
+            // (502) through its faces (510, [IGES] §4.150), each of which names its surface
             124 | 108 | 190 | 186 | 514 | 508 | 504 | 502 => {}
             other => *file.skipped.entry(other).or_default() += 1,
         }

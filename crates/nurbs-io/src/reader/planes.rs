@@ -106,7 +106,7 @@ impl Reader<'_> {
         Ok((origin, n))
     }
 
-    /// The plane surface (190, \[IGES\] §4.51) `plane` as a point on it and its unit normal:
+    /// The plane surface (entity 190 of \[IGES\]) `plane` as a point on it and its unit normal:
     /// its point (116) and normal direction (123), each with its own transformation, then the
     /// plane's (errors name the face `face`). The reference direction of form 1 is not needed:
     /// the plane is framed by its boundary ([`Self::bounded_plane`]).
