@@ -246,3 +246,22 @@ fn faces_of_shape_aspects_are_not_the_parts() {
         "{warning}"
     );
 }
+
+/// A representation that is both a shape aspect's and the product's (one more shape definition
+/// representation names the first feature's "explicit geometry branch" as the part's shape) is
+/// the part's: its four faces are read, the other feature's four are still left out.
+#[test]
+fn a_representation_of_the_product_is_kept_though_an_aspect_names_it() {
+    let text = String::from_utf8(fixture("trj2_f1-db-214.stp")).unwrap();
+    // before the DATA section's end, the file's last ENDSEC
+    let at = text.rfind("ENDSEC;").unwrap();
+    let text = format!(
+        "{}#99999=SHAPE_DEFINITION_REPRESENTATION(#21,#1028);\n{}",
+        &text[..at],
+        &text[at..]
+    );
+    let f = read_step(&text).unwrap();
+    assert_eq!(f.faces.len(), 16);
+    let warning = f.warnings.iter().find(|w| w.contains("shape aspects"));
+    assert!(warning.is_some_and(|w| w.starts_with("4 faces")), "{warning:?}");
+}

@@ -27,9 +27,11 @@ fn is_aspect(m: &Model, id: u64) -> bool {
 }
 
 /// The representations that describe a shape aspect: a shape definition representation whose
-/// product definition shape defines an aspect.
+/// product definition shape defines an aspect — and no other shape definition representation
+/// makes the same representation a product definition's shape (a writer may name one
+/// representation for both; it is then the part's).
 fn aspect_reps(m: &Model, ids: &[u64]) -> BTreeSet<u64> {
-    let mut out = BTreeSet::new();
+    let (mut aspects, mut products) = (BTreeSet::new(), BTreeSet::new());
     for &id in ids {
         let Ok(p) = m.part(id, "SHAPE_DEFINITION_REPRESENTATION") else {
             continue;
@@ -37,14 +39,15 @@ fn aspect_reps(m: &Model, ids: &[u64]) -> BTreeSet<u64> {
         let (Some(Value::Ref(pds)), Some(Value::Ref(rep))) = (p.first(), p.get(1)) else {
             continue;
         };
-        if let Ok(q) = m.part(*pds, "PRODUCT_DEFINITION_SHAPE")
-            && let Some(Value::Ref(def)) = q.get(2)
-            && is_aspect(m, *def)
-        {
-            out.insert(*rep);
-        }
+        let Ok(q) = m.part(*pds, "PRODUCT_DEFINITION_SHAPE") else {
+            continue;
+        };
+        match q.get(2) {
+            Some(Value::Ref(def)) if is_aspect(m, *def) => aspects.insert(*rep),
+            _ => products.insert(*rep),
+        };
     }
-    out
+    aspects.difference(&products).copied().collect()
 }
 
 /// The faces of `faces` that representations of shape aspects hold and no other
