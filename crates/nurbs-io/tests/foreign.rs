@@ -263,5 +263,8 @@ fn a_representation_of_the_product_is_kept_though_an_aspect_names_it() {
     let f = read_step(&text).unwrap();
     assert_eq!(f.faces.len(), 16);
     let warning = f.warnings.iter().find(|w| w.contains("shape aspects"));
-    assert!(warning.is_some_and(|w| w.starts_with("4 faces")), "{warning:?}");
+    assert!(
+        warning.is_some_and(|w| w.starts_with("4 faces")),
+        "{warning:?}"
+    );
 }
