@@ -6,21 +6,10 @@
 //! options on a model without links, `--tolerance` and `--tolerance-role` that no surface takes).
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
-fn root(path: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
-        .join(path)
-}
-
-fn run_in(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_hier-fair"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("binary runs")
-}
+mod common;
+use common::{root, run_in};
 
 /// A run refused with exit code 2 and one error line holding every one of `parts`, no parser
 /// message, nothing at `not_written`.
@@ -77,21 +66,6 @@ fn eval_params_names_what_it_got() {
     let tmp = tempfile::tempdir().unwrap();
     let surface = root("fixtures/surfaces/hood_panel.json");
     for (file, got) in wrong_files(tmp.path()) {
-        if got == "is a params JSON" {
-            // the right kind is evaluated
-            let o = run_in(
-                tmp.path(),
-                &[
-                    "eval",
-                    surface.to_str().unwrap(),
-                    "--params",
-                    file.to_str().unwrap(),
-                ],
-            );
-            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-            assert!(String::from_utf8_lossy(&o.stdout).starts_with("{\"results\":[{\"u\":0.5"));
-            continue;
-        }
         let o = run_in(
             tmp.path(),
             &[
@@ -101,6 +75,12 @@ fn eval_params_names_what_it_got() {
                 file.to_str().unwrap(),
             ],
         );
+        if got == "is a params JSON" {
+            // the right kind is evaluated
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+            assert!(String::from_utf8_lossy(&o.stdout).starts_with("{\"results\":[{\"u\":0.5"));
+            continue;
+        }
         let expects = "`eval --params` takes a params JSON ({\"params\": [[u, v], …]})";
         refused(&o, &[expects, got], &tmp.path().join("none"));
         assert!(o.stdout.is_empty());

@@ -3,22 +3,11 @@
 //! bare surface file with one line per surface and a verdict; and the outputs and options of
 //! `build`, `fair-mesh`, `label` and `fair --keep` refused where they do not apply.
 
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
+use std::process::Output;
 
-fn root(path: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("../..")
-        .join(path)
-}
-
-fn run_in(dir: &Path, args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_hier-fair"))
-        .args(args)
-        .current_dir(dir)
-        .output()
-        .expect("binary runs")
-}
+mod common;
+use common::{root, run_in};
 
 /// The stdout of a run that succeeded.
 fn ok(o: Output) -> String {

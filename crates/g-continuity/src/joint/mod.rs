@@ -377,18 +377,17 @@ fn worst(r: &[f64]) -> f64 {
 /// `side` with target `target` (`zoned`: inside a vertex zone, no G2 residual): S_u and S_v
 /// (the normal) from G1 on, and the second derivative across the side (S_uu on a u side, S_vv
 /// on a v side) at G2. S_uv enters no residual.
-fn residual_fields(side: Side, target: Continuity, zoned: bool) -> Vec<usize> {
-    let mut out = Vec::with_capacity(3);
-    if target >= Continuity::G1 {
-        out.extend([1, 2]);
+fn residual_fields(side: Side, target: Continuity, zoned: bool) -> &'static [usize] {
+    if target < Continuity::G1 {
+        &[]
+    } else if target < Continuity::G2 || zoned {
+        &[1, 2]
+    } else {
+        match side.cross_direction() {
+            Direction::U => &[1, 2, 3],
+            Direction::V => &[1, 2, 5],
+        }
     }
-    if target >= Continuity::G2 && !zoned {
-        out.push(match side.cross_direction() {
-            Direction::U => 3,
-            Direction::V => 5,
-        });
-    }
-    out
 }
 
 impl Problem<'_> {
@@ -428,7 +427,7 @@ impl Problem<'_> {
             gd[d] = ((plus - sm.foot[d]) / self.units.g0 - (minus - sm.foot[d]) / self.units.g0)
                 / (2.0 * h);
         }
-        for f in residual_fields(l.side, l.target, sm.zoned) {
+        for &f in residual_fields(l.side, l.target, sm.zoned) {
             let h = step(ds, f);
             for (d, gd) in g[f].iter_mut().enumerate() {
                 let (mut plus, mut minus) = (*ds, *ds);
