@@ -24,6 +24,7 @@ use nurbs_core::{BSplineSurface, Continuity};
 
 use crate::check::{check_model, measure_model};
 use crate::error::{Error, Result};
+use crate::framework::LinkGrowth;
 use crate::model::{Model, Role};
 
 /// Settings of [`connect`].
@@ -228,20 +229,8 @@ struct Candidate {
     /// its continuity setting's report
     report: ConnectReport,
     /// how much its links grow against the input: gap, angle, curvature
-    /// ([`crate::framework::growths`], the worst link each)
-    growth: [f64; 3],
-}
-
-/// Whether a candidate of `growth` is no worse than the input in any figure.
-fn no_worse(growth: &[f64; 3]) -> bool {
-    growth.iter().all(|&x| x <= 1.0)
-}
-
-/// Whether a candidate of `growth` keeps every gap and angle. The rule is about gaps and
-/// angles; a curvature difference that grows (a vertex blend between masters that disagree) is
-/// reported, and does not make every variant run.
-fn joins_kept(growth: &[f64; 3]) -> bool {
-    growth[0] <= 1.0 && growth[1] <= 1.0
+    /// the worst link's ([`LinkGrowth`])
+    growth: LinkGrowth,
 }
 
 /// [`connect_slave`] with the never-worse rule of the module docs: the result and its report,
@@ -263,7 +252,7 @@ fn protected(
         "the continuity setting",
         connect_slave(original, links, params)?,
     );
-    if no_worse(&first.growth) {
+    if first.growth.no_worse() {
         return Ok((first.surface, first.report, None));
     }
     let mut candidates = vec![first];
@@ -273,7 +262,7 @@ fn protected(
     let pick = least_growth(&candidates);
     let figures: Vec<String> = candidates
         .iter()
-        .map(|c| format!("{}: {}", c.what, crate::framework::growth_text(c.growth)))
+        .map(|c| format!("{}: {}", c.what, c.growth))
         .collect();
     let why = format!(
         "the continuity setting would leave a link worse than the input; kept {}, whose links grow the least against the input — {}",
@@ -299,19 +288,16 @@ struct Protected<'a> {
 impl Protected<'_> {
     /// The worst growth of the links on `s` against the input: gap, angle, curvature (a link
     /// that cannot be measured on `s` counts as opened).
-    fn growth(&self, s: &BSplineSurface) -> [f64; 3] {
+    fn growth(&self, s: &BSplineSurface) -> LinkGrowth {
         let params = self.params;
-        let mut worst = [0.0f64; 3];
+        let mut worst = LinkGrowth::default();
         for (l, b) in self.links.iter().zip(self.before) {
             // (with its vertex zones, as `before` was measured by `check_model`)
             let Ok(a) = l.measure(s, &params.measure) else {
-                worst[0] = f64::INFINITY;
+                worst.gap = f64::INFINITY;
                 continue;
             };
-            let g = crate::framework::growths(b, &a, l.target, &params.tolerances);
-            for (w, x) in worst.iter_mut().zip(g) {
-                *w = w.max(x);
-            }
+            worst = worst.max(LinkGrowth::of(b, &a, l.target, &params.tolerances));
         }
         worst
     }
@@ -352,7 +338,7 @@ impl Protected<'_> {
                 &turned,
             ),
         ] {
-            if candidates.iter().any(|c| joins_kept(&c.growth)) {
+            if candidates.iter().any(|c| c.growth.joins_kept()) {
                 return;
             }
             if let Ok(s) = stepwise(original, links, p) {
@@ -375,7 +361,7 @@ impl Protected<'_> {
             variants.push(("the setting capped at G1", &g1_links, params));
         }
         for (what, ls, p) in variants {
-            if candidates.iter().any(|c| joins_kept(&c.growth)) {
+            if candidates.iter().any(|c| c.growth.joins_kept()) {
                 return;
             }
             if let Ok(s) = connect_slave(original, ls, p) {
@@ -386,15 +372,17 @@ impl Protected<'_> {
 }
 
 /// The candidate to keep: the first no worse than the input in every figure, else the one whose
-/// links grow the least ([`crate::framework::growth_order`]; the first of equals).
+/// links grow the least ([`LinkGrowth`]'s order; the first of equals).
 fn least_growth(candidates: &[Candidate]) -> usize {
     (0..candidates.len())
-        .find(|&k| no_worse(&candidates[k].growth))
+        .find(|&k| candidates[k].growth.no_worse())
         .unwrap_or_else(|| {
             (1..candidates.len()).fold(0, |best, k| {
-                let order =
-                    crate::framework::growth_order(candidates[k].growth, candidates[best].growth);
-                if order.is_lt() { k } else { best }
+                if candidates[k].growth < candidates[best].growth {
+                    k
+                } else {
+                    best
+                }
             })
         })
 }

@@ -1,39 +1,148 @@
 //! How much worse a link leaves than it came: growth factors of gap, angle and curvature
-//! against the input, their order, and the report phrases.
+//! against the input ([`LinkGrowth`]: their order and report phrase), and the links a result
+//! leaves worse or loses.
 
 use super::*;
 
-/// The factors by which `after` exceeds `before` in gap, normal angle and relative curvature
-/// difference (each against the larger of its input value and its tolerance; 0 above the
-/// target). A relative curvature figure counts only where the absolute difference grew too: a
-/// relative figure that grows while the absolute difference shrinks means that both curvatures
-/// went down — a lead-in flattening a vertex blend next to a fillet that is straight across the
-/// join (box12_r5: 1.000 → 1.002 while |Δκ| went 0.2 → 2e-4): the join got better, not worse.
-pub(crate) fn growths(
-    before: &LinkMeasure,
-    after: &LinkMeasure,
-    target: Continuity,
-    t: &Tolerances,
-) -> [f64; 3] {
-    let mut out = raw_growths(before, after, target, t);
-    // an increase below a thousandth of its tolerance is none ([`NEGLIGIBLE_GROWTH`])
-    let rises = [
-        (after.g0 - before.g0, t.g0),
-        (
-            after.g1_deg.unwrap_or(0.0) - before.g1_deg.unwrap_or(0.0),
-            t.g1_deg,
-        ),
-        (
-            after.g2_rel.unwrap_or(0.0) - before.g2_rel.unwrap_or(0.0),
-            t.g2_rel,
-        ),
-    ];
-    for (g, (rise, tol)) in out.iter_mut().zip(rises) {
-        if *g > 1.0 && rise <= NEGLIGIBLE_GROWTH * tol {
-            *g = 1.0;
+/// How much worse a link leaves than it came: the factors by which its gap, normal angle and
+/// relative curvature difference exceed their input values (each against the larger of its
+/// input value and its tolerance; 0 above the link's target), or the worst of several links
+/// kind by kind ([`LinkGrowth::max`]). A factor up to 1 means "no worse".
+///
+/// Ordered by severity (`Ord`): the growth that leaves a gap grow less is the lesser, then the
+/// angle, then the curvature — a join that opens is a defect, one that loses tangency is
+/// visible in every reflection, a curvature step only in a zebra or curvature plot. A factor
+/// up to 1 counts as 1 there, so two growths that are both no worse in a kind are equal in it
+/// (equality is the same severity, not the same figures).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct LinkGrowth {
+    /// gap after / max(gap before, G0 tolerance)
+    pub gap: f64,
+    /// normal angle after / max(angle before, G1 tolerance)
+    pub angle: f64,
+    /// relative curvature difference after / max(before, G2 tolerance), where the absolute
+    /// difference grew too (see [`LinkGrowth::of`])
+    pub curvature: f64,
+}
+
+impl LinkGrowth {
+    /// The growth of a link that could not be measured after: opened in every kind.
+    pub const OPENED: Self = Self {
+        gap: f64::INFINITY,
+        angle: f64::INFINITY,
+        curvature: f64::INFINITY,
+    };
+
+    /// The growth from `before` to `after` up to `target`. A relative curvature figure counts
+    /// only where the absolute difference grew too: a relative figure that grows while the
+    /// absolute difference shrinks means that both curvatures went down — a lead-in
+    /// flattening a vertex blend next to a fillet that is straight across the join (a sphere
+    /// corner: 1.000 → 1.002 while |Δκ| went 0.2 → 2e-4): the join got better, not worse.
+    pub fn of(
+        before: &LinkMeasure,
+        after: &LinkMeasure,
+        target: Continuity,
+        t: &Tolerances,
+    ) -> Self {
+        let mut out = raw_growths(before, after, target, t);
+        // an increase below a thousandth of its tolerance is none ([`NEGLIGIBLE_GROWTH`])
+        let rises = [
+            (after.g0 - before.g0, t.g0),
+            (
+                after.g1_deg.unwrap_or(0.0) - before.g1_deg.unwrap_or(0.0),
+                t.g1_deg,
+            ),
+            (
+                after.g2_rel.unwrap_or(0.0) - before.g2_rel.unwrap_or(0.0),
+                t.g2_rel,
+            ),
+        ];
+        for (g, (rise, tol)) in out.iter_mut().zip(rises) {
+            if *g > 1.0 && rise <= NEGLIGIBLE_GROWTH * tol {
+                *g = 1.0;
+            }
+        }
+        Self::from(out)
+    }
+
+    /// The worse of `self` and `other` in each kind.
+    #[must_use]
+    pub fn max(self, other: Self) -> Self {
+        Self {
+            gap: self.gap.max(other.gap),
+            angle: self.angle.max(other.angle),
+            curvature: self.curvature.max(other.curvature),
         }
     }
-    out
+
+    /// Whether no kind grew (every factor up to 1).
+    pub fn no_worse(&self) -> bool {
+        self.factors().iter().all(|&x| x <= 1.0)
+    }
+
+    /// Whether the gap and the angle did not grow (the curvature may have). The never-worse
+    /// rule's alternatives are tried for gaps and angles; a curvature difference that grows (a
+    /// vertex blend between masters that disagree) is reported, and does not make every
+    /// variant run.
+    pub fn joins_kept(&self) -> bool {
+        self.gap <= 1.0 && self.angle <= 1.0
+    }
+
+    /// The largest factor of the three.
+    pub fn largest(&self) -> f64 {
+        self.factors().into_iter().fold(0.0, f64::max)
+    }
+
+    /// `[gap, angle, curvature]`.
+    fn factors(&self) -> [f64; 3] {
+        [self.gap, self.angle, self.curvature]
+    }
+}
+
+impl From<[f64; 3]> for LinkGrowth {
+    fn from([gap, angle, curvature]: [f64; 3]) -> Self {
+        Self {
+            gap,
+            angle,
+            curvature,
+        }
+    }
+}
+
+impl Ord for LinkGrowth {
+    fn cmp(&self, other: &Self) -> std::cmp::Ordering {
+        self.factors()
+            .iter()
+            .zip(&other.factors())
+            .map(|(x, y)| x.max(1.0).total_cmp(&y.max(1.0)))
+            .find(|o| o.is_ne())
+            .unwrap_or(std::cmp::Ordering::Equal)
+    }
+}
+
+impl PartialOrd for LinkGrowth {
+    fn partial_cmp(&self, other: &Self) -> Option<std::cmp::Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+impl PartialEq for LinkGrowth {
+    fn eq(&self, other: &Self) -> bool {
+        self.cmp(other).is_eq()
+    }
+}
+
+impl Eq for LinkGrowth {}
+
+impl std::fmt::Display for LinkGrowth {
+    /// As a report phrase: "gap 1.000 ×, angle 2.500 ×, curvature 1.000 ×".
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "gap {:.3} ×, angle {:.3} ×, curvature {:.3} ×",
+            self.gap, self.angle, self.curvature
+        )
+    }
 }
 
 /// A gap, angle or relative curvature difference that grows by less than this share of its
@@ -76,7 +185,11 @@ pub fn worse_than(
     target: Continuity,
     t: &Tolerances,
 ) -> Option<String> {
-    let [g0, g1, g2] = growths(before, after, target, t);
+    let LinkGrowth {
+        gap: g0,
+        angle: g1,
+        curvature: g2,
+    } = LinkGrowth::of(before, after, target, t);
     if g0 > 1.0 {
         Some(format!(
             "with a gap of {:.3e} (input {:.3e})",
@@ -101,46 +214,24 @@ pub fn worse_than(
     }
 }
 
-/// Orders two [`Job::worst_growth`] results: the one that leaves a gap grow less is better,
-/// then the angle, then the curvature — a join that opens is a defect, one that loses
-/// tangency is visible in every reflection, a curvature step only in a zebra or curvature
-/// plot. A factor up to 1 (no link worse) counts as 1.
-pub(crate) fn growth_order(a: [f64; 3], b: [f64; 3]) -> std::cmp::Ordering {
-    a.iter()
-        .zip(&b)
-        .map(|(x, y)| x.max(1.0).total_cmp(&y.max(1.0)))
-        .find(|o| o.is_ne())
-        .unwrap_or(std::cmp::Ordering::Equal)
-}
-
-/// `[gap, angle, curvature]` growth factors, as a report phrase.
-pub(crate) fn growth_text(g: [f64; 3]) -> String {
-    format!(
-        "gap {:.3} ×, angle {:.3} ×, curvature {:.3} ×",
-        g[0], g[1], g[2]
-    )
-}
-
 impl Job<'_> {
-    /// The largest [`growths`] factors of `result` over this surface's links against the input,
-    /// per kind (gap, angle, curvature; ≤ 1: no link worse).
+    /// The worst [`LinkGrowth`] of `result` over this surface's links against the input, kind
+    /// by kind (every factor ≤ 1: no link worse).
     pub(super) fn worst_growth(
         &self,
         labelled: &[(usize, SideLink<'_>)],
         result: &BSplineSurface,
-    ) -> [f64; 3] {
+    ) -> LinkGrowth {
         let t = &self.connect.tolerances;
-        let mut worst = [0.0f64; 3];
+        let mut worst = LinkGrowth::default();
         for (k, l) in labelled {
             let Some(before) = self.before.get(*k).and_then(Option::as_ref) else {
                 continue;
             };
             let Ok(after) = l.measure(result, &self.connect.measure) else {
-                return [f64::INFINITY; 3];
+                return LinkGrowth::OPENED;
             };
-            for (w, g) in worst.iter_mut().zip(growths(before, &after, l.target, t)) {
-                *w = w.max(g);
-            }
+            worst = worst.max(LinkGrowth::of(before, &after, l.target, t));
         }
         worst
     }
@@ -195,5 +286,57 @@ impl Job<'_> {
             }
         }
         None
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::LinkGrowth;
+
+    fn g(gap: f64, angle: f64, curvature: f64) -> LinkGrowth {
+        LinkGrowth::from([gap, angle, curvature])
+    }
+
+    /// Severity orders by gap, then angle, then curvature; a factor up to 1 is "no worse" and
+    /// counts as 1, so growths that differ only below 1 are equally severe.
+    #[test]
+    fn growths_order_by_gap_then_angle_then_curvature() {
+        assert!(g(1.2, 1.0, 1.0) > g(1.0, 50.0, 50.0));
+        assert!(g(1.0, 1.3, 1.0) > g(1.0, 1.0, 40.0));
+        assert!(g(1.0, 1.0, 2.0) > g(1.0, 1.0, 1.5));
+        assert_eq!(g(0.2, 0.9, 0.0), g(1.0, 0.5, 1.0));
+        assert!(g(0.2, 0.9, 0.0) < g(1.0, 1.0, 1.0001));
+        assert!(LinkGrowth::OPENED > g(1e300, 1e300, 1e300));
+        let mut v = vec![g(1.0, 2.0, 1.0), g(3.0, 1.0, 1.0), g(1.0, 1.0, 5.0)];
+        v.sort();
+        assert_eq!(
+            v,
+            vec![g(1.0, 1.0, 5.0), g(1.0, 2.0, 1.0), g(3.0, 1.0, 1.0)]
+        );
+    }
+
+    /// The worst of several links is taken kind by kind, and the verdicts read the factors.
+    #[test]
+    fn the_worst_of_several_links_is_taken_kind_by_kind() {
+        let w = g(0.5, 3.0, 1.0).max(g(2.0, 1.0, 0.0));
+        assert_eq!(
+            (w.gap, w.angle, w.curvature),
+            (2.0, 3.0, 1.0),
+            "kind by kind"
+        );
+        assert!(!w.no_worse() && !w.joins_kept());
+        assert_eq!(w.largest(), 3.0);
+        assert!(g(1.0, 1.0, 1.0).no_worse());
+        assert!(g(0.9, 1.0, 7.0).joins_kept() && !g(0.9, 1.0, 7.0).no_worse());
+        assert!(LinkGrowth::default().no_worse());
+    }
+
+    /// The report phrase names each kind with three decimals.
+    #[test]
+    fn a_growth_reads_as_a_report_phrase() {
+        assert_eq!(
+            g(1.0, 2.5, 1.23456).to_string(),
+            "gap 1.000 ×, angle 2.500 ×, curvature 1.235 ×"
+        );
     }
 }

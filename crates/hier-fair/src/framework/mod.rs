@@ -82,8 +82,7 @@ pub use dry_run::{
 };
 pub use group::GroupFair;
 use group::group_stage;
-pub use growth::{NEGLIGIBLE_GROWTH, worse_than};
-pub(crate) use growth::{growth_order, growth_text, growths};
+pub use growth::{LinkGrowth, NEGLIGIBLE_GROWTH, worse_than};
 pub use job::{JOIN_SAMPLES, UNCHANGED_RELATIVE};
 pub(crate) use masks::lies_on_side;
 use masks::{free_rows, knots_between, missing_knots};

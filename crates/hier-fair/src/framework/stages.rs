@@ -594,7 +594,7 @@ impl Job<'_> {
 
     /// Continuity alone is worse somewhere too (`worse`): of the candidates, the one whose
     /// links grow the least against the input — a gap before an angle before a curvature
-    /// ([`growth_order`]); on a tie the fairer one (listed first). The start may no longer fit
+    /// ([`LinkGrowth`]'s order); on a tie the fairer one (listed first). The start may no longer fit
     /// masters that were faired before it.
     fn least_grown(
         &self,
@@ -603,20 +603,20 @@ impl Job<'_> {
         worse: &str,
         problems: &mut Vec<Problem>,
     ) -> (BSplineSurface, Vec<StageReport>) {
-        let growth: Vec<[f64; 3]> = candidates
+        let growth: Vec<LinkGrowth> = candidates
             .iter()
             .map(|(_, f, _)| self.worst_growth(plan.labelled, f))
             .collect();
         let mut pick = 0;
         for k in 1..candidates.len() {
-            if growth_order(growth[k], growth[pick]).is_lt() {
+            if growth[k] < growth[pick] {
                 pick = k;
             }
         }
         let figures: Vec<String> = candidates
             .iter()
             .zip(&growth)
-            .map(|((what, _, _), g)| format!("{what}: {}", growth_text(*g)))
+            .map(|((what, _, _), g)| format!("{what}: {g}"))
             .collect();
         self.limited(
             problems,
@@ -625,7 +625,7 @@ impl Job<'_> {
                 candidates[pick].0,
                 figures.join("; ")
             ),
-            Some(growth[pick].into_iter().fold(0.0, f64::max)),
+            Some(growth[pick].largest()),
         );
         let (_, kept, stages) = candidates.swap_remove(pick);
         (kept, stages)
