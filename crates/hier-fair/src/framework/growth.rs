@@ -152,7 +152,7 @@ impl std::fmt::Display for LinkGrowth {
 /// 0.012 mm grow by 2e-9 mm; counted, that rise outranked an angle grown 6.6 %.
 pub const NEGLIGIBLE_GROWTH: f64 = 1e-3;
 
-/// [`growths`] before rounding.
+/// [`LinkGrowth::of`] before rounding.
 fn raw_growths(
     before: &LinkMeasure,
     after: &LinkMeasure,
@@ -177,8 +177,9 @@ fn raw_growths(
 }
 
 /// How `after` is worse than `before` up to `target` (beyond the tolerance), or `None`: a
-/// `growths` factor above 1 (a rise beyond [`NEGLIGIBLE_GROWTH`] of its tolerance) — a larger gap, a larger normal angle, or a larger relative
-/// curvature difference together with a larger absolute one.
+/// [`LinkGrowth`] factor above 1 (a rise beyond [`NEGLIGIBLE_GROWTH`] of its tolerance) — a
+/// larger gap, a larger normal angle, or a larger relative curvature difference together with a
+/// larger absolute one.
 pub fn worse_than(
     before: &LinkMeasure,
     after: &LinkMeasure,
