@@ -140,7 +140,7 @@ pub fn fair_surfaces(
 /// columns, as in the framework's stages.
 fn prepared_surface(
     surface: &BSplineSurface,
-    shared: Option<&[Option<hier_fair::patches::SharedSide>; 4]>,
+    shared: Option<&nurbs_core::PerSide<Option<hier_fair::patches::SharedSide>>>,
     options: &FairOptions,
 ) -> Result<(BSplineSurface, ControlMask)> {
     let (s, mut mask) = match shared {

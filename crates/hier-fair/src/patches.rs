@@ -12,7 +12,7 @@
 
 use g_continuity::measure::is_collapsed;
 use g_continuity::{MeasureParams, measure_link};
-use nurbs_core::{BSplineSurface, ControlMask, Direction, Frame, Side};
+use nurbs_core::{BSplineSurface, ControlMask, Direction, Frame, PerSide, Side};
 
 use crate::framework::lies_on_side;
 
@@ -48,7 +48,7 @@ impl SharedSide {
 }
 
 /// The shared side of every side of every patch (`None`: a free boundary).
-pub fn shared_sides(surfaces: &[BSplineSurface]) -> Vec<[Option<SharedSide>; 4]> {
+pub fn shared_sides(surfaces: &[BSplineSurface]) -> Vec<PerSide<Option<SharedSide>>> {
     let points: Vec<nurbs_core::Point3> = surfaces
         .iter()
         .flat_map(|s| s.control_points().iter().copied())
@@ -56,7 +56,7 @@ pub fn shared_sides(surfaces: &[BSplineSurface]) -> Vec<[Option<SharedSide>; 4]>
     let size = nurbs_core::homogeneous::bounding_diagonal(&points);
     let tol = SHARED_EDGE_RELATIVE * size;
     let measure = MeasureParams::default();
-    let mut out = vec![[None; 4]; surfaces.len()];
+    let mut out = vec![PerSide([None; 4]); surfaces.len()];
     // control-net boxes (a surface lies in its net's hull): only patches whose boxes, grown by
     // the tolerance, overlap are compared, so a file of many patches costs its neighbours only
     let boxes: Vec<([f64; 3], [f64; 3])> = surfaces.iter().map(|s| net_box(s, tol)).collect();
@@ -64,7 +64,7 @@ pub fn shared_sides(surfaces: &[BSplineSurface]) -> Vec<[Option<SharedSide>; 4]>
         (0..3).all(|d| boxes[a].0[d] <= boxes[b].1[d] && boxes[b].0[d] <= boxes[a].1[d])
     };
     for (a, sa) in surfaces.iter().enumerate() {
-        for (k, &side) in Side::ALL.iter().enumerate() {
+        for side in Side::ALL {
             if is_collapsed(sa, side) {
                 continue;
             }
@@ -80,7 +80,7 @@ pub fn shared_sides(surfaces: &[BSplineSurface]) -> Vec<[Option<SharedSide>; 4]>
                     let angle_deg = measure_link(sb, sa, side, &measure)
                         .ok()
                         .and_then(|m| m.g1_deg);
-                    out[a][k] = Some(SharedSide {
+                    out[a][side] = Some(SharedSide {
                         other: b,
                         other_side,
                         angle_deg,
@@ -110,32 +110,30 @@ pub(crate) fn net_box(s: &BSplineSurface, grow: f64) -> ([f64; 3], [f64; 3]) {
 /// frame; a sharp shared edge its boundary row.
 pub fn kept_frames(
     surface: &BSplineSurface,
-    shared: &[Option<SharedSide>; 4],
+    shared: &PerSide<Option<SharedSide>>,
     keep: Frame,
-) -> [Frame; 4] {
-    let mut frames = [keep; 4];
-    for (k, &side) in Side::ALL.iter().enumerate() {
+) -> PerSide<Frame> {
+    PerSide::from_fn(|side| {
         let needed = if is_collapsed(surface, side) {
             Frame::Tangential
         } else {
-            match shared[k] {
+            match shared[side] {
                 Some(s) if s.tangent() => Frame::Tangential,
                 _ => Frame::Positional,
             }
         };
-        frames[k] = frames[k].max(needed);
-    }
-    frames
+        keep.max(needed)
+    })
 }
 
 /// The patch with enough rows for `frames` plus `min_free` free rows in each direction (knots
 /// inserted where needed, the shape unchanged), its mask, and the number of inserted knots.
 pub fn prepared_patch(
     surface: &BSplineSurface,
-    frames: [Frame; 4],
+    frames: PerSide<Frame>,
     min_free: usize,
 ) -> nurbs_core::Result<(BSplineSurface, ControlMask, usize)> {
-    let rows = |side: Side| frames[Side::ALL.iter().position(|&s| s == side).unwrap_or(0)].rows();
+    let rows = |side: Side| frames[side].rows();
     let mut s = surface.clone();
     let mut inserted = 0;
     for (dir, a, b) in [
@@ -147,8 +145,8 @@ pub fn prepared_patch(
         inserted += k;
     }
     let mut mask = ControlMask::for_surface(&s);
-    for (k, &side) in Side::ALL.iter().enumerate() {
-        mask.fix_frame(side, frames[k]);
+    for (side, &frame) in frames.iter() {
+        mask.fix_frame(side, frame);
     }
     for (i, j) in g_continuity::degenerate_corner_blocks(&s) {
         mask.set_free(i, j, false);

@@ -30,6 +30,17 @@ impl Side {
     /// All four sides.
     pub const ALL: [Side; 4] = [Side::U0, Side::U1, Side::V0, Side::V1];
 
+    /// The place of this side in [`Side::ALL`] and in a [`PerSide`]: `U0` 0, `U1` 1, `V0` 2,
+    /// `V1` 3.
+    pub const fn index(self) -> usize {
+        match self {
+            Side::U0 => 0,
+            Side::U1 => 1,
+            Side::V0 => 2,
+            Side::V1 => 3,
+        }
+    }
+
     /// The model-format name: "u0", "u1", "v0", "v1".
     pub fn name(self) -> &'static str {
         match self {
@@ -273,5 +284,81 @@ impl ControlMask {
             });
         }
         Ok(())
+    }
+}
+
+/// One value per side of a surface, indexed by [`Side`] (`per_side[Side::V0]`): what a surface
+/// keeps, is linked or owes at each of its four sides, without a side's place in an array
+/// spelled out where it is used.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
+pub struct PerSide<T>(pub [T; 4]);
+
+impl<T> PerSide<T> {
+    /// The value of each side from `f`.
+    pub fn from_fn(f: impl FnMut(Side) -> T) -> Self {
+        PerSide(Side::ALL.map(f))
+    }
+
+    /// The sides with their values, in the order of [`Side::ALL`].
+    pub fn iter(&self) -> impl Iterator<Item = (Side, &T)> {
+        Side::ALL.into_iter().zip(self.0.iter())
+    }
+
+    /// Each value mapped by `f`.
+    pub fn map<U>(self, f: impl FnMut(T) -> U) -> PerSide<U> {
+        PerSide(self.0.map(f))
+    }
+}
+
+impl<T> std::ops::Index<Side> for PerSide<T> {
+    type Output = T;
+    fn index(&self, side: Side) -> &T {
+        &self.0[side.index()]
+    }
+}
+
+impl<T> std::ops::IndexMut<Side> for PerSide<T> {
+    fn index_mut(&mut self, side: Side) -> &mut T {
+        &mut self.0[side.index()]
+    }
+}
+
+impl<'a, T> IntoIterator for &'a PerSide<T> {
+    type Item = &'a T;
+    type IntoIter = std::slice::Iter<'a, T>;
+    /// The values in the order of [`Side::ALL`] (as an array's).
+    fn into_iter(self) -> Self::IntoIter {
+        self.0.iter()
+    }
+}
+
+impl<T> From<[T; 4]> for PerSide<T> {
+    fn from(values: [T; 4]) -> Self {
+        PerSide(values)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{PerSide, Side};
+
+    /// A side's index is its place in `Side::ALL`, and a `PerSide` reads and writes by side.
+    #[test]
+    fn per_side_values_are_found_by_side() {
+        for (k, side) in Side::ALL.into_iter().enumerate() {
+            assert_eq!(side.index(), k, "{side:?}");
+        }
+        let mut p = PerSide::from_fn(|s| s.name());
+        assert_eq!(p[Side::V0], "v0");
+        assert_eq!(p[Side::U1], "u1");
+        p[Side::V1] = "top";
+        assert_eq!(p.0, ["u0", "u1", "v0", "top"]);
+        let lens = p.map(str::len);
+        assert_eq!(lens, PerSide::from([2, 2, 2, 3]));
+        let named: Vec<(Side, usize)> = lens.iter().map(|(s, &n)| (s, n)).collect();
+        assert_eq!(named[3], (Side::V1, 3));
+        assert_eq!(PerSide::<bool>::default().0, [false; 4]);
+        let some = PerSide::from([Some(1), None, Some(3), None]);
+        assert_eq!((&some).into_iter().flatten().sum::<i32>(), 4);
     }
 }

@@ -107,7 +107,7 @@ pub use fairing::{
 };
 pub use fairness::{Fairness, FairnessParams, fairness};
 pub use fit::{FitParams, FitReport, fit_curve, fit_surface};
-pub use frames::{Continuity, ControlMask, Frame, Side};
+pub use frames::{Continuity, ControlMask, Frame, PerSide, Side};
 pub use gram::{BandedMatrix, ThinPlateGram, gram_matrix};
 pub use grid::GridOrder;
 pub use grid_curvature::GridCurvature;

@@ -6,7 +6,7 @@
 
 use nurbs_core::{BSplineSurface, Direction, Side};
 
-use super::status::{level, levels_of, side_index};
+use super::status::{level, levels_of};
 use super::{ConnectReport, SideLink, check_links};
 use crate::error::Result;
 use crate::params::ConnectParams;
@@ -215,8 +215,7 @@ fn add_control_rows(
         (Direction::U, Side::U0, Side::U1),
         (Direction::V, Side::V0, Side::V1),
     ] {
-        let need =
-            levels[side_index(a)].map_or(1, |l| l + 1) + levels[side_index(b)].map_or(1, |l| l + 1);
+        let need = levels[a.index()].map_or(1, |l| l + 1) + levels[b.index()].map_or(1, |l| l + 1);
         let (more, inserted) = s.with_smooth_control_count(dir, need)?;
         s = more;
         report.knots_inserted += inserted;

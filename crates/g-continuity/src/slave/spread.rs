@@ -44,7 +44,7 @@ pub(crate) fn spread_boundary_move(
         after.knots_u().greville_fractions(),
         after.knots_v().greville_fractions(),
     );
-    let at = |side: Side| Side::ALL.iter().position(|&x| x == side).unwrap_or(0);
+    let at = Side::index;
     let is = |side: Side| linked[at(side)] || kept[at(side)];
     // a kept side's frame: rows 1 and 2 (the G1 and G2 rows) beside it
     let frozen = |i: usize, j: usize| {

@@ -33,16 +33,6 @@ pub(super) enum Status {
     Fixed,
 }
 
-/// The index of `side` in per-side arrays (U0, U1, V0, V1).
-pub(super) fn side_index(side: Side) -> usize {
-    match side {
-        Side::U0 => 0,
-        Side::U1 => 1,
-        Side::V0 => 2,
-        Side::V1 => 3,
-    }
-}
-
 /// The status of each of the `m` points of row `k` of `side`, from the continuity levels of the
 /// four sides (`None`: unlinked) and the kept sides.
 fn classify(
@@ -58,9 +48,9 @@ fn classify(
         .map(|j| {
             let mut status = Status::Free;
             for (e, adj) in [(j, start), (m - 1 - j, end)] {
-                let s = match levels[side_index(adj)] {
+                let s = match levels[adj.index()] {
                     // on a kept side's boundary row or the row next to it
-                    None if kept[side_index(adj)] && e <= 1 => Status::Fixed,
+                    None if kept[adj.index()] && e <= 1 => Status::Fixed,
                     Some(0) if e == 0 && k > 0 => Status::Sliding,
                     Some(la) if e < k && la >= e => Status::Fixed,
                     Some(la) if e == k && la >= k => Status::Shared,
@@ -90,7 +80,7 @@ pub(super) fn level(c: Continuity) -> usize {
 pub(super) fn levels_of(links: &[SideLink]) -> [Option<usize>; 4] {
     let mut levels = [None; 4];
     for l in links {
-        levels[side_index(l.side)] = Some(level(l.target));
+        levels[l.side.index()] = Some(level(l.target));
     }
     levels
 }

@@ -285,7 +285,7 @@ fn contact_line_tangents(
     let fixed = degenerate_corner_blocks(slave);
     let mut largest = 0.0f64;
     for l in active.iter().filter(|l| l.range.is_none()) {
-        let k = Side::ALL.iter().position(|&s| s == l.side).unwrap_or(0);
+        let k = l.side.index();
         let row = l.side.row(0, nu, nv);
         let m = row.len();
         if m < 3 || is_collapsed(slave, l.side) {
@@ -338,7 +338,7 @@ fn contact_line_tangents(
 /// tolerance) changes no other link's curvature. Returns the largest move.
 fn seam_end_tangents(slave: &mut BSplineSurface, active: &[&SideLink], params: &SetParams) -> f64 {
     turn_end_tangents(slave, active, params, |l, adj| {
-        let k = Side::ALL.iter().position(|&s| s == adj).unwrap_or(0);
+        let k = adj.index();
         (params.seam_end_tangents[k] && l.range.is_none()).then_some(l.master)
     })
 }

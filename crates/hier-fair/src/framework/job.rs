@@ -275,7 +275,7 @@ impl Job<'_> {
             .iter()
             .filter(|e| e.surface == self.surface && !linked(e))
         {
-            let k = Side::ALL.iter().position(|&s| s == e.side).unwrap_or(0);
+            let k = e.side.index();
             if self.free_seams && crate::edges::is_seam(self.model, e) {
                 set.seam_end_tangents[k] = true;
                 continue;

@@ -92,7 +92,7 @@ impl Job<'_> {
         let params = nurbs_core::ProjectionParams::default();
         for (ka, a) in links.iter().filter_map(|(_, l)| g2(l.side)) {
             let a_master = self.model.links[*ka].master;
-            let k = Side::ALL.iter().position(|&s| s == a.side).unwrap_or(0);
+            let k = a.side.index();
             let (t0, t1) = a.side.along_domain(me);
             let (start, end) = a.side.neighbours();
             for (e, (t, adj)) in [(t0, start), (t1, end)].into_iter().enumerate() {
