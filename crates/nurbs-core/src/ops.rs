@@ -234,6 +234,91 @@ impl BSplineSurface {
         self.elevate_degree(dir, SMOOTH_JOIN_DEGREE - degree)
     }
 
+    /// The same surface with its parameter in `dir` moved by `delta`: S'(u + δ, v) = S(u, v)
+    /// (every knot of `dir` plus δ).
+    pub fn shifted(&self, dir: Direction, delta: f64) -> Result<Self> {
+        let moved = |kv: &KnotVector| {
+            KnotVector::new(kv.degree(), kv.knots().iter().map(|k| k + delta).collect())
+        };
+        let (ku, kv) = match dir {
+            Direction::U => (moved(self.knots_u())?, self.knots_v().clone()),
+            Direction::V => (self.knots_u().clone(), moved(self.knots_v())?),
+        };
+        Self::new(
+            ku,
+            kv,
+            self.control_points().to_vec(),
+            self.weights().map(<[f64]>::to_vec),
+        )
+    }
+
+    /// This surface followed by `next` in direction `dir`, as one surface: `next` must start
+    /// where this one ends in `dir` (same parameter, same boundary curve), with the same degree
+    /// in `dir` and the same knots in the other direction. The shared boundary becomes a knot
+    /// of multiplicity p (a C⁰ join that keeps both shapes exactly); its control points are the
+    /// two sides' averages (they agree to the curves' own accuracy). A rational `next` whose
+    /// weights along the shared boundary are those of this surface times one factor is scaled
+    /// by it (the same surface); other weights are [`crate::error::Error::ControlNetShape`].
+    ///
+    /// A face on a closed surface that runs across the seam (a torus band from −90° to 90°)
+    /// is the piece after the seam joined to the piece before it: one surface over the face's
+    /// box.
+    pub fn joined(&self, dir: Direction, next: &Self) -> Result<Self> {
+        let shape = |detail: String| crate::error::Error::ControlNetShape { detail };
+        // both in u: the join runs along v
+        let (a, b) = match dir {
+            Direction::U => (self.clone(), next.clone()),
+            Direction::V => (self.transposed()?, next.transposed()?),
+        };
+        let (ka, kb) = (a.knots_u(), b.knots_u());
+        let p = ka.degree();
+        if kb.degree() != p || a.knots_v() != b.knots_v() {
+            return Err(shape(
+                "joining two surfaces needs the same degree along the join and the same knots across it".into(),
+            ));
+        }
+        let end = ka.domain().1;
+        let start = kb.domain().0;
+        if (end - start).abs() > 1e-12 * (1.0 + end.abs()) {
+            return Err(shape(format!(
+                "the second surface starts at {start}, not where the first ends ({end})"
+            )));
+        }
+        let nv = a.num_v();
+        let (ha, mut hb) = (a.homogeneous(), b.homogeneous());
+        // the factor that makes next's weights along the join equal to this one's
+        let last = (a.num_u() - 1) * nv;
+        let ratio = ha[last][3] / hb[0][3];
+        if (0..nv)
+            .any(|j| (hb[j][3] * ratio - ha[last + j][3]).abs() > 1e-12 * ha[last + j][3].abs())
+        {
+            return Err(shape(
+                "the weights along the join differ by more than one factor".into(),
+            ));
+        }
+        for h in &mut hb {
+            for c in h.iter_mut() {
+                *c *= ratio;
+            }
+        }
+        let mut knots = ka.knots()[..ka.knots().len() - 1].to_vec();
+        knots.extend_from_slice(&kb.knots()[p + 1..]);
+        let mut net = ha;
+        for j in 0..nv {
+            for c in 0..4 {
+                net[last + j][c] = 0.5 * (net[last + j][c] + hb[j][c]);
+            }
+        }
+        net.extend_from_slice(&hb[nv..]);
+        let ku = KnotVector::new(p, knots)?;
+        let rational = a.is_rational() || b.is_rational();
+        let joined = BSplineSurface::from_homogeneous_as(ku, a.knots_v().clone(), &net, rational)?;
+        match dir {
+            Direction::U => Ok(joined),
+            Direction::V => joined.transposed(),
+        }
+    }
+
     /// The sub-surface over [u0, u1] × [v0, v1], clamped, same parametrization.
     pub fn extract(&self, (u0, u1): (f64, f64), (v0, v1): (f64, f64)) -> Result<Self> {
         self.map_polygons(Direction::U, |kv, pw| knot_ops::extract(kv, pw, u0, u1))?

@@ -500,3 +500,47 @@ fn a_reversed_curve_runs_backwards() {
         assert!((x - y).abs() <= 2.0 * ulp, "{x} {y}");
     }
 }
+
+/// A torus band cut across its seam (u from 3π/2 round to π/2, as a face from −90° to 90°)
+/// comes back as one surface: the piece after the seam joined to the one before it, shifted by
+/// the period, is the torus point for point, C⁰ at the old seam (a knot of multiplicity p).
+#[test]
+fn a_band_across_the_seam_of_a_closed_surface_is_one_joined_surface() {
+    use nurbs_core::Direction;
+    let torus = nurbs_core::shapes::torus(10.0, 3.0).unwrap();
+    let ((a, b), (c, d)) = (torus.domain_u(), torus.domain_v());
+    let period = b - a;
+    let (start, end) = (a + 0.75 * period, a + 0.25 * period);
+    let before = torus.extract((start, b), (c, d)).unwrap();
+    let after = torus
+        .extract((a, end), (c, d))
+        .unwrap()
+        .shifted(Direction::U, period)
+        .unwrap();
+    let band = before.joined(Direction::U, &after).unwrap();
+    assert_eq!(band.domain_u(), (start, end + period));
+    let p = band.degree_u();
+    let at_seam = band.knots_u().knots().iter().filter(|&&k| k == b).count();
+    assert_eq!(at_seam, p, "the old seam is a C0 knot");
+    for k in 0..=20 {
+        let u = start + (end + period - start) * k as f64 / 20.0;
+        let on_torus = if u > b { u - period } else { u };
+        for l in 0..=6 {
+            let v = c + (d - c) * l as f64 / 6.0;
+            let gap = (band.point(u, v) - torus.point(on_torus, v)).norm();
+            assert!(gap < 1e-12, "u {u} v {v}: {gap}");
+        }
+    }
+    // the same in v, through the transposes
+    let band_v = before
+        .transposed()
+        .unwrap()
+        .joined(Direction::V, &after.transposed().unwrap())
+        .unwrap();
+    assert_eq!(band_v.transposed().unwrap(), band);
+    // pieces that do not meet are refused
+    let gap = torus.extract((a, end), (c, d)).unwrap();
+    assert!(before.joined(Direction::U, &gap).is_err());
+    let other_degree = after.elevate_degree(Direction::U, 1).unwrap();
+    assert!(before.joined(Direction::U, &other_degree).is_err());
+}

@@ -14,6 +14,19 @@ use nurbs_core::{BSplineSurface, Point3};
 
 use crate::bounds::is_seam_jump;
 
+/// Whether B-spline surface `s` is closed in u and in v: its two boundary curves across that
+/// direction coincide (at 9 points each, within `relative` of its size — the reader's
+/// on-surface tolerance).
+pub(crate) fn spline_closed(s: &BSplineSurface, relative: f64) -> [bool; 2] {
+    let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
+    let tol = relative * s.size();
+    let at = |k: usize, a: f64, b: f64| a + (b - a) * k as f64 / 8.0;
+    [
+        (0..=8).all(|k| (s.point(u0, at(k, v0, v1)) - s.point(u1, at(k, v0, v1))).norm() <= tol),
+        (0..=8).all(|k| (s.point(at(k, u0, u1), v0) - s.point(at(k, u0, u1), v1)).norm() <= tol),
+    ]
+}
+
 /// The boundary that closes two winding loops through the seam: its parameters in order
 /// (closed: the last the first) and the indices where its four pieces meet (first and last
 /// included), and which two loops it replaces.

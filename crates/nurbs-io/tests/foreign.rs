@@ -108,6 +108,53 @@ fn iges_with_wrong_counts_or_a_blank_last_line_reads() {
     assert!(torus.warnings.is_empty(), "{:?}", torus.warnings);
 }
 
+/// HarmonyWare's torus: one closed Bézier patch over [0, 2π]² trimmed (144, PREF 1) by a
+/// parameter-space rectangle from u = −π/2 to π/2 — across the seam u = 0. The face comes in
+/// as one surface over its box, u from 3π/2 to 5π/2 (the piece after the seam joined to the
+/// piece before it, C⁰ at the old seam), with its trim loop on it; before, the box was clamped
+/// to [0, π/2] and half the face was lost.
+#[test]
+fn a_trim_across_the_seam_of_a_closed_surface_keeps_the_whole_face() {
+    use std::f64::consts::PI;
+    let torus = read_iges(&fixture("OCC26138_Torus.igs")).unwrap();
+    let s = &torus.surfaces[0];
+    let ((u0, u1), (v0, v1)) = (s.surface.domain_u(), s.surface.domain_v());
+    assert!(
+        (u0 - 1.5 * PI).abs() < 1e-9 && (u1 - 2.5 * PI).abs() < 1e-9,
+        "u [{u0}, {u1}]"
+    );
+    assert!((v0 - 2.889_739_012_8).abs() < 1e-9 && (v1 - 3.959_558_043_4).abs() < 1e-9);
+    let seam = s
+        .surface
+        .knots_u()
+        .knots()
+        .iter()
+        .filter(|&&k| (k - 2.0 * PI).abs() < 1e-12);
+    assert_eq!(
+        seam.count(),
+        s.surface.degree_u(),
+        "the old seam is a C0 knot"
+    );
+    // the trim runs round the whole face, on the surface
+    let size = s.surface.size();
+    let mut projector =
+        nurbs_core::SurfaceProjector::new(&s.surface, nurbs_core::ProjectionParams::default());
+    let mut seen = [f64::INFINITY, f64::NEG_INFINITY];
+    for p in &s.trim {
+        let f = projector.project(p);
+        assert!(
+            f.distance <= 1e-6 * size,
+            "trim point {p:?} {} off",
+            f.distance
+        );
+        seen = [seen[0].min(f.u), seen[1].max(f.u)];
+    }
+    assert!(
+        seen[0] - u0 < 1e-6 && u1 - seen[1] < 1e-6,
+        "trim spans u {seen:?}"
+    );
+}
+
 /// I-DEAS' part as bounded surfaces (143) with boundaries (141) of lines and arcs: all eleven
 /// faces Open CASCADE reads (nine planes, two tabulated cylinders), each with its outer
 /// boundary as a trim loop on its surface — before, the planes were skipped, and the two

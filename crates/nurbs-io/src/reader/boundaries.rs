@@ -3,10 +3,11 @@
 //! (102) and simple model-space curves sampled, the parameter box of a B-spline face's outer
 //! boundary, and the outer and inner boundaries as loops of points on the face's surface.
 
-use nurbs_core::{BSplineCurve, BSplineSurface, Point3};
+use nurbs_core::{BSplineCurve, BSplineSurface, Direction, Point3};
 
 use super::entities::{Cursor, Reader};
 use super::records::{DirEntry, entity_params};
+use super::seam_box::{SeamRange, across_seam, seam_range};
 use super::{
     BOUNDARY_SAG_RELATIVE, BOUNDARY_SAMPLES, BOX_RELATIVE, FACE_BOX_SAMPLES, MAX_SAG_HALVINGS,
     MAX_TRANSFORM_CHAIN, ON_SURFACE_RELATIVE,
@@ -136,6 +137,16 @@ impl Reader<'_> {
         // the boundary's points on the surface, in order (the face's trim as data)
         let mut trim: Vec<Point3> = Vec::new();
         let (du, dv) = (surface.domain_u(), surface.domain_v());
+        // a parameter of a closed direction is a place on the surface whichever period it
+        // names (a trim on a closed torus may run from −90° to 90°); elsewhere it is clamped
+        let closed = crate::seam::spline_closed(surface, ON_SURFACE_RELATIVE);
+        let onto = |x: f64, (a, b): (f64, f64), closed: bool| {
+            if closed && !(a..=b).contains(&x) {
+                a + (x - a).rem_euclid(b - a)
+            } else {
+                x.clamp(a, b)
+            }
+        };
         let mut b = [
             f64::INFINITY,
             f64::NEG_INFINITY,
@@ -147,7 +158,7 @@ impl Reader<'_> {
             for p in &self.boundary_samples(curve, 0, FACE_BOX_SAMPLES)? {
                 b = [b[0].min(p.x), b[1].max(p.x), b[2].min(p.y), b[3].max(p.y)];
                 if p.x.is_finite() && p.y.is_finite() {
-                    let (u, v) = (p.x.clamp(du.0, du.1), p.y.clamp(dv.0, dv.1));
+                    let (u, v) = (onto(p.x, du, closed[0]), onto(p.y, dv, closed[1]));
                     trim.push(surface.point(u, v));
                 }
             }
@@ -161,9 +172,11 @@ impl Reader<'_> {
         if !b.iter().all(|x| x.is_finite()) {
             return Ok((None, trim));
         }
-        let (u0, u1) = (b[0].max(du.0), b[1].min(du.1));
-        let (v0, v1) = (b[2].max(dv.0), b[3].min(dv.1));
-        if !(u1 > u0 && v1 > v0) {
+        let (ru, rv) = (
+            seam_range((b[0], b[1]), du, closed[0]),
+            seam_range((b[2], b[3]), dv, closed[1]),
+        );
+        if ru.is_empty() || rv.is_empty() {
             return Err(IgesError::Entity {
                 de: face.seq,
                 entity_type: face.entity_type,
@@ -173,11 +186,25 @@ impl Reader<'_> {
                 ),
             });
         }
-        let tiny = |a: f64, b: f64, d: (f64, f64)| (a - b).abs() <= BOX_RELATIVE * (d.1 - d.0);
-        if tiny(u0, du.0, du) && tiny(u1, du.1, du) && tiny(v0, dv.0, dv) && tiny(v1, dv.1, dv) {
-            return Ok((None, trim));
+        // a box across the seam of a closed direction: the piece after the seam joined to
+        // the piece before it, so the face has an ordinary box; where the two pieces do not
+        // join (weights along the seam that differ), the whole closed direction with the trim
+        let mut carrier = surface.clone();
+        for (dir, range) in [(Direction::U, ru), (Direction::V, rv)] {
+            if let SeamRange::Across(lo, hi) = range
+                && let Ok(joined) = across_seam(&carrier, dir, lo, hi)
+            {
+                carrier = joined;
+            }
         }
-        let cut = surface
+        let (cu, cv) = (carrier.domain_u(), carrier.domain_v());
+        let (u0, u1) = ru.on(cu);
+        let (v0, v1) = rv.on(cv);
+        let tiny = |a: f64, b: f64, d: (f64, f64)| (a - b).abs() <= BOX_RELATIVE * (d.1 - d.0);
+        if tiny(u0, cu.0, cu) && tiny(u1, cu.1, cu) && tiny(v0, cv.0, cv) && tiny(v1, cv.1, cv) {
+            return Ok(((carrier != *surface).then_some(carrier), trim));
+        }
+        let cut = carrier
             .extract((u0, u1), (v0, v1))
             .map_err(Self::geometry_err(face))?;
         Ok((Some(cut), trim))

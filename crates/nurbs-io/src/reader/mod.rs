@@ -27,6 +27,7 @@ mod boundaries;
 mod entities;
 mod planes;
 mod records;
+mod seam_box;
 mod surfaces;
 
 use std::collections::BTreeMap;

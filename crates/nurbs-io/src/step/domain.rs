@@ -86,7 +86,7 @@ impl Surface {
             Surface::Extrusion(c, ..) => ([None, None], [Some(c.domain()), None], vec![]),
             Surface::Spline(s) => {
                 let (u, v) = (s.domain_u(), s.domain_v());
-                let closed = spline_closed(s);
+                let closed = crate::seam::spline_closed(s, ON_SURFACE_RELATIVE);
                 let period = [
                     closed[0].then_some(u.1 - u.0),
                     closed[1].then_some(v.1 - v.0),
@@ -140,18 +140,6 @@ impl Surface {
             _ => false,
         }
     }
-}
-
-/// Whether B-spline surface `s` is closed in u and in v: its two boundary curves across that
-/// direction coincide (at 9 points each, within the kernel's tolerance of its size).
-fn spline_closed(s: &nurbs_core::BSplineSurface) -> [bool; 2] {
-    let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
-    let tol = ON_SURFACE_RELATIVE * s.size();
-    let at = |k: usize, a: f64, b: f64| a + (b - a) * k as f64 / 8.0;
-    [
-        (0..=8).all(|k| (s.point(u0, at(k, v0, v1)) - s.point(u1, at(k, v0, v1))).norm() <= tol),
-        (0..=8).all(|k| (s.point(at(k, u0, u1), v0) - s.point(at(k, u0, u1), v1)).norm() <= tol),
-    ]
 }
 
 /// The boundary curves of `s` that collapse to a point (9 points each within the kernel's
