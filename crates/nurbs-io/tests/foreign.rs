@@ -155,6 +155,34 @@ fn a_trim_across_the_seam_of_a_closed_surface_keeps_the_whole_face() {
     );
 }
 
+/// CATIA V4's dome: a face bounded by two half circles between the two poles of a B-spline
+/// whose knots run on past the face in a sliver span folded back beside it. The projection of
+/// the bound's points next to a pole can end at the domain's corner, 1.7 mm off the surface;
+/// such a point has no foot and no say in the face's box, which is the half dome u ∈ [0, 1]
+/// (it came in over the sliver too, [0, 1.00017], and its export had a face of area 7·10²¹).
+#[test]
+fn a_bound_point_without_a_foot_does_not_widen_the_face() {
+    let f = read_step(&String::from_utf8(fixture("pr1db.stp")).unwrap()).unwrap();
+    assert_eq!(f.faces.len(), 15);
+    // #565 = ADVANCED_FACE('*FAC7', …)
+    let dome = f.faces.iter().find(|x| x.id == 565).unwrap();
+    let (u, v) = (dome.surface.domain_u(), dome.surface.domain_v());
+    assert!(u.0.abs() < 1e-9 && (u.1 - 1.0).abs() < 1e-9, "u {u:?}");
+    assert!(v.0.abs() < 1e-9 && (v.1 - 1.0).abs() < 1e-9, "v {v:?}");
+    // its sides u = 0 and u = 1 are the two half circles of its bound: radius 50 about
+    // (0, 150, 50) in the plane y = 150
+    let centre = Point3::new(0.0, 150.0, 50.0);
+    for side in [u.0, u.1] {
+        for k in 0..=20 {
+            let p = dome.surface.point(side, k as f64 / 20.0);
+            assert!((p.y - 150.0).abs() < 1e-6, "u {side}: {p:?}");
+            assert!(((p - centre).norm() - 50.0).abs() < 1e-6, "u {side}: {p:?}");
+        }
+    }
+    // and the trim runs round both
+    assert!(dome.trim[0].iter().any(|p| p.x > 49.9) && dome.trim[0].iter().any(|p| p.x < -49.9));
+}
+
 /// I-DEAS' part as bounded surfaces (143) with boundaries (141) of lines and arcs: all eleven
 /// faces Open CASCADE reads (nine planes, two tabulated cylinders), each with its outer
 /// boundary as a trim loop on its surface — before, the planes were skipped, and the two

@@ -201,9 +201,11 @@ pub(super) fn face_box(
             .unwrap_or(0)
     });
     // every point, the vertex loops' too (a cone's apex)
+    // (but for those whose projection found no foot, [`BoundLoop::found`])
     let all: Vec<(f64, f64)> = bounds
         .iter()
-        .flat_map(|b| b.params.iter().copied())
+        .flat_map(|b| b.params.iter().zip(&b.found).filter(|(_, f)| **f))
+        .map(|(q, _)| *q)
         .collect();
     let mut range = [(0.0, 0.0); 2];
     for (d, r) in range.iter_mut().enumerate() {
@@ -225,16 +227,18 @@ pub(super) fn face_box(
 fn orient(surface: &Surface, c: &Carrier, b: &BoundLoop, same_sense: bool) -> Oriented {
     let mut uv: Vec<[f64; 2]> = b.params.iter().map(|&(u, v)| [u, v]).collect();
     let mut pole: Vec<[bool; 2]> = b.points.iter().map(|p| surface.pole_flags(c, p)).collect();
+    let mut found = b.found.clone();
     if b.forward != same_sense {
         uv.reverse();
         pole.reverse();
+        found.reverse();
     }
     let mut winding = [0; 2];
     let mut seam_only = false;
     for d in 0..2 {
         let Some(period) = c.period[d] else { continue };
         let poles: Vec<bool> = pole.iter().map(|f| f[d]).collect();
-        if let Some((values, w)) = unwrap(&uv, d, &poles, period) {
+        if let Some((values, w)) = unwrap(&uv, d, &poles, &found, period) {
             let (lo, hi) = span(&values);
             seam_only |= hi - lo <= SEAM_SNAP * period && poles.iter().any(|&p| p);
             for (q, x) in uv.iter_mut().zip(values) {
@@ -252,11 +256,18 @@ fn orient(surface: &Surface, c: &Carrier, b: &BoundLoop, same_sense: bool) -> Or
 }
 
 /// The parameters of direction `d` along a closed loop, unwrapped (each step the shorter way
-/// round, a step across a pole in the sense that keeps the face on the left), pole points
-/// given their predecessor's value; and the number of turns. `None` when every point is a pole.
-fn unwrap(uv: &[[f64; 2]], d: usize, pole: &[bool], period: f64) -> Option<(Vec<f64>, i64)> {
+/// round, a step across a pole in the sense that keeps the face on the left), pole points and
+/// points whose projection found no foot (not `found`) given their predecessor's value; and
+/// the number of turns. `None` when no point is both found and off the poles.
+fn unwrap(
+    uv: &[[f64; 2]],
+    d: usize,
+    pole: &[bool],
+    found: &[bool],
+    period: f64,
+) -> Option<(Vec<f64>, i64)> {
     let n = uv.len();
-    let k0 = (0..n).find(|&k| !pole[k])?;
+    let k0 = (0..n).find(|&k| !pole[k] && found[k])?;
     let snap = SEAM_SNAP * period;
     let mut values = vec![uv[k0][d]; n];
     let (start, mut prev) = (uv[k0][d], uv[k0][d]);
@@ -265,6 +276,10 @@ fn unwrap(uv: &[[f64; 2]], d: usize, pole: &[bool], period: f64) -> Option<(Vec<
         let i = (k0 + step) % n;
         if pole[i] {
             pending = Some(i);
+            values[i] = prev;
+            continue;
+        }
+        if !found[i] {
             values[i] = prev;
             continue;
         }

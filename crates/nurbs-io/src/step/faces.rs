@@ -17,6 +17,9 @@ pub(super) struct BoundLoop {
     pub(super) points: Vec<Point3>,
     /// their (u, v) on the surface
     pub(super) params: Vec<(f64, f64)>,
+    /// per point, whether its parameters are its foot ([`Inverter::invert_loop`]): those that
+    /// are not count as a pole's (their parameters say nothing of the face's box)
+    pub(super) found: Vec<bool>,
     /// named FACE_OUTER_BOUND in the file
     pub(super) outer: bool,
     /// the bound's orientation flag: the loop runs as listed (`.T.`) or against it
@@ -40,16 +43,25 @@ pub(super) fn bound_loops(
         let (kind, fb) = &bound.parts[0];
         let loop_id = m.reference(*bid, fb.get(1))?;
         let points = loop_points(m, loop_id)?;
-        let params = points.iter().map(|pt| inverter.invert(pt)).collect();
+        let (params, found) = inverter.invert_loop(&points);
         out.push(BoundLoop {
             points,
             params,
+            found,
             outer: kind == "FACE_OUTER_BOUND",
             forward: !matches!(fb.get(2), Some(Value::Enum(e)) if e == "F"),
         });
     }
     Ok(out)
 }
+
+/// A bound point whose projection onto its face's B-spline ends farther than this fraction of
+/// the surface's size from it has not found its foot ([`Inverter::invert_loop`]). A point of a
+/// bound lies on the surface to the file's accuracy — 10⁻⁵ of the size for the usual 10⁻³ mm
+/// on a 100 mm part — while a search that misses the foot ends at another part of the surface,
+/// a distance of the order of the face's features (1.7 mm on a 100 mm dome); 10⁻⁴ lies between
+/// with a factor of ten to each.
+const FOOT_RELATIVE: f64 = 1e-3;
 
 /// Inverts points on a surface: in closed form, or on a B-spline by projection — its grid of
 /// start points built once, and Newton from the previous point's foot first (consecutive
@@ -81,10 +93,11 @@ impl<'s> Inverter<'s> {
             previous: None,
         }
     }
-    /// The parameters of `pt`.
-    pub(super) fn invert(&mut self, pt: &Point3) -> (f64, f64) {
+    /// The parameters of `pt`, and whether they are its foot (closed form, or a projection
+    /// that lands within [`FOOT_RELATIVE`] of the surface's size).
+    pub(super) fn invert(&mut self, pt: &Point3) -> ((f64, f64), bool) {
         let Some(pr) = self.projector.as_mut() else {
-            return self.surface.invert(pt);
+            return (self.surface.invert(pt), true);
         };
         let warm = self
             .previous
@@ -92,7 +105,21 @@ impl<'s> Inverter<'s> {
             .filter(|f| f.converged && f.distance <= self.on_surface);
         let f = warm.unwrap_or_else(|| pr.project(pt));
         self.previous = Some((f.u, f.v));
-        (f.u, f.v)
+        (
+            (f.u, f.v),
+            f.distance <= self.on_surface / ON_SURFACE_RELATIVE * FOOT_RELATIVE,
+        )
+    }
+
+    /// The parameters of the points of a loop, in order, and per point whether they are its
+    /// foot. A bound's point lies on its face's surface (\[ISO42\] topology_schema: an edge of
+    /// a face lies on the face's surface); a projection that ends farther than
+    /// [`FOOT_RELATIVE`] of the size has not found its foot — next to a collapsed boundary,
+    /// where a sliver span of the surface past the face folds back beside it, the search can
+    /// end at the domain's corner (a CATIA V4 dome, 1.7 mm off) — and its parameters would
+    /// widen the face's box.
+    pub(super) fn invert_loop(&mut self, points: &[Point3]) -> (Vec<(f64, f64)>, Vec<bool>) {
+        points.iter().map(|p| self.invert(p)).unzip()
     }
 }
 

@@ -229,10 +229,11 @@ fn boundary_loops(
     for c in curves {
         let cid = m.reference(id, Some(c))?;
         let points = curve_points(m, cid, angle)?;
-        let params = points.iter().map(|p| inverter.invert(p)).collect();
+        let (params, found) = inverter.invert_loop(&points);
         out.push(BoundLoop {
             points,
             params,
+            found,
             outer: m.kind(cid)? == "OUTER_BOUNDARY_CURVE",
             forward: true,
         });
