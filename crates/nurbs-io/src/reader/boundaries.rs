@@ -3,13 +3,13 @@
 //! (102) and simple model-space curves sampled, the parameter box of a B-spline face's outer
 //! boundary, and the outer and inner boundaries as loops of points on the face's surface.
 
-use nurbs_core::{BSplineCurve, BSplineSurface, Direction, Point3};
+use nurbs_core::{BSplineCurve, BSplineSurface, Point3};
 
 use super::entities::{Cursor, Reader};
 use super::records::{DirEntry, entity_params};
-use super::seam_box::{SeamRange, across_seam, seam_range};
+use super::seam_box::{cut_to_box, seam_range};
 use super::{
-    BOUNDARY_SAG_RELATIVE, BOUNDARY_SAMPLES, BOX_RELATIVE, FACE_BOX_SAMPLES, MAX_SAG_HALVINGS,
+    BOUNDARY_SAG_RELATIVE, BOUNDARY_SAMPLES, FACE_BOX_SAMPLES, MAX_SAG_HALVINGS,
     MAX_TRANSFORM_CHAIN, ON_SURFACE_RELATIVE,
 };
 use crate::error::IgesError;
@@ -186,28 +186,8 @@ impl Reader<'_> {
                 ),
             });
         }
-        // a box across the seam of a closed direction: the piece after the seam joined to
-        // the piece before it, so the face has an ordinary box; where the two pieces do not
-        // join (weights along the seam that differ), the whole closed direction with the trim
-        let mut carrier = surface.clone();
-        for (dir, range) in [(Direction::U, ru), (Direction::V, rv)] {
-            if let SeamRange::Across(lo, hi) = range
-                && let Ok(joined) = across_seam(&carrier, dir, lo, hi)
-            {
-                carrier = joined;
-            }
-        }
-        let (cu, cv) = (carrier.domain_u(), carrier.domain_v());
-        let (u0, u1) = ru.on(cu);
-        let (v0, v1) = rv.on(cv);
-        let tiny = |a: f64, b: f64, d: (f64, f64)| (a - b).abs() <= BOX_RELATIVE * (d.1 - d.0);
-        if tiny(u0, cu.0, cu) && tiny(u1, cu.1, cu) && tiny(v0, cv.0, cv) && tiny(v1, cv.1, cv) {
-            return Ok(((carrier != *surface).then_some(carrier), trim));
-        }
-        let cut = carrier
-            .extract((u0, u1), (v0, v1))
-            .map_err(Self::geometry_err(face))?;
-        Ok((Some(cut), trim))
+        let cut = cut_to_box(surface, ru, rv).map_err(Self::geometry_err(face))?;
+        Ok((cut, trim))
     }
 
     /// The feet on `surface` (parameters, in order) of the samples of the model-space curve

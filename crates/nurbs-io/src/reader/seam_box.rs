@@ -61,10 +61,38 @@ pub(super) fn seam_range((lo, hi): (f64, f64), d: (f64, f64), closed: bool) -> S
     }
 }
 
+/// `surface` over the face's ranges `ru`, `rv` ([`seam_range`]), or `None` where that is the
+/// whole surface. A range across the seam of a closed direction takes the piece after the seam
+/// joined to the piece before it ([`across_seam`]), so the face has an ordinary box; where the
+/// two pieces do not join (weights along the seam that differ), the whole closed direction
+/// stays, and the face is its trim on it.
+pub(super) fn cut_to_box(
+    surface: &BSplineSurface,
+    ru: SeamRange,
+    rv: SeamRange,
+) -> nurbs_core::Result<Option<BSplineSurface>> {
+    let mut carrier = surface.clone();
+    for (dir, range) in [(Direction::U, ru), (Direction::V, rv)] {
+        if let SeamRange::Across(lo, hi) = range
+            && let Ok(joined) = across_seam(&carrier, dir, lo, hi)
+        {
+            carrier = joined;
+        }
+    }
+    let (cu, cv) = (carrier.domain_u(), carrier.domain_v());
+    let (u0, u1) = ru.on(cu);
+    let (v0, v1) = rv.on(cv);
+    let tiny = |a: f64, b: f64, d: (f64, f64)| (a - b).abs() <= BOX_RELATIVE * (d.1 - d.0);
+    if tiny(u0, cu.0, cu) && tiny(u1, cu.1, cu) && tiny(v0, cv.0, cv) && tiny(v1, cv.1, cv) {
+        return Ok((carrier != *surface).then_some(carrier));
+    }
+    carrier.extract((u0, u1), (v0, v1)).map(Some)
+}
+
 /// `s` (closed in `dir`) over `[lo, hi]` with `lo` inside its domain and `hi` past its end:
 /// the piece from `lo` to the seam joined to the piece from the domain's start to `hi` less the
 /// period, shifted by the period ([`BSplineSurface::joined`]).
-pub(super) fn across_seam(
+fn across_seam(
     s: &BSplineSurface,
     dir: Direction,
     lo: f64,
