@@ -213,6 +213,40 @@ fn bounded_surfaces_with_boundaries_are_read() {
         "{:?}",
         f.skipped
     );
+    // the plate whose 143 lists its round hole before its rim: the rim (70 × 100) is the outer
+    // boundary (on the plane read, as every trim above), the circle (radius 15) its hole — before, the hole
+    // was taken as the outer boundary and the plane cut to its box (the face's export had area
+    // −1920 where Open CASCADE reads 6293 = 7000 − 225π)
+    let extent = |pts: &[Point3]| {
+        let (lo, hi) = pts.iter().fold(
+            (
+                Point3::from([f64::INFINITY; 3]),
+                Point3::from([f64::NEG_INFINITY; 3]),
+            ),
+            |(lo, hi), p| (lo.inf(p), hi.sup(p)),
+        );
+        hi - lo
+    };
+    let z0 = |s: &&nurbs_io::reader::IgesSurface| s.trim.iter().all(|p| p.z.abs() < 1e-9);
+    let plates: Vec<_> = f
+        .surfaces
+        .iter()
+        .filter(|s| !s.holes.is_empty())
+        .filter(z0)
+        .collect();
+    assert_eq!(plates.len(), 1, "one plate with a hole at z = 0");
+    let plate = plates[0];
+    let rim = extent(&plate.trim);
+    assert!(
+        (rim.x - 70.0).abs() < 1e-6 && (rim.y - 100.0).abs() < 1e-6,
+        "{rim:?}"
+    );
+    assert_eq!(plate.holes.len(), 1);
+    let hole = extent(&plate.holes[0]);
+    assert!(
+        (hole.x - 30.0).abs() < 1e-3 && (hole.y - 30.0).abs() < 1e-3,
+        "{hole:?}"
+    );
 }
 
 /// Inventor's spring as a manifold solid B-rep (186 → 514 → six 510 faces with 508 loops over

@@ -275,8 +275,10 @@ impl Reader<'_> {
     }
 
     /// The boundaries of a bounded surface (143, \[IGES\] §4.33) after its surface pointer: N and
-    /// the N boundaries (141), the first taken as the outer one (the standard names none; the
-    /// writers put the outer first), the others as inner ones.
+    /// the N boundaries (141), the outer one and the inner ones. The standard names none the
+    /// outer one, and writers differ (I-DEAS lists a plate's hole before its rim): the outer
+    /// boundary holds the others, so its model-space box is the largest — the one with the
+    /// longest diagonal is taken (the first of equals, the first where a box cannot be found).
     pub(super) fn bounded_boundaries<'r>(
         &'r self,
         c: &mut Cursor<'_>,
@@ -286,6 +288,29 @@ impl Reader<'_> {
         let mut all = Vec::with_capacity(n);
         for _ in 0..n {
             all.push(self.entry(c.int()?, e)?);
+        }
+        let diagonal = |b: &DirEntry| -> f64 {
+            let Ok(pts) = self.boundary_samples(b, 0, BOUNDARY_SAMPLES) else {
+                return f64::NEG_INFINITY;
+            };
+            let (lo, hi) = pts.iter().fold(
+                ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
+                |(lo, hi), p| {
+                    (
+                        [lo[0].min(p.x), lo[1].min(p.y), lo[2].min(p.z)],
+                        [hi[0].max(p.x), hi[1].max(p.y), hi[2].max(p.z)],
+                    )
+                },
+            );
+            let d = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
+            if d.is_finite() { d } else { f64::NEG_INFINITY }
+        };
+        if all.len() > 1 {
+            let sizes: Vec<f64> = all.iter().map(|b| diagonal(b)).collect();
+            let outer =
+                (1..all.len()).fold(0, |best, k| if sizes[k] > sizes[best] { k } else { best });
+            let o = all.remove(outer);
+            all.insert(0, o);
         }
         let mut all = all.into_iter();
         Ok((all.next(), all.collect()))
