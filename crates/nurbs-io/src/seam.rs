@@ -27,6 +27,51 @@ pub(crate) fn spline_closed(s: &BSplineSurface, relative: f64) -> [bool; 2] {
     ]
 }
 
+/// Whether a face's `trim` is its surface's parameter box: one loop whose every point lies on
+/// the surface (within [`crate::bounds::ON_FACE_RELATIVE`] of its size) at the box's boundary
+/// (a parameter within 10⁻⁶ of its range of a bound: a point on a seam or at a pole lies on
+/// the boundary whichever parameters its projection gives), and so does the foot of the middle
+/// of each chord between two consecutive points. Such a face is written bounded by
+/// its box — the boundary curves themselves, a closed side as the one seam edge used both ways
+/// and a pole as a vertex — rather than by its trim: a writer that bounds a closed face by
+/// curves through its trim points leaves the reader to guess on which side of the seam each
+/// run along it lies (Open CASCADE read half of an I-DEAS cylinder that way, its face invalid).
+pub(crate) fn trim_is_box(surface: &BSplineSurface, trim: &[Vec<Point3>]) -> bool {
+    let [points] = trim else {
+        return false;
+    };
+    if points.len() < 3 {
+        return false;
+    }
+    let ((a, b), (c, d)) = (surface.domain_u(), surface.domain_v());
+    let (tu, tv) = (BOX_EDGE_RELATIVE * (b - a), BOX_EDGE_RELATIVE * (d - c));
+    let near = crate::bounds::ON_FACE_RELATIVE * surface.size();
+    let mut projector =
+        nurbs_core::SurfaceProjector::new(surface, nurbs_core::ProjectionParams::default());
+    let on_boundary = |f: &nurbs_core::projection::SurfaceProjection| {
+        (f.u - a).abs() <= tu
+            || (f.u - b).abs() <= tu
+            || (f.v - c).abs() <= tv
+            || (f.v - d).abs() <= tv
+    };
+    // every point, and between each two the middle of their chord: a loop whose corners lie on
+    // the boundary but whose edges cut across the box (a trapezoid on a plane's rectangle)
+    // has chords whose middles fall inside
+    points
+        .iter()
+        .zip(points.iter().cycle().skip(1))
+        .all(|(p, q)| {
+            let f = projector.project(p);
+            let m = projector.project(&Point3::from((p.coords + q.coords) / 2.0));
+            f.distance <= near && on_boundary(&f) && on_boundary(&m)
+        })
+}
+
+/// How near a bound of the parameter box, as a fraction of its range, a trim point's
+/// parameter puts it on the box's boundary ([`trim_is_box`]): a thousand times the importers'
+/// box rounding (10⁻⁹), far below any face's own extent.
+const BOX_EDGE_RELATIVE: f64 = 1e-6;
+
 /// The boundary that closes two winding loops through the seam: its parameters in order
 /// (closed: the last the first) and the indices where its four pieces meet (first and last
 /// included), and which two loops it replaces.
@@ -172,6 +217,56 @@ fn along_seam(surface: &BSplineSurface, a: Point3, b: Point3) -> Vec<Point3> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The loop round a full cylinder's box — the circle at one end, the seam, the other
+    /// circle, the seam back (as an importer keeps a closed face's bound) — is the box; a band
+    /// of it between two circles inside is not, nor a plane rectangle's trapezoid whose
+    /// corners are on the box but whose slanted side cuts across it, nor a loop with a hole.
+    #[test]
+    fn a_trim_round_the_parameter_box_is_the_box() {
+        use nurbs_core::Vector3;
+        let cylinder = nurbs_core::shapes::full_cylinder(4.0, 10.0).unwrap();
+        let ((a, b), (c, d)) = (cylinder.domain_u(), cylinder.domain_v());
+        let along = |u: f64, from: f64, to: f64, n: usize| -> Vec<Point3> {
+            (0..n)
+                .map(|k| cylinder.point(u, from + (to - from) * k as f64 / n as f64))
+                .collect()
+        };
+        let across = |v: f64, from: f64, to: f64| -> Vec<Point3> {
+            (0..4)
+                .map(|k| cylinder.point(from + (to - from) * k as f64 / 4.0, v))
+                .collect()
+        };
+        let mut round = along(a, c, d, 90);
+        round.extend(across(d, a, b));
+        round.extend(along(b, d, c, 90));
+        round.extend(across(c, b, a));
+        assert!(trim_is_box(&cylinder, &[round.clone()]));
+        assert!(
+            !trim_is_box(&cylinder, &[round.clone(), round.clone()]),
+            "holes"
+        );
+        let (u1, u2) = (a + 0.2 * (b - a), a + 0.6 * (b - a));
+        let mut band = along(u1, c, d, 90);
+        band.extend(along(u2, d, c, 90));
+        assert!(!trim_is_box(&cylinder, &[band]));
+        let plane = nurbs_core::shapes::plane_patch(
+            Point3::origin(),
+            Vector3::x(),
+            Vector3::y(),
+            (0.0, 10.0),
+            (0.0, 4.0),
+        )
+        .unwrap();
+        let rectangle = [(0.0, 0.0), (10.0, 0.0), (10.0, 4.0), (0.0, 4.0)]
+            .map(|(x, y)| Point3::new(x, y, 0.0))
+            .to_vec();
+        assert!(trim_is_box(&plane, &[rectangle]));
+        let trapezoid = [(0.0, 0.0), (10.0, 0.0), (6.0, 4.0), (0.0, 4.0)]
+            .map(|(x, y)| Point3::new(x, y, 0.0))
+            .to_vec();
+        assert!(!trim_is_box(&plane, &[trapezoid]));
+    }
 
     /// A full cylinder of radius 4 (u along the axis, z = 10 u; v around) and a band of it
     /// between the circles z = 2 and z = 6, each a loop of 90 points: the two loops wind once

@@ -279,7 +279,9 @@ fn push_face(
     edge_tolerance: f64,
 ) -> Result<(), IgesError> {
     let what = format!("surface {}", f.name);
-    let bounds = crate::bounds::face_bounds(f.surface, f.trim);
+    // a trim that is the parameter box is the untrimmed surface ([`crate::seam::trim_is_box`])
+    let boxed = crate::seam::trim_is_box(f.surface, f.trim);
+    let bounds = crate::bounds::face_bounds(f.surface, if boxed { &[] } else { f.trim });
     let trimmed = !bounds.loops.is_empty();
     entities.push(Entity {
         entity_type: 128,

@@ -367,3 +367,46 @@ fn closed_faces_are_written_with_shared_vertices_and_seams_used_twice() {
         }
     }
 }
+
+/// A closed cylinder's face whose trim is the loop round its parameter box (the circle at each
+/// end, the seam both ways, as it comes in from a file) is exported bounded by its box — the
+/// same file as the untrimmed face, its seam one edge used both ways — and IGES writes its
+/// 128 alone: curves through the trim points left a reader to guess on which side of the seam
+/// each run lay (Open CASCADE read half of such a cylinder, the face invalid).
+#[test]
+fn a_closed_face_trimmed_round_its_box_is_written_by_its_box() {
+    use nurbs_io::bounds::Face;
+    let s = nurbs_core::shapes::full_cylinder(15.0, 50.0).unwrap();
+    let ((a, b), (c, d)) = (s.domain_u(), s.domain_v());
+    let side = |u: f64, from: f64, to: f64| -> Vec<Point3> {
+        (0..64)
+            .map(|k| s.point(u, from + (to - from) * k as f64 / 64.0))
+            .collect()
+    };
+    let end = |v: f64, from: f64, to: f64| -> Vec<Point3> {
+        (0..8)
+            .map(|k| s.point(from + (to - from) * k as f64 / 8.0, v))
+            .collect()
+    };
+    let mut round = side(a, c, d);
+    round.extend(end(d, a, b));
+    round.extend(side(b, d, c));
+    round.extend(end(c, b, a));
+    let trim = vec![round];
+    let trimmed = [Face {
+        name: "wall",
+        surface: &s,
+        trim: &trim,
+    }];
+    let whole = [Face::untrimmed("wall", &s)];
+    let step = |f: &[Face<'_>]| nurbs_io::write_step_faces(f, "mm", "wall.step").unwrap();
+    assert_eq!(step(&trimmed), step(&whole));
+    let params = nurbs_io::writer::IgesWriteParams::default();
+    let iges = |f: &[Face<'_>]| nurbs_io::writer::write_iges_faces(f, &[], &params).unwrap();
+    let written = iges(&trimmed);
+    assert_eq!(written, iges(&whole));
+    assert!(
+        !written.lines().any(|l| l.starts_with("     144")),
+        "no 144"
+    );
+}

@@ -257,7 +257,9 @@ impl StepWriter {
     /// The face of `f`: its surface, bounded by its trim loops or else by its parameter box.
     fn face(&mut self, f: &Face<'_>) -> Result<usize, nurbs_core::Error> {
         let surface = self.surface(f.surface);
-        let bounds = crate::bounds::face_bounds(f.surface, f.trim);
+        // a trim that is the parameter box: the box's own bound ([`crate::seam::trim_is_box`])
+        let boxed = crate::seam::trim_is_box(f.surface, f.trim);
+        let bounds = crate::bounds::face_bounds(f.surface, if boxed { &[] } else { f.trim });
         let bounds = if bounds.loops.is_empty() {
             vec![self.box_bound(f.surface)?]
         } else {
