@@ -26,7 +26,7 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Command {
-    /// Reads a STEP file (faces, and surfaces outside faces) or IGES file (surfaces 128, 120, 122, 118, 140 and planes 108, trimmed by 144), known by its content, into a model and finds its hierarchy (links, targets, roles) from the geometry
+    /// Reads a STEP file (faces, and surfaces outside faces) or IGES file (surfaces 128, 120, 122, 118, 140 and planes 108, 190, trimmed by 144, bounded by 143, or faces 510 of a B-rep solid 186), known by its content, into a model and finds its hierarchy (links, targets, roles) from the geometry
     Import {
         /// STEP or IGES file
         input: PathBuf,

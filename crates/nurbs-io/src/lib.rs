@@ -73,6 +73,7 @@ pub mod units;
 pub mod writer;
 
 pub use bounds::{Face, FaceBounds, face_bounds};
+pub use seam::trim_is_box;
 pub use error::IgesError;
 pub use reader::{IgesCurve, IgesFile, IgesSurface, read_iges};
 pub use step::{

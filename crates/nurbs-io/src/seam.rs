@@ -36,7 +36,7 @@ pub(crate) fn spline_closed(s: &BSplineSurface, relative: f64) -> [bool; 2] {
 /// and a pole as a vertex — rather than by its trim: a writer that bounds a closed face by
 /// curves through its trim points leaves the reader to guess on which side of the seam each
 /// run along it lies (Open CASCADE read half of an I-DEAS cylinder that way, its face invalid).
-pub(crate) fn trim_is_box(surface: &BSplineSurface, trim: &[Vec<Point3>]) -> bool {
+pub fn trim_is_box(surface: &BSplineSurface, trim: &[Vec<Point3>]) -> bool {
     let [points] = trim else {
         return false;
     };
