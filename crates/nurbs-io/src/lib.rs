@@ -73,9 +73,9 @@ pub mod units;
 pub mod writer;
 
 pub use bounds::{Face, FaceBounds, face_bounds};
-pub use seam::trim_is_box;
 pub use error::IgesError;
 pub use reader::{IgesCurve, IgesFile, IgesSurface, read_iges};
+pub use seam::trim_is_box;
 pub use step::{
     StepError, StepFace, StepFile, read_step, write_step, write_step_faces, write_step_faces_within,
 };
