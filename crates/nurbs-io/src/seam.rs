@@ -28,14 +28,16 @@ pub(crate) fn spline_closed(s: &BSplineSurface, relative: f64) -> [bool; 2] {
 }
 
 /// Whether a face's `trim` is its surface's parameter box: one loop whose every point lies on
-/// the surface (within [`crate::bounds::ON_FACE_RELATIVE`] of its size) at the box's boundary
-/// (a parameter within 10⁻⁶ of its range of a bound: a point on a seam or at a pole lies on
-/// the boundary whichever parameters its projection gives), and so does the foot of the middle
-/// of each chord between two consecutive points. Such a face is written bounded by
-/// its box — the boundary curves themselves, a closed side as the one seam edge used both ways
-/// and a pole as a vertex — rather than by its trim: a writer that bounds a closed face by
-/// curves through its trim points leaves the reader to guess on which side of the seam each
-/// run along it lies (Open CASCADE read half of an I-DEAS cylinder that way, its face invalid).
+/// the surface at the box's boundary (within [`BOX_POINT_RELATIVE`] of the size of the side's
+/// point at the same parameter along it), each two consecutive points on one side
+/// of the box — a loop whose corners lie on the boundary but whose edges cut across the box (a
+/// trapezoid on a plane's rectangle) has a step between two sides. The two sides of a closed
+/// direction are one side (a seam point's projection may give either), and a point on a side
+/// collapsed to a pole lies on its two neighbours too. Such a face is written bounded by its
+/// box — the boundary curves themselves, a closed side as the one seam edge used both ways and
+/// a pole as a vertex — rather than by its trim: a writer that bounds a closed face by curves
+/// through its trim points leaves the reader to guess on which side of the seam each run along
+/// it lies (Open CASCADE read half of an I-DEAS cylinder that way, its face invalid).
 pub fn trim_is_box(surface: &BSplineSurface, trim: &[Vec<Point3>]) -> bool {
     let [points] = trim else {
         return false;
@@ -44,33 +46,65 @@ pub fn trim_is_box(surface: &BSplineSurface, trim: &[Vec<Point3>]) -> bool {
         return false;
     }
     let ((a, b), (c, d)) = (surface.domain_u(), surface.domain_v());
-    let (tu, tv) = (BOX_EDGE_RELATIVE * (b - a), BOX_EDGE_RELATIVE * (d - c));
-    let near = crate::bounds::ON_FACE_RELATIVE * surface.size();
+    let size = surface.size();
+    let near = BOX_POINT_RELATIVE * size;
+    let closed = spline_closed(surface, BOX_POINT_RELATIVE);
+    // sides u = a, u = b, v = c, v = d; whether each is collapsed to a point
+    let collapsed = [(a, true), (b, true), (c, false), (d, false)].map(|(t, along_v)| {
+        let at = |k: usize| {
+            let x = k as f64 / 8.0;
+            if along_v {
+                surface.point(t, c + (d - c) * x)
+            } else {
+                surface.point(a + (b - a) * x, t)
+            }
+        };
+        (1..=8).all(|k| (at(k) - at(0)).norm() <= near)
+    });
     let mut projector =
         nurbs_core::SurfaceProjector::new(surface, nurbs_core::ProjectionParams::default());
-    let on_boundary = |f: &nurbs_core::projection::SurfaceProjection| {
-        (f.u - a).abs() <= tu
-            || (f.u - b).abs() <= tu
-            || (f.v - c).abs() <= tv
-            || (f.v - d).abs() <= tv
+    let mut sides_of = |p: &Point3| -> Option<[bool; 4]> {
+        let f = projector.project(p);
+        if f.distance > near {
+            return None;
+        }
+        // on a side: within `near` of the side's point at the foot's other parameter
+        let mut on = [
+            surface.point(a, f.v),
+            surface.point(b, f.v),
+            surface.point(f.u, c),
+            surface.point(f.u, d),
+        ]
+        .map(|q| (q - p).norm() <= near);
+        for (k, other) in [(0, 1), (2, 3)] {
+            if closed[k / 2] && (on[k] || on[other]) {
+                (on[k], on[other]) = (true, true);
+            }
+        }
+        // a pole: on its neighbours too
+        for (k, neighbours) in [(0, [2, 3]), (1, [2, 3]), (2, [0, 1]), (3, [0, 1])] {
+            if on[k] && collapsed[k] {
+                for n in neighbours {
+                    on[n] = true;
+                }
+            }
+        }
+        on.iter().any(|&x| x).then_some(on)
     };
-    // every point, and between each two the middle of their chord: a loop whose corners lie on
-    // the boundary but whose edges cut across the box (a trapezoid on a plane's rectangle)
-    // has chords whose middles fall inside
-    points
+    let Some(sides) = points.iter().map(&mut sides_of).collect::<Option<Vec<_>>>() else {
+        return false;
+    };
+    sides
         .iter()
-        .zip(points.iter().cycle().skip(1))
-        .all(|(p, q)| {
-            let f = projector.project(p);
-            let m = projector.project(&Point3::from((p.coords + q.coords) / 2.0));
-            f.distance <= near && on_boundary(&f) && on_boundary(&m)
-        })
+        .zip(sides.iter().cycle().skip(1))
+        .all(|(p, q)| (0..4).any(|k| p[k] && q[k]))
 }
 
-/// How near a bound of the parameter box, as a fraction of its range, a trim point's
-/// parameter puts it on the box's boundary ([`trim_is_box`]): a thousand times the importers'
-/// box rounding (10⁻⁹), far below any face's own extent.
-const BOX_EDGE_RELATIVE: f64 = 1e-6;
+/// How near the surface, and its box's side, as a fraction of its size, a trim point lies on
+/// that side ([`trim_is_box`]): 10⁻⁵, the usual accuracy of a CAD system's edges (10⁻³ mm on a
+/// 100 mm part) — the edges of a file lie on their faces' surfaces only to it (EUCLID's run
+/// 1.5·10⁻³ mm off a 520 mm surface's boundary), far below any face's own extent.
+const BOX_POINT_RELATIVE: f64 = 1e-5;
 
 /// The boundary that closes two winding loops through the seam: its parameters in order
 /// (closed: the last the first) and the indices where its four pieces meet (first and last
