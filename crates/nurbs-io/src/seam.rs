@@ -28,9 +28,9 @@ pub(crate) fn spline_closed(s: &BSplineSurface, relative: f64) -> [bool; 2] {
 }
 
 /// Whether a face's `trim` is its surface's parameter box: one loop whose every point lies on
-/// the surface at the box's boundary (within [`BOX_POINT_RELATIVE`] of the size of the side's
-/// point at the same parameter along it), each two consecutive points on one side
-/// of the box — a loop whose corners lie on the boundary but whose edges cut across the box (a
+/// the surface at the box's boundary (within 10⁻⁵ of the size, `BOX_POINT_RELATIVE`, of the
+/// side's point at the same parameter along it), each two consecutive points on one side of
+/// the box — a loop whose corners lie on the boundary but whose edges cut across the box (a
 /// trapezoid on a plane's rectangle) has a step between two sides. The two sides of a closed
 /// direction are one side (a seam point's projection may give either), and a point on a side
 /// collapsed to a pole lies on its two neighbours too. Such a face is written bounded by its
