@@ -18,7 +18,8 @@ pub(super) struct BoundLoop {
     /// their (u, v) on the surface
     pub(super) params: Vec<(f64, f64)>,
     /// per point, whether its parameters are its foot ([`Inverter::invert_loop`]): those that
-    /// are not count as a pole's (their parameters say nothing of the face's box)
+    /// are not stay out of the face's box and take their predecessor's value when a closed
+    /// direction is unwrapped (their parameters say nothing of where the face is)
     pub(super) found: Vec<bool>,
     /// named FACE_OUTER_BOUND in the file
     pub(super) outer: bool,
@@ -58,9 +59,10 @@ pub(super) fn bound_loops(
 /// A bound point whose projection onto its face's B-spline ends farther than this fraction of
 /// the surface's size from it has not found its foot ([`Inverter::invert_loop`]). A point of a
 /// bound lies on the surface to the file's accuracy — 10⁻⁵ of the size for the usual 10⁻³ mm
-/// on a 100 mm part — while a search that misses the foot ends at another part of the surface,
-/// a distance of the order of the face's features (1.7 mm on a 100 mm dome); 10⁻⁴ lies between
-/// with a factor of ten to each.
+/// on a 100 mm part, and files sloppier than that exist (some bound points of an AP209 file lie
+/// more than 10⁻⁴ of the size off their surface: that bound took them for misses) — while a
+/// search that misses the foot ends at another part of the surface, a distance of the order of
+/// the face's features (1.7 mm on a 164 mm dome, 10⁻²); 10⁻³ lies between the two.
 const FOOT_RELATIVE: f64 = 1e-3;
 
 /// Inverts points on a surface: in closed form, or on a B-spline by projection — its grid of
