@@ -84,9 +84,6 @@ pub struct BuildLog {
     pub roles_found: bool,
 }
 
-/// The four sides in the order the log lists them.
-const SIDES: [Side; 4] = [Side::U0, Side::U1, Side::V0, Side::V1];
-
 /// The sample points of `side` of `s`.
 fn side_points(s: &BSplineSurface, side: Side) -> Vec<(f64, f64)> {
     g_continuity::sampling::uniform_side_params(s, side, SIDE_SAMPLES)
@@ -219,7 +216,7 @@ fn corner_groups(
     taken: &[usize],
 ) -> Vec<Vec<usize>> {
     let n = model.surfaces.len();
-    let index = |side: Side| SIDES.iter().position(|&x| x == side).unwrap_or(0);
+    let index = Side::index;
     let tangent = |k: usize, side: Side| {
         contacts[k][index(side)]
             .as_ref()
@@ -319,7 +316,7 @@ fn bounded(
     centre: &nurbs_core::Point3,
     model: &Model,
 ) -> bool {
-    let index = |side: Side| SIDES.iter().position(|&x| x == side).unwrap_or(0);
+    let index = Side::index;
     cycle.iter().all(|&k| {
         let Some(&(_, _, outer)) = centre_of(model, centres, k, centre).next() else {
             return false;
@@ -354,7 +351,7 @@ fn add_group(
         }) else {
             continue;
         };
-        let side = SIDES[i];
+        let side = Side::ALL[i];
         if model
             .links
             .iter()
@@ -443,7 +440,7 @@ fn find_contacts(model: &Model, log: &mut BuildLog) -> Vec<[Option<SideContact>;
     let mut projectors: Vec<Option<SurfaceProjector<'_>>> = (0..n).map(|_| None).collect();
     for k in 0..n {
         let mut row: [Option<SideContact>; 4] = Default::default();
-        for (i, &side) in SIDES.iter().enumerate() {
+        for (i, &side) in Side::ALL.iter().enumerate() {
             let name = &model.surfaces[k].name;
             if g_continuity::measure::is_collapsed(&model.surfaces[k].surface, side) {
                 log.lines.push(format!(
@@ -505,15 +502,15 @@ fn strips(
                 .into_iter()
                 .flatten()
                 .collect();
-            let (yes, turn, ratio, width) = bridges(s, SIDES[a]);
+            let (yes, turn, ratio, width) = bridges(s, Side::ALL[a]);
             if yes {
                 roles[k] = Role::Connecting;
                 widths[k] = width;
                 log.lines.push(format!(
                     "{}: connecting — between its sides {} and {} it turns {turn:.1}° and is {ratio:.2} as wide as long ({})",
                     model.surfaces[k].name,
-                    SIDES[a].name(),
-                    SIDES[b].name(),
+                    Side::ALL[a].name(),
+                    Side::ALL[b].name(),
                     if on.is_empty() {
                         "a strip that lies on no surface within the tolerance: a fillet of trimmed faces".to_string()
                     } else {
@@ -536,7 +533,7 @@ fn find_roles(model: &mut Model, contacts: &[[Option<SideContact>; 4]], log: &mu
     // that surface's width
     let across = |k: usize, roles: &[Role]| {
         let s = &model.surfaces[k].surface;
-        SIDES
+        Side::ALL
             .iter()
             .zip(&contacts[k])
             .filter(|(side, c)| {
@@ -595,7 +592,7 @@ fn find_roles(model: &mut Model, contacts: &[[Option<SideContact>; 4]], log: &mu
 fn add_links(model: &mut Model, contacts: &[[Option<SideContact>; 4]], log: &mut BuildLog) {
     let n = model.surfaces.len();
     for k in 0..n {
-        for (i, &side) in SIDES.iter().enumerate() {
+        for (i, &side) in Side::ALL.iter().enumerate() {
             let Some(c) = &contacts[k][i] else { continue };
             let (me, other) = (&model.surfaces[k], &model.surfaces[c.surface]);
             let label = format!("{}.{} -> {}", me.name, side.name(), other.name);
