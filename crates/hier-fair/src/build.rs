@@ -216,9 +216,8 @@ fn corner_groups(
     taken: &[usize],
 ) -> Vec<Vec<usize>> {
     let n = model.surfaces.len();
-    let index = Side::index;
     let tangent = |k: usize, side: Side| {
-        contacts[k][index(side)]
+        contacts[k][side.index()]
             .as_ref()
             .filter(|c| c.angle_deg.is_some_and(|a| a <= TANGENT_ANGLE_DEG))
             .map(|c| c.surface)
@@ -316,14 +315,13 @@ fn bounded(
     centre: &nurbs_core::Point3,
     model: &Model,
 ) -> bool {
-    let index = Side::index;
     cycle.iter().all(|&k| {
         let Some(&(_, _, outer)) = centre_of(model, centres, k, centre).next() else {
             return false;
         };
         let on: Vec<usize> = outer
             .iter()
-            .filter_map(|&side| contacts[k][index(side)].as_ref().map(|c| c.surface))
+            .filter_map(|&side| contacts[k][side.index()].as_ref().map(|c| c.surface))
             .filter(|c| !cycle.contains(c))
             .collect();
         on.len() == 2 && (given || on.iter().any(|&c| roles[c] == Role::Connecting))

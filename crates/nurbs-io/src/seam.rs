@@ -27,6 +27,24 @@ pub(crate) fn spline_closed(s: &BSplineSurface, relative: f64) -> [bool; 2] {
     ]
 }
 
+/// Per side of B-spline surface `s` (u = u0, u = u1, v = v0, v = v1), the point it collapses
+/// to, where it does: its 9 points (ends included) within `relative` of the size of the first.
+pub(crate) fn collapsed_sides(s: &BSplineSurface, relative: f64) -> [Option<Point3>; 4] {
+    let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
+    let tol = relative * s.size();
+    let at = |k: usize, a: f64, b: f64| a + (b - a) * k as f64 / 8.0;
+    let side = |point: &dyn Fn(usize) -> Point3| {
+        let q = point(0);
+        (1..=8).all(|k| (point(k) - q).norm() <= tol).then_some(q)
+    };
+    [
+        side(&|k| s.point(u0, at(k, v0, v1))),
+        side(&|k| s.point(u1, at(k, v0, v1))),
+        side(&|k| s.point(at(k, u0, u1), v0)),
+        side(&|k| s.point(at(k, u0, u1), v1)),
+    ]
+}
+
 /// Whether a face's `trim` is its surface's parameter box: one loop whose every point lies on
 /// the surface at the box's boundary (within 10⁻⁵ of the size, `BOX_POINT_RELATIVE`, of the
 /// side's point at the same parameter along it), each two consecutive points on one side of
@@ -50,17 +68,7 @@ pub fn trim_is_box(surface: &BSplineSurface, trim: &[Vec<Point3>]) -> bool {
     let near = BOX_POINT_RELATIVE * size;
     let closed = spline_closed(surface, BOX_POINT_RELATIVE);
     // sides u = a, u = b, v = c, v = d; whether each is collapsed to a point
-    let collapsed = [(a, true), (b, true), (c, false), (d, false)].map(|(t, along_v)| {
-        let at = |k: usize| {
-            let x = k as f64 / 8.0;
-            if along_v {
-                surface.point(t, c + (d - c) * x)
-            } else {
-                surface.point(a + (b - a) * x, t)
-            }
-        };
-        (1..=8).all(|k| (at(k) - at(0)).norm() <= near)
-    });
+    let collapsed = collapsed_sides(surface, BOX_POINT_RELATIVE).map(|q| q.is_some());
     let mut projector =
         nurbs_core::SurfaceProjector::new(surface, nurbs_core::ProjectionParams::default());
     let mut sides_of = |p: &Point3| -> Option<[bool; 4]> {

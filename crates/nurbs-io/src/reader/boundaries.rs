@@ -290,20 +290,11 @@ impl Reader<'_> {
             all.push(self.entry(c.int()?, e)?);
         }
         let diagonal = |b: &DirEntry| -> f64 {
-            let Ok(pts) = self.boundary_samples(b, 0, BOUNDARY_SAMPLES) else {
-                return f64::NEG_INFINITY;
-            };
-            let (lo, hi) = pts.iter().fold(
-                ([f64::INFINITY; 3], [f64::NEG_INFINITY; 3]),
-                |(lo, hi), p| {
-                    (
-                        [lo[0].min(p.x), lo[1].min(p.y), lo[2].min(p.z)],
-                        [hi[0].max(p.x), hi[1].max(p.y), hi[2].max(p.z)],
-                    )
-                },
-            );
-            let d = (0..3).map(|k| (hi[k] - lo[k]).powi(2)).sum::<f64>().sqrt();
-            if d.is_finite() { d } else { f64::NEG_INFINITY }
+            self.boundary_samples(b, 0, BOUNDARY_SAMPLES)
+                .map(|pts| nurbs_core::homogeneous::bounding_diagonal(&pts))
+                .ok()
+                .filter(|d| d.is_finite())
+                .unwrap_or(f64::NEG_INFINITY)
         };
         if all.len() > 1 {
             let sizes: Vec<f64> = all.iter().map(|b| diagonal(b)).collect();

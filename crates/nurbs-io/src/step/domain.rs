@@ -143,25 +143,14 @@ impl Surface {
 }
 
 /// The boundary curves of `s` that collapse to a point (9 points each within the kernel's
-/// tolerance of the first): the point, and the direction whose parameter is undefined there.
+/// tolerance of the first, [`crate::seam::collapsed_sides`]): the point, and the direction whose
+/// parameter is undefined there (v along a collapsed u = const side, u along a v = const one).
 fn spline_collapsed(s: &nurbs_core::BSplineSurface) -> Vec<(nurbs_core::Point3, usize)> {
-    let ((u0, u1), (v0, v1)) = (s.domain_u(), s.domain_v());
-    let tol = POLE_RELATIVE * s.size();
-    let at = |k: usize, a: f64, b: f64| a + (b - a) * k as f64 / 8.0;
-    let mut out = Vec::new();
-    for u in [u0, u1] {
-        let q = s.point(u, v0);
-        if (0..=8).all(|k| (s.point(u, at(k, v0, v1)) - q).norm() <= tol) {
-            out.push((q, 1));
-        }
-    }
-    for v in [v0, v1] {
-        let q = s.point(u0, v);
-        if (0..=8).all(|k| (s.point(at(k, u0, u1), v) - q).norm() <= tol) {
-            out.push((q, 0));
-        }
-    }
-    out
+    crate::seam::collapsed_sides(s, POLE_RELATIVE)
+        .into_iter()
+        .zip([1, 1, 0, 0])
+        .filter_map(|(q, d)| q.map(|q| (q, d)))
+        .collect()
 }
 
 /// A loop in the surface's frame: its parameters (unwrapped in periodic directions) and, per

@@ -72,26 +72,29 @@ pub(super) struct Inverter<'s> {
     surface: &'s Surface,
     projector: Option<nurbs_core::SurfaceProjector<'s>>,
     on_surface: f64,
+    /// the distance within which a projection has found its foot ([`FOOT_RELATIVE`])
+    foot: f64,
     previous: Option<(f64, f64)>,
 }
 
 impl<'s> Inverter<'s> {
     /// An inverter for `surface`.
     pub(super) fn new(surface: &'s Surface) -> Self {
-        let (projector, on_surface) = match surface {
+        let (projector, size) = match surface {
             Surface::Spline(s) => (
                 Some(nurbs_core::SurfaceProjector::new(
                     s,
                     ProjectionParams::default(),
                 )),
-                ON_SURFACE_RELATIVE * s.size(),
+                s.size(),
             ),
             _ => (None, 0.0),
         };
         Inverter {
             surface,
             projector,
-            on_surface,
+            on_surface: ON_SURFACE_RELATIVE * size,
+            foot: FOOT_RELATIVE * size,
             previous: None,
         }
     }
@@ -107,10 +110,7 @@ impl<'s> Inverter<'s> {
             .filter(|f| f.converged && f.distance <= self.on_surface);
         let f = warm.unwrap_or_else(|| pr.project(pt));
         self.previous = Some((f.u, f.v));
-        (
-            (f.u, f.v),
-            f.distance <= self.on_surface / ON_SURFACE_RELATIVE * FOOT_RELATIVE,
-        )
+        ((f.u, f.v), f.distance <= self.foot)
     }
 
     /// The parameters of the points of a loop, in order, and per point whether they are its
