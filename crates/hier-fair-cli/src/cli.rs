@@ -438,6 +438,7 @@ fn fair_command(args: FairArgs) -> Result<()> {
         quiet,
         no_verify,
         keep_faired,
+        split_poles,
     } = args;
     let keep = keep.map(crate::values::ContinuityValue::continuity);
     let target = target.map(crate::values::ContinuityValue::continuity);
@@ -469,6 +470,7 @@ fn fair_command(args: FairArgs) -> Result<()> {
             quiet,
             no_verify,
             keep_faired,
+            split_poles,
         };
         let outcome = crate::pipeline::run_fair(
             &input,
@@ -490,6 +492,7 @@ fn fair_command(args: FairArgs) -> Result<()> {
         ),
         ("--keep-faired", keep_faired),
         ("--no-verify", no_verify),
+        ("--split-poles", split_poles),
     ];
     let options = crate::fair::FairOptions {
         method: method.unwrap_or(hier_fair::Method::Energy.name()),
@@ -619,6 +622,11 @@ struct FairArgs {
     /// whose faired peak curvature is beyond 1.6× its input's keeps the fairer setting)
     #[arg(long)]
     keep_faired: bool,
+    /// models: split every corner patch with a pole (a side collapsed to a point, e.g. a sphere
+    /// octant) into three quads faired as a corner group (\[SV\] §3.4); the output holds the
+    /// quads, named PATCH.q0 … PATCH.q2, and the report says what was split
+    #[arg(long)]
+    split_poles: bool,
 }
 
 /// The error and its causes on one line, each cause once: error types that print their source

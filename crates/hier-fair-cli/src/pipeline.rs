@@ -38,6 +38,9 @@ pub struct ModelOptions {
     /// keep every method's result where it meets the links, even where the continuity setting
     /// alone is fairer ([`FairParams::prefer_fairer`] false)
     pub keep_faired: bool,
+    /// split every corner patch with a pole into three quads first
+    /// ([`hier_fair::poles::split_pole_corners`])
+    pub split_poles: bool,
 }
 
 /// Whether JSON text is a model (surfaces with names and roles) rather than a bare surface file.
@@ -411,7 +414,20 @@ pub fn run_fair(
     for warning in crate::applies::unused_options(&model, options, &input.display().to_string()) {
         eprintln!("warning: {warning}");
     }
-    let (faired, report) = fair(&model, options)?;
+    let (model, splits) = if options.split_poles {
+        let (split, splits) = hier_fair::poles::split_pole_corners(&model);
+        if splits.is_empty() {
+            eprintln!(
+                "warning: --split-poles has nothing to apply to: {} has no corner patch with a side collapsed to a point",
+                input.display()
+            );
+        }
+        (split, splits)
+    } else {
+        (model, Vec::new())
+    };
+    let (faired, mut report) = fair(&model, options)?;
+    report.pole_splits = splits;
     let written = if crate::exchange::is_iges(output) || crate::exchange::is_step(output) {
         crate::exchange::cad_text(&faired, output)?
     } else {

@@ -88,6 +88,7 @@ pub mod model;
 pub mod patches;
 #[cfg(feature = "render")]
 pub mod plots;
+pub mod poles;
 #[cfg(feature = "render")]
 pub mod render;
 pub mod report;

@@ -99,7 +99,7 @@ pub fn report_json(report: &FairModelReport) -> Value {
             })
         })
         .collect();
-    json!({
+    let mut out = json!({
         "seconds_total": report.seconds_total,
         "tolerance": report.tolerance,
         "surfaces": surfaces,
@@ -113,7 +113,33 @@ pub fn report_json(report: &FairModelReport) -> Value {
             "after": {"g0": e.after.gap, "g1_deg": e.after.angle_deg},
             "worse": e.worse,
         })).collect::<Vec<_>>(),
-    })
+    });
+    if !report.pole_splits.is_empty() {
+        out["pole_splits"] = report.pole_splits.iter().map(pole_split_json).collect();
+    }
+    out
+}
+
+/// One pole corner's split (or why it was kept) as JSON.
+fn pole_split_json(p: &crate::poles::PoleSplit) -> Value {
+    match &p.outcome {
+        crate::poles::PoleOutcome::Split {
+            quads,
+            control_points,
+            fit_error,
+        } => json!({
+            "surface": p.surface,
+            "split": true,
+            "quads": quads,
+            "control_points": control_points,
+            "fit_error": fit_error,
+        }),
+        crate::poles::PoleOutcome::Kept { reason } => json!({
+            "surface": p.surface,
+            "split": false,
+            "reason": reason,
+        }),
+    }
 }
 
 /// The fairness figures of one surface as JSON ([`nurbs_core::fairness()`]).
@@ -356,6 +382,27 @@ fn groups_section(md: &mut String, report: &FairModelReport) {
                 g.refit_max_error,
                 g.internal_angle_deg
             );
+        }
+        md.push('\n');
+    }
+    if !report.pole_splits.is_empty() {
+        let _ = writeln!(md, "## Pole corners split into three quads\n");
+        for p in &report.pole_splits {
+            let _ = match &p.outcome {
+                crate::poles::PoleOutcome::Split {
+                    quads,
+                    control_points,
+                    fit_error,
+                } => writeln!(
+                    md,
+                    "- {}: split into {} ({control_points} × {control_points} control points, within {fit_error:.2e} of it)",
+                    p.surface,
+                    quads.join(", ")
+                ),
+                crate::poles::PoleOutcome::Kept { reason } => {
+                    writeln!(md, "- {}: kept as it was: {reason}", p.surface)
+                }
+            };
         }
         md.push('\n');
     }

@@ -1,4 +1,5 @@
-//! Synthetic models for benchmarks and scaling tests: a grid of filleted blocks.
+//! Synthetic models for benchmarks and tests: a grid of filleted blocks, and a sphere corner
+//! with a pole between three cylinders.
 //!
 //! A (2c−1)×(2r−1) grid of 20 mm squares over the cubic height field
 //! z = 0.002·x² − 0.0015·y² + 2·10⁻⁶·x³ (mm): the squares at (even, even) grid positions are
@@ -9,11 +10,14 @@
 //! sides gets a deterministic disturbance of up to 0.02 mm (a hash of its indices), so joins are
 //! G1 but not G2 and interiors are not fair, as after reverse engineering.
 
-use nurbs_core::{BSplineSurface, ControlMask, FitParams, KnotVector, Point3, fit_surface};
+use nurbs_core::{
+    BSplineSurface, Continuity, ControlMask, Direction, FitParams, KnotVector, Point3, Side,
+    fit_surface, shapes,
+};
 use serde_json::{Value, json};
 
 use crate::error::{Error, Result};
-use crate::model::Model;
+use crate::model::{Link, Model, Role};
 
 /// Side of one square (mm).
 pub const CELL: f64 = 20.0;
@@ -133,4 +137,70 @@ pub fn block_grid(c: usize, r: usize) -> Result<Model> {
         "tolerances": {"deviation": 0.1, "g0": 0.001, "g1_deg": 0.01, "g2_rel": 0.005}
     });
     Model::from_json(&doc.to_string())
+}
+
+/// The exact sphere octant of radius `r` (nurbs-core's `shapes::sphere_octant`: its pole the
+/// side u0, collapsed to a point) as a corner patch named "pole", turned by `turn` (0: as built,
+/// 1: u reversed, 2: transposed, 3: transposed and v reversed — the pole on u0, u1, v0, v1),
+/// linked G2 to the three quarter cylinders of radius `r` tangent to it along its sides: about
+/// the z axis under its equator ("cyl_z", z ≤ 0), about the y axis beside its meridian y = 0
+/// ("cyl_y", y ≤ 0) and about the x axis beside its meridian x = 0 ("cyl_x", x ≤ 0) — a box
+/// corner rounded with one radius, as kernels build it: G1 across each side (the cylinders are
+/// straight along their axes, the sphere is not).
+pub fn sphere_corner(r: f64, turn: usize) -> Result<Model> {
+    let geometry = |e: nurbs_core::Error| Error::Surface {
+        name: "pole".into(),
+        source: e,
+    };
+    let octant = shapes::sphere_octant(r).map_err(geometry)?;
+    let corner = match turn {
+        0 => octant,
+        1 => octant.reversed(Direction::U).map_err(geometry)?,
+        2 => octant.transposed().map_err(geometry)?,
+        _ => octant
+            .transposed()
+            .and_then(|t| t.reversed(Direction::V))
+            .map_err(geometry)?,
+    };
+    let height = 0.4 * r;
+    // the quarter cylinder about z (x, y ≥ 0, z ∈ [0, h]) moved by `place`
+    let cylinder = |place: &dyn Fn(Point3) -> Point3| {
+        let mut c = shapes::cylinder(r, height).map_err(geometry)?;
+        for p in c.control_points_mut() {
+            *p = place(*p);
+        }
+        Ok::<_, Error>(c)
+    };
+    let mut model = Model::from_primaries(vec![
+        cylinder(&|p| Point3::new(p.x, p.y, p.z - height))?,
+        cylinder(&|p| Point3::new(p.x, -p.z, p.y))?,
+        cylinder(&|p| Point3::new(-p.z, p.x, p.y))?,
+        corner.clone(),
+    ]);
+    for (k, name) in ["cyl_z", "cyl_y", "cyl_x", "pole"].into_iter().enumerate() {
+        model.surfaces[k].name = name.into();
+    }
+    model.surfaces[3].role = Role::Corner;
+    let near = 1e-9 * r;
+    for side in Side::ALL {
+        let (a, b) = side.along_domain(&corner);
+        let (u, v) = side.params(&corner, 0.5 * (a + b));
+        let m = corner.point(u, v);
+        let master = if m.z.abs() < near {
+            0
+        } else if m.y.abs() < near && m.x > near {
+            1
+        } else if m.x.abs() < near && m.y > near {
+            2
+        } else {
+            continue;
+        };
+        model.links.push(Link {
+            slave: 3,
+            side,
+            master,
+            continuity: Continuity::G2,
+        });
+    }
+    Ok(model)
 }

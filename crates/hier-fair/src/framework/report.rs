@@ -249,6 +249,9 @@ pub struct FairModelReport {
     pub problems: Vec<Problem>,
     /// shared edges no link covers ([`crate::edges`]), before and after
     pub edges: Vec<crate::edges::EdgeFair>,
+    /// the corner patches with a pole split into three quads before the run
+    /// ([`crate::poles::split_pole_corners`]; empty unless the caller split them)
+    pub pole_splits: Vec<crate::poles::PoleSplit>,
 }
 
 impl FairModelReport {
