@@ -128,7 +128,7 @@ fn trims_round_trip(name: &str, ext: &str) -> (usize, f64, f64) {
     // follows the true edge between them where the polyline cuts across: a point read back lies
     // within that share plus the polyline's own chord sag of it; IGES writes the polyline
     let bound = if ext == "step" {
-        hier_fair_cli::exchange::EDGE_FIT_SHARE * g0 + own_sag
+        hier_fair::exchange::EDGE_FIT_SHARE * g0 + own_sag
     } else {
         g0
     };

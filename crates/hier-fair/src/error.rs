@@ -136,6 +136,13 @@ pub enum Error {
         /// why
         source: g_continuity::Error,
     },
+    /// A CAD file that cannot be read, or a model that cannot be written as one
+    /// ([`crate::exchange`]).
+    #[error("{detail}")]
+    Exchange {
+        /// what is wrong, naming the file's entity where there is one
+        detail: String,
+    },
     /// An error of the kernel.
     #[error(transparent)]
     Core(#[from] nurbs_core::Error),

@@ -81,6 +81,7 @@ pub mod connect;
 pub mod corners;
 pub mod edges;
 pub mod error;
+pub mod exchange;
 pub mod fairness;
 pub mod framework;
 pub mod methods;
