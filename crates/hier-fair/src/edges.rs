@@ -30,7 +30,8 @@
 //!   their corner normals by their slope errors in opposite senses, and the seam opens by the
 //!   sum. A seam the free steps still open beyond its tolerance has its surfaces run again one
 //!   after the other, each later one with its seams to the earlier ones linked G2
-//!   (`framework/seams.rs`), or, where that leaves a seam open too, with it kept (`opened_seams`).
+//!   (`framework/seams.rs`, ring by ring), or, where that leaves a seam open too, the whole ring
+//!   with its seams kept.
 //!
 //! The fairing report measures every such edge before and after; the output model's links are
 //! the input's.
@@ -496,62 +497,15 @@ pub(crate) fn is_seam(model: &Model, edge: &SharedEdge) -> bool {
     model.surfaces[edge.surface].role == model.surfaces[edge.other].role
 }
 
-/// The surfaces of `wave` to run again with their seams kept: those on a seam ([`is_seam`])
-/// that the wave's results (`now`: a surface as the wave leaves it) leave with a gap or angle beyond the input's plus the G0/G1
-/// tolerance (the rule of [`EdgeFair`]), and every surface of the wave joined to
-/// one of them by a seam (kept on one side only, a seam would open too).
-pub(crate) fn opened_seams<'a>(
-    model: &Model,
-    now: &dyn Fn(usize) -> &'a BSplineSurface,
-    edges: &[SharedEdge],
-    edges_before: &[EdgeMeasure],
-    wave: &[usize],
-) -> Vec<usize> {
-    let t = &model.tolerances;
-    let seams: Vec<usize> = (0..edges.len())
-        .filter(|&i| is_seam(model, &edges[i]))
-        .filter(|&i| wave.contains(&edges[i].surface) || wave.contains(&edges[i].other))
-        .collect();
-    let mut again: Vec<usize> = Vec::new();
-    for &i in &seams {
-        let e = &edges[i];
-        let m = measure_edge(e, now(e.surface), now(e.other));
-        let b = &edges_before[i];
-        if m.gap > b.gap + t.g0 || m.angle_deg > b.angle_deg + t.g1_deg {
-            again.extend(
-                [e.surface, e.other]
-                    .into_iter()
-                    .filter(|k| wave.contains(k)),
-            );
-        }
-    }
-    loop {
-        let more: Vec<usize> = seams
-            .iter()
-            .map(|&i| &edges[i])
-            .filter(|e| again.contains(&e.surface) != again.contains(&e.other))
-            .flat_map(|e| [e.surface, e.other])
-            .filter(|k| wave.contains(k) && !again.contains(k))
-            .collect();
-        if more.is_empty() {
-            break;
-        }
-        again.extend(more);
-    }
-    again.sort_unstable();
-    again.dedup();
-    again
-}
-
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::model::Role;
     use nurbs_core::{Point3, Vector3, shapes::plane_patch};
 
     /// Three unit squares side by side along x, each of `role`, sharing the edges x = 1 and
     /// x = 2 (tangentially: they are one plane).
-    fn strip(role: Role) -> (Model, Vec<SharedEdge>) {
+    pub(crate) fn strip(role: Role) -> (Model, Vec<SharedEdge>) {
         let square = |x0: f64| {
             plane_patch(
                 Point3::new(x0, 0.0, 0.0),
@@ -584,7 +538,7 @@ mod tests {
     }
 
     /// `surface` with its control points on side u0 lifted by `dz`.
-    fn lifted(surface: &BSplineSurface, dz: f64) -> BSplineSurface {
+    pub(crate) fn lifted(surface: &BSplineSurface, dz: f64) -> BSplineSurface {
         let mut s = surface.clone();
         let nv = s.num_v();
         for p in &mut s.control_points_mut()[..nv] {
@@ -599,51 +553,5 @@ mod tests {
         assert!(edges.iter().all(|e| is_seam(&model, e)));
         model.surfaces[1].role = Role::Corner;
         assert!(edges.iter().all(|e| !is_seam(&model, e)));
-    }
-
-    #[test]
-    fn an_opened_seam_sends_both_its_surfaces_and_their_seam_neighbours_back() {
-        let (model, edges) = strip(Role::Connecting);
-        let before: Vec<EdgeMeasure> = edges
-            .iter()
-            .map(|e| {
-                measure_edge(
-                    e,
-                    &model.surfaces[e.surface].surface,
-                    &model.surfaces[e.other].surface,
-                )
-            })
-            .collect();
-        let wave = [0, 1, 2];
-        let g0 = model.tolerances.g0;
-        // surface 1 moved its u0 side by a tenth of the gap tolerance: the seam stays
-        let within = lifted(&model.surfaces[1].surface, 0.1 * g0);
-        let now = |k: usize| {
-            if k == 1 {
-                &within
-            } else {
-                &model.surfaces[k].surface
-            }
-        };
-        assert_eq!(
-            opened_seams(&model, &now, &edges, &before, &wave),
-            Vec::<usize>::new()
-        );
-        // ten times the tolerance: the seam 0 ~ 1 opened; surface 2, joined to 1 by the other
-        // seam, runs again too (kept on one side only, that seam would open)
-        let beyond = lifted(&model.surfaces[1].surface, 10.0 * g0);
-        let now = |k: usize| {
-            if k == 1 {
-                &beyond
-            } else {
-                &model.surfaces[k].surface
-            }
-        };
-        assert_eq!(
-            opened_seams(&model, &now, &edges, &before, &wave),
-            vec![0, 1, 2]
-        );
-        // a surface outside the wave is not run again
-        assert_eq!(opened_seams(&model, &now, &edges, &before, &[1]), vec![1]);
     }
 }

@@ -24,6 +24,19 @@ pub fn waves(model: &Model) -> Result<Vec<Vec<usize>>> {
     Ok(waves)
 }
 
+/// `outcomes` with the problems of `why` that name their surfaces added.
+fn noted(outcomes: Vec<(usize, Outcome)>, why: &[(usize, Problem)]) -> Vec<(usize, Outcome)> {
+    outcomes
+        .into_iter()
+        .map(|(k, mut outcome)| {
+            outcome
+                .problems
+                .extend(why.iter().filter(|p| p.0 == k).map(|p| p.1.clone()));
+            (k, outcome)
+        })
+        .collect()
+}
+
 /// The earliest wave of the corner group of surface `k` (0 when it is in none): one after the
 /// latest master outside the group of any of its patches, so the whole group can be faired as
 /// one mesh before its first patch runs.
@@ -145,8 +158,9 @@ impl Plan<'_> {
     /// when asked. Seams are left to the continuity steps (with the linked boundaries' end
     /// tangents turned into their masters' planes there, [`Job::set_params`]); a seam they
     /// opened beyond its tolerance has its surfaces run again one after the other, each linked
-    /// G2 to the ones before along their seams ([`Plan::seams_linked`]), or, where that still
-    /// leaves a seam open, with the seam's frame kept ([`crate::edges::opened_seams`]).
+    /// G2 to the parts it meets that ran before or keep their result ([`Plan::seams_linked`]),
+    /// ring by ring, or, where that still leaves a seam of the ring open, the whole ring with
+    /// the seams' frames kept ([`super::seams::ring_closure`]).
     fn wave(&self, out: &Model, wave: &[usize]) -> Vec<(usize, Outcome)> {
         let job = |&k: &usize, free_seams: bool| -> (usize, Outcome) {
             (k, self.job(self.model, out, k, free_seams).run())
@@ -165,28 +179,43 @@ impl Plan<'_> {
                 .find(|r| r.0 == k)
                 .map_or(&out.surfaces[k].surface, |r| &r.1.surface)
         };
-        let again =
-            crate::edges::opened_seams(self.model, &now, self.edges, self.edges_before, wave);
-        if again.is_empty() {
+        let opened = super::seams::on_opened_seams(
+            self.model,
+            &now,
+            self.edges,
+            self.edges_before,
+            wave,
+            wave,
+        );
+        if opened.is_empty() {
             return results;
         }
-        if let Some(linked) = self.seams_linked(out, wave, &again, &results) {
-            let why = self.opened_seam_notes(&now, &again, SEAM_LINKED);
-            for (k, mut outcome) in linked {
-                outcome
-                    .problems
-                    .extend(why.iter().filter(|p| p.0 == k).map(|p| p.1.clone()));
-                if let Some(r) = results.iter_mut().find(|r| r.0 == k) {
-                    r.1 = outcome;
+        // each ring on its own: linked where that closes its seams, else kept
+        let mut replaced: Vec<(usize, Outcome)> = Vec::new();
+        let mut kept: Vec<usize> = Vec::new();
+        for ring in super::seams::seam_rings(self.model, self.edges, &opened) {
+            match self.seams_linked(out, wave, &ring, &results) {
+                Some(linked) => {
+                    let why = self.opened_seam_notes(&now, &ring, SEAM_LINKED);
+                    replaced.extend(noted(linked, &why));
                 }
+                None => kept.extend(ring),
             }
-            return results;
         }
-        let why = self.opened_seam_notes(&now, &again, SEAM_KEPT);
-        for (k, mut outcome) in run(&again, false) {
-            outcome
-                .problems
-                .extend(why.iter().filter(|p| p.0 == k).map(|p| p.1.clone()));
+        let again = super::seams::ring_closure(self.model, self.edges, wave, &kept);
+        if !again.is_empty() {
+            let (outcomes, why) = match self.linked_losing(out, wave, &results, &kept, &again) {
+                Some((linked, parts)) => {
+                    (linked, self.opened_seam_notes(&now, &parts, SEAM_LINKED))
+                }
+                None => (
+                    run(&again, false),
+                    self.opened_seam_notes(&now, &again, SEAM_KEPT),
+                ),
+            };
+            replaced.extend(noted(outcomes, &why));
+        }
+        for (k, outcome) in replaced {
             if let Some(r) = results.iter_mut().find(|r| r.0 == k) {
                 r.1 = outcome;
             }
