@@ -154,7 +154,7 @@ fn contact<'m>(
 
 /// Whether surfaces `a` and `b` belong to different parts of an assembly: two parts that
 /// merely touch are not one surface model, and no link joins them.
-fn other_part(model: &Model, a: usize, b: usize) -> bool {
+pub(crate) fn other_part(model: &Model, a: usize, b: usize) -> bool {
     match (&model.surfaces[a].part, &model.surfaces[b].part) {
         (Some(x), Some(y)) => x != y,
         _ => false,

@@ -1,5 +1,6 @@
 //! Shared edges no link covers: a side of one surface that lies, over part of its length or all
-//! of it, on another surface tangentially, where the model gives no link for it.
+//! of it, on another surface tangentially, where the model gives no link for it — within one
+//! part of an assembly (two parts that touch are two shells and share no edge).
 //!
 //! A kernel exports such edges wherever a face is trimmed: a fillet trimmed by its vertex blend
 //! runs, as an untrimmed surface, past the face it meets, so its side lies on that face only up
@@ -145,7 +146,12 @@ pub fn shared_edges(model: &Model) -> Vec<SharedEdge> {
                 continue;
             };
             for (m, other) in model.surfaces.iter().enumerate() {
-                if m == k || model.links.iter().any(|l| l.slave == m && l.master == k) {
+                // two parts of an assembly that merely touch share no edge: each is its own
+                // shell (no link joins them either, [`crate::build`])
+                if m == k
+                    || model.links.iter().any(|l| l.slave == m && l.master == k)
+                    || crate::build::other_part(model, k, m)
+                {
                     continue;
                 }
                 let on = samples.on(&other.surface, boxes[m], &mut projectors[m], tol);
@@ -545,6 +551,26 @@ pub(crate) mod tests {
             p.z += dz;
         }
         s
+    }
+
+    #[test]
+    fn two_parts_of_an_assembly_share_no_edge() {
+        let (mut model, _) = strip(Role::Primary);
+        let found = |m: &Model| {
+            let mut pairs: Vec<(usize, usize)> = shared_edges(m)
+                .iter()
+                .map(|e| (e.surface, e.other))
+                .collect();
+            pairs.sort_unstable();
+            pairs
+        };
+        assert_eq!(found(&model), vec![(0, 1), (1, 0), (1, 2), (2, 1)]);
+        for s in &mut model.surfaces {
+            s.part = Some("A".into());
+        }
+        assert_eq!(found(&model).len(), 4);
+        model.surfaces[2].part = Some("B".into());
+        assert_eq!(found(&model), vec![(0, 1), (1, 0)]);
     }
 
     #[test]
