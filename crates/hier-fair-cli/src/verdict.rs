@@ -110,11 +110,39 @@ pub fn summary(report: &FairModelReport, model: &Model, title: &str) -> String {
             format!("; not: {}", unfair.join("; "))
         }
     );
+    if let Some(hint) = pole_hint(report, model) {
+        let _ = writeln!(s, "{hint}");
+    }
     let noise = |p: &Problem| energy_rise_is_noise(p, report, model);
     for line in problem_lines(&report.problems, noise) {
         let _ = writeln!(s, "{line}");
     }
     s
+}
+
+/// The hint for corner patches with a pole whose faired peak curvature is beyond
+/// [`hier_fair::fairness::PEAK_FACTOR`] × their input's: a lead-in of constant parameter width
+/// narrows to nothing at a pole, which `--split-poles` avoids (cli-contract.md).
+fn pole_hint(report: &FairModelReport, model: &Model) -> Option<String> {
+    let spiked: Vec<&str> = report
+        .surfaces
+        .iter()
+        .filter(|x| x.fairness_verdict().peak_ratio > hier_fair::fairness::PEAK_FACTOR)
+        .filter(|x| {
+            model
+                .find(&x.name)
+                .is_some_and(|k| hier_fair::poles::pole_side(&model.surfaces[k]).is_some())
+        })
+        .map(|x| x.name.as_str())
+        .collect();
+    (!spiked.is_empty()).then(|| {
+        format!(
+            "hint: {} corner patch(es) with a pole peak beyond {}× their input's curvature ({}): `--split-poles` splits each into three quads without a pole, faired as a corner group",
+            spiked.len(),
+            hier_fair::fairness::PEAK_FACTOR,
+            spiked.join(", ")
+        )
+    })
 }
 
 /// Whether `p` notes a rise of a surface's thin-plate energy below [`ENERGY_NOISE`] of its

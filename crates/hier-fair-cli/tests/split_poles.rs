@@ -71,3 +71,21 @@ fn split_poles_on_a_model_without_a_pole_warns() {
     );
     assert!(!dir.path().join("r.json").exists());
 }
+
+#[test]
+fn a_spiked_pole_corner_is_pointed_to_the_option() {
+    let dir = tempfile::tempdir().unwrap();
+    let model = hier_fair::synthetic::sphere_corner(5.0, 0).unwrap();
+    std::fs::write(dir.path().join("in.json"), model.to_json()).unwrap();
+    let o = run_in(dir.path(), &["fair", "in.json", "-o", "out.json"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let out = String::from_utf8_lossy(&o.stdout);
+    let hint = out
+        .lines()
+        .find(|l| l.starts_with("hint:"))
+        .unwrap_or_else(|| panic!("no hint in {out}"));
+    assert!(
+        hint.contains("(pole)") && hint.contains("--split-poles"),
+        "{hint}"
+    );
+}

@@ -98,8 +98,9 @@ pub fn split_pole_corners(model: &Model) -> (Model, Vec<PoleSplit>) {
     (rebuilt(model, quads), splits)
 }
 
-/// The one collapsed side of a corner patch, where it has exactly one.
-fn pole_side(s: &ModelSurface) -> Option<Side> {
+/// The one collapsed side of a corner patch (its pole), where it has exactly one: the patches
+/// [`split_pole_corners`] splits.
+pub fn pole_side(s: &ModelSurface) -> Option<Side> {
     if s.role != Role::Corner {
         return None;
     }
