@@ -20,6 +20,9 @@ use super::*;
 use crate::edges::{EdgeMeasure, SharedEdge, is_seam, measure_edge};
 use crate::model::Link;
 
+/// Surfaces run again, each with its outcome.
+type Outcomes = Vec<(usize, Outcome)>;
+
 /// Least share of a side a seam must cover to become a link: a link holds on the whole side
 /// (model-format.md). The parts of a ring share whole sides; a partial seam stays free.
 pub const LINKED_SEAM_FRACTION: f64 = 0.999;
@@ -72,7 +75,7 @@ impl Plan<'_> {
         free: &[(usize, Outcome)],
         kept: &[usize],
         again: &[usize],
-    ) -> Option<(Vec<(usize, Outcome)>, Vec<usize>)> {
+    ) -> Option<(Outcomes, Vec<usize>)> {
         let mut current = out.clone();
         for (k, o) in free {
             current.surfaces[*k].surface = o.surface.clone();
