@@ -88,7 +88,7 @@ pub fn split_pole_corners(model: &Model) -> (Model, Vec<PoleSplit>) {
                     fit_error,
                 }
             }
-            Err(reason) => PoleOutcome::Kept { reason },
+            Err(Why(reason)) => PoleOutcome::Kept { reason },
         };
         splits.push(PoleSplit {
             surface: s.name.clone(),
@@ -96,6 +96,16 @@ pub fn split_pole_corners(model: &Model) -> (Model, Vec<PoleSplit>) {
         });
     }
     (rebuilt(model, quads), splits)
+}
+
+/// Why a patch is kept as it was (the report's reason).
+#[derive(Debug, Clone, PartialEq)]
+struct Why(String);
+
+impl From<nurbs_core::Error> for Why {
+    fn from(e: nurbs_core::Error) -> Self {
+        Why(format!("its split failed: {e}"))
+    }
 }
 
 /// The one collapsed side of a corner patch (its pole), where it has exactly one: the patches
@@ -112,16 +122,16 @@ pub fn pole_side(s: &ModelSurface) -> Option<Side> {
 }
 
 /// Why patch `k` of `model` cannot be split, if it cannot.
-fn splittable(model: &Model, k: usize) -> Result<(), String> {
+fn splittable(model: &Model, k: usize) -> Result<(), Why> {
     let s = &model.surfaces[k];
     if model.links.iter().any(|l| l.master == k) {
-        return Err("it is the master of a link".into());
+        return Err(Why("it is the master of a link".into()));
     }
     if model.corners.iter().any(|g| g.patches.contains(&k)) {
-        return Err("it belongs to a corner group".into());
+        return Err(Why("it belongs to a corner group".into()));
     }
     if !s.trim.is_empty() && !nurbs_io::trim_is_box(&s.surface, &s.trim) {
-        return Err("it is trimmed inside its parameter box".into());
+        return Err(Why("it is trimmed inside its parameter box".into()));
     }
     for side in Side::ALL {
         if model
@@ -131,7 +141,7 @@ fn splittable(model: &Model, k: usize) -> Result<(), String> {
             .count()
             > 1
         {
-            return Err(format!("its side {side} has more than one master"));
+            return Err(Why(format!("its side {side} has more than one master")));
         }
     }
     Ok(())
@@ -268,10 +278,10 @@ fn uniform(n: usize) -> Vec<f64> {
 
 /// Splits patch `k` (collapsed side `pole`): the three quads as model surfaces, their control
 /// points per direction and the largest distance of a quad from the patch.
-fn split_one(model: &Model, k: usize, pole: Side) -> Result<(Split, usize, f64), String> {
+fn split_one(model: &Model, k: usize, pole: Side) -> Result<(Split, usize, f64), Why> {
     let parent = &model.surfaces[k];
     let turn = Turn::for_pole(pole);
-    let surface = turn.apply(&parent.surface).map_err(|e| e.to_string())?;
+    let surface = turn.apply(&parent.surface)?;
     let patch = Patch {
         du: surface.domain_u(),
         dv: surface.domain_v(),
@@ -282,7 +292,7 @@ fn split_one(model: &Model, k: usize, pole: Side) -> Result<(Split, usize, f64),
     let centre = centre(&patch, &mut projector);
     let mut last = 0.0;
     for spans in SPANS {
-        let quads = fit_quads(&patch, &mut projector, centre, spans).map_err(|e| e.to_string())?;
+        let quads = fit_quads(&patch, &mut projector, centre, spans)?;
         let error = quads
             .iter()
             .map(|q| distance_to(&mut projector, q, 2 * SAMPLES_PER_SPAN * spans))
@@ -293,10 +303,10 @@ fn split_one(model: &Model, k: usize, pole: Side) -> Result<(Split, usize, f64),
         }
         last = error;
     }
-    Err(format!(
+    Err(Why(format!(
         "its quads stay {last:.3e} from it on {} spans, above {FIT_SHARE} × the G0 tolerance",
         SPANS[SPANS.len() - 1]
-    ))
+    )))
 }
 
 /// The centre of the split in the normalized domain: the foot of the mean of the side
@@ -427,7 +437,7 @@ fn model_quads(
     k: usize,
     quads: Vec<BSplineSurface>,
     original: &BSplineSurface,
-) -> Result<Split, String> {
+) -> Result<Split, Why> {
     let parent = &model.surfaces[k];
     let mut projector = SurfaceProjector::new(original, ProjectionParams::default());
     let mut transposed = [false; 3];
@@ -440,11 +450,7 @@ fn model_quads(
             let o = original.derivatives(foot.u, foot.v);
             let agrees = d.du.cross(&d.dv).dot(&o.du.cross(&o.dv)) >= 0.0;
             transposed[j] = !agrees;
-            let surface = if agrees {
-                q
-            } else {
-                q.transposed().map_err(|e| e.to_string())?
-            };
+            let surface = if agrees { q } else { q.transposed()? };
             Ok(ModelSurface {
                 name: format!("{}.q{j}", parent.name),
                 role: Role::Corner,
@@ -454,10 +460,10 @@ fn model_quads(
                 part: parent.part.clone(),
             })
         })
-        .collect::<Result<_, String>>()?;
+        .collect::<Result<_, Why>>()?;
     let quads = out
         .try_into()
-        .map_err(|_| "the split gave other than three quads".to_string())?;
+        .map_err(|_| Why("the split gave other than three quads".into()))?;
     Ok(Split { quads, transposed })
 }
 
