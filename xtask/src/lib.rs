@@ -259,6 +259,106 @@ pub fn regress_paths(external: &Path) -> Result<(Vec<PathBuf>, Vec<String>)> {
     Ok((paths, notes))
 }
 
+/// The STEP and IGES files of the folders `dirs` (by extension, in name order within each).
+pub fn cad_files(dirs: &[PathBuf]) -> Result<Vec<PathBuf>> {
+    let mut out = Vec::new();
+    for dir in dirs {
+        let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+            .with_context(|| format!("cannot read {}", dir.display()))?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| hier_fair::exchange::CadFormat::of_extension(p).is_some())
+            .collect();
+        files.sort();
+        out.extend(files);
+    }
+    Ok(out)
+}
+
+/// Header of [`foreign_line`].
+pub const FOREIGN_HEADER: &str = "file                             faces  met/links  conflicts unmet  worse/edges  within  seconds";
+
+/// One line of the foreign-file table: what `fair FILE` (the default tolerances, by content)
+/// gives — links met, named conflicts, unmet links, shared edges left worse than they came,
+/// surfaces within their deviation, the run's seconds.
+pub fn foreign_line(name: &str, report: &hier_fair::FairModelReport) -> String {
+    let met = report.links.iter().filter(|l| l.met).count();
+    let conflicts = report
+        .problems
+        .iter()
+        .filter(|p| p.kind == hier_fair::ProblemKind::Conflict)
+        .filter_map(|p| p.link.as_deref())
+        .collect::<std::collections::BTreeSet<_>>()
+        .len();
+    let within = report
+        .surfaces
+        .iter()
+        .filter(|s| s.max_deviation <= s.tolerance)
+        .count();
+    format!(
+        "{:<32} {:>5} {:>4}/{:<5} {:>9} {:>5} {:>5}/{:<6} {:>4}/{:<3} {:>7.2}",
+        name,
+        report.surfaces.len(),
+        met,
+        report.links.len(),
+        conflicts,
+        report.links.len() - met,
+        report.edges.iter().filter(|e| e.worse).count(),
+        report.edges.len(),
+        within,
+        report.surfaces.len(),
+        report.seconds_total
+    )
+}
+
+/// Imports every STEP and IGES file of `dirs` (hier-fair's exchange, the format by content) and
+/// fairs it with the defaults, without the verification re-run; returns one table (a line per
+/// file, a last line of totals) and whether every file could be read and run. A file that does
+/// not import is a line naming why.
+pub fn foreign_table(dirs: &[PathBuf]) -> Result<(String, bool)> {
+    let mut out = format!("{FOREIGN_HEADER}\n");
+    let (mut ok, mut met, mut links, mut worse, mut seconds) = (true, 0, 0, 0, 0.0);
+    for path in cad_files(dirs)? {
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().to_string())
+            .unwrap_or_default();
+        let run = std::fs::read(&path)
+            .with_context(|| format!("cannot read {}", path.display()))
+            .and_then(|bytes| Ok(hier_fair::exchange::read_cad(&bytes)?.model))
+            .and_then(|model| {
+                let params = hier_fair::FairParams {
+                    verify_unmet: false,
+                    ..hier_fair::FairParams::default()
+                };
+                Ok(hier_fair::fair_model(
+                    &model,
+                    &hier_fair::RoleMethods::default(),
+                    None,
+                    &params,
+                )?
+                .1)
+            });
+        match run {
+            Ok(report) => {
+                met += report.links.iter().filter(|l| l.met).count();
+                links += report.links.len();
+                worse += report.edges.iter().filter(|e| e.worse).count();
+                seconds += report.seconds_total;
+                out.push_str(&foreign_line(&name, &report));
+                out.push('\n');
+            }
+            Err(e) => {
+                ok = false;
+                out.push_str(&format!("{name:<32} error: {e:#}\n"));
+            }
+        }
+    }
+    out.push_str(&format!(
+        "all: {met} of {links} links met, {worse} shared edges worse than they came, {seconds:.1} s\n"
+    ));
+    Ok((out, ok))
+}
+
 /// Runs the framework on every regression model and returns one table (a line per model, its
 /// problems indented below) and whether every model could be run.
 pub fn regress_table(external: &Path) -> Result<(String, bool)> {

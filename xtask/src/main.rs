@@ -1,9 +1,13 @@
 //! `cargo xtask <command>`:
 //! - `snapshots [--update]` — runs the regression pipeline over `fixtures/` and compares with the
 //!   insta snapshots (`--update` accepts the new values after review).
-//! - `regress [--external DIR]` — runs the framework on every fixture model and on the
-//!   third-party models of DIR (default `fixtures/third_party`: car_shell1.model.json,
-//!   submarine_body.model.json, teapot.json) and prints one summary table.
+//! - `regress [--external DIR] [--foreign DIR]` — runs the framework on every fixture model and
+//!   on the third-party models of the external DIR (default `fixtures/third_party`:
+//!   car_shell1.model.json, submarine_body.model.json, teapot.json) and prints one summary
+//!   table; then imports and fairs every STEP and IGES file of `fixtures/foreign/` and of the
+//!   foreign DIR (default `../shared/data/foreign` beside the repository, skipped with a note
+//!   where absent) and prints a table of links met, conflicts, unmet links and shared edges
+//!   left worse, a line per file.
 //! - `fixtures` — writes the analytic fixture models of `fixtures/models/` (see
 //!   `xtask::fixtures`).
 
@@ -37,7 +41,13 @@ fn main() -> ExitCode {
                 .and_then(|k| args.get(k + 1))
                 .map(std::path::PathBuf::from)
                 .unwrap_or_else(|| xtask::root().join("fixtures/third_party"));
-            match regress(&external) {
+            let foreign = args
+                .iter()
+                .position(|a| a == "--foreign")
+                .and_then(|k| args.get(k + 1))
+                .map(std::path::PathBuf::from)
+                .unwrap_or_else(|| xtask::root().join("../shared/data/foreign"));
+            match regress(&external, &foreign) {
                 Ok(true) => ExitCode::SUCCESS,
                 Ok(false) => ExitCode::from(1),
                 Err(e) => {
@@ -55,7 +65,7 @@ fn main() -> ExitCode {
         },
         _ => {
             eprintln!(
-                "usage: cargo xtask snapshots [--update] | regress [--external DIR] | fixtures"
+                "usage: cargo xtask snapshots [--update] | regress [--external DIR] [--foreign DIR] | fixtures"
             );
             ExitCode::from(2)
         }
@@ -76,9 +86,18 @@ fn write_fixtures() -> anyhow::Result<()> {
     Ok(())
 }
 
-/// Prints the regression table; false when a model cannot be run at all.
-fn regress(external: &std::path::Path) -> anyhow::Result<bool> {
+/// Prints the regression table and the foreign-file table; false when a model or file cannot
+/// be run at all.
+fn regress(external: &std::path::Path, foreign: &std::path::Path) -> anyhow::Result<bool> {
     let (table, ok) = xtask::regress_table(external)?;
     print!("{table}");
-    Ok(ok)
+    let mut dirs = vec![xtask::root().join("fixtures/foreign")];
+    if foreign.is_dir() {
+        dirs.push(foreign.to_path_buf());
+    } else {
+        println!("{} not found: its files skipped", foreign.display());
+    }
+    let (table, foreign_ok) = xtask::foreign_table(&dirs)?;
+    print!("{table}");
+    Ok(ok && foreign_ok)
 }

@@ -11,3 +11,21 @@ fn regression_table_runs_every_model() {
     assert!(ok, "{table}");
     assert!(table.lines().count() >= 6, "{table}");
 }
+
+/// The foreign-file table over `fixtures/foreign/` (CAD files written by other systems): every
+/// file imports and runs, a line per file and a totals line.
+#[test]
+fn foreign_table_runs_every_fixture_file() {
+    let dir = xtask::root().join("fixtures/foreign");
+    let files = xtask::cad_files(std::slice::from_ref(&dir)).unwrap();
+    assert!(files.len() >= 10, "{files:?}");
+    let (table, ok) = xtask::foreign_table(&[dir]).expect("the folder is readable");
+    println!("{table}");
+    assert!(ok, "{table}");
+    assert_eq!(table.lines().count(), files.len() + 2, "{table}");
+    let total = table.lines().last().unwrap();
+    assert!(
+        total.starts_with("all: ") && total.contains("links met"),
+        "{total}"
+    );
+}
