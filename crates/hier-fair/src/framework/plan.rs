@@ -193,8 +193,21 @@ impl Plan<'_> {
         // each ring on its own: linked where that closes its seams, else kept
         let mut replaced: Vec<(usize, Outcome)> = Vec::new();
         let mut kept: Vec<usize> = Vec::new();
-        for ring in super::seams::seam_rings(self.model, self.edges, &opened) {
-            match self.seams_linked(out, wave, &ring, &results) {
+        // the rings are independent of each other: in parallel, as the wave's surfaces
+        let rings = super::seams::seam_rings(self.model, self.edges, &opened);
+        let linked: Vec<_> = if self.params.parallel {
+            rings
+                .par_iter()
+                .map(|ring| self.seams_linked(out, wave, ring, &results))
+                .collect()
+        } else {
+            rings
+                .iter()
+                .map(|ring| self.seams_linked(out, wave, ring, &results))
+                .collect()
+        };
+        for (ring, linked) in rings.into_iter().zip(linked) {
+            match linked {
                 Some(linked) => {
                     let why = self.opened_seam_notes(&now, &ring, SEAM_LINKED);
                     replaced.extend(noted(linked, &why));
