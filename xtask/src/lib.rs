@@ -259,6 +259,13 @@ pub fn regress_paths(external: &Path) -> Result<(Vec<PathBuf>, Vec<String>)> {
     Ok((paths, notes))
 }
 
+/// The file name of `path` (empty where it has none), for a table's first column.
+fn file_name(path: &Path) -> String {
+    path.file_name()
+        .map(|n| n.to_string_lossy().to_string())
+        .unwrap_or_default()
+}
+
 /// The STEP and IGES files of the folders `dirs` (by extension, in name order within each).
 pub fn cad_files(dirs: &[PathBuf]) -> Result<Vec<PathBuf>> {
     let mut out = Vec::new();
@@ -318,10 +325,7 @@ pub fn foreign_table(dirs: &[PathBuf]) -> Result<(String, bool)> {
     let mut out = format!("{FOREIGN_HEADER}\n");
     let (mut ok, mut met, mut links, mut worse, mut seconds) = (true, 0, 0, 0, 0.0);
     for path in cad_files(dirs)? {
-        let name = path
-            .file_name()
-            .map(|n| n.to_string_lossy().to_string())
-            .unwrap_or_default();
+        let name = file_name(&path);
         let run = std::fs::read(&path)
             .with_context(|| format!("cannot read {}", path.display()))
             .and_then(|bytes| Ok(hier_fair::exchange::read_cad(&bytes)?.model))
@@ -372,10 +376,7 @@ pub fn regress_table(external: &Path) -> Result<(String, bool)> {
     out.push('\n');
     let mut ok = true;
     for path in paths {
-        let name = path
-            .file_name()
-            .map(|n| n.to_string_lossy().to_string())
-            .unwrap_or_default();
+        let name = file_name(&path);
         match fair_file(&path) {
             Ok((_, report)) => {
                 out.push_str(&regress_line(&name, &report));

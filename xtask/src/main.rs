@@ -35,18 +35,8 @@ fn main() -> ExitCode {
             }
         }
         Some("regress") => {
-            let external = args
-                .iter()
-                .position(|a| a == "--external")
-                .and_then(|k| args.get(k + 1))
-                .map(std::path::PathBuf::from)
-                .unwrap_or_else(|| xtask::root().join("fixtures/third_party"));
-            let foreign = args
-                .iter()
-                .position(|a| a == "--foreign")
-                .and_then(|k| args.get(k + 1))
-                .map(std::path::PathBuf::from)
-                .unwrap_or_else(|| xtask::root().join("../shared/data/foreign"));
+            let external = folder(&args, "--external", "fixtures/third_party");
+            let foreign = folder(&args, "--foreign", "../shared/data/foreign");
             match regress(&external, &foreign) {
                 Ok(true) => ExitCode::SUCCESS,
                 Ok(false) => ExitCode::from(1),
@@ -70,6 +60,15 @@ fn main() -> ExitCode {
             ExitCode::from(2)
         }
     }
+}
+
+/// The folder after `flag` in `args`, else `default` under the repository root.
+fn folder(args: &[String], flag: &str, default: &str) -> std::path::PathBuf {
+    args.iter()
+        .position(|a| a == flag)
+        .and_then(|k| args.get(k + 1))
+        .map(std::path::PathBuf::from)
+        .unwrap_or_else(|| xtask::root().join(default))
 }
 
 fn write_fixtures() -> anyhow::Result<()> {

@@ -90,16 +90,13 @@ pub fn sniff(path: &Path) -> Result<FileKind> {
 
 /// The kind of a file that starts with `head`.
 pub fn classify(head: &str) -> FileKind {
+    // STEP and IGES by the library's rule ([`hier_fair::exchange::CadFormat::of_content`])
+    match hier_fair::exchange::CadFormat::of_content(head.as_bytes()) {
+        Some(hier_fair::exchange::CadFormat::Step) => return FileKind::Step,
+        Some(hier_fair::exchange::CadFormat::Iges) => return FileKind::Iges,
+        None => {}
+    }
     let text = head.trim_start_matches('\u{feff}').trim_start();
-    if text.starts_with("ISO-10303-21") {
-        return FileKind::Step;
-    }
-    if let Some(first) = head.lines().find(|l| !l.trim().is_empty())
-        && first.len() >= 73
-        && matches!(first.as_bytes()[72], b'S' | b'G' | b'C')
-    {
-        return FileKind::Iges;
-    }
     if text.starts_with('{') || text.starts_with('[') {
         return json_kind(text);
     }

@@ -81,6 +81,15 @@ pub struct EdgeMeasure {
     pub angle_deg: f64,
 }
 
+impl EdgeMeasure {
+    /// Whether this measure leaves the edge worse than `before`: a gap or angle larger by more
+    /// than `g0` or `g1_deg` (the model's tolerances: a change below them is none a link could
+    /// see).
+    pub fn worse_than(&self, before: &EdgeMeasure, g0: f64, g1_deg: f64) -> bool {
+        self.gap > before.gap + g0 || self.angle_deg > before.angle_deg + g1_deg
+    }
+}
+
 /// Before/after of one shared edge.
 #[derive(Debug, Clone, PartialEq)]
 pub struct EdgeFair {
@@ -109,7 +118,7 @@ impl EdgeFair {
         (before, after): (EdgeMeasure, EdgeMeasure),
         (g0, g1_deg): (f64, f64),
     ) -> Self {
-        let worse = after.gap > before.gap + g0 || after.angle_deg > before.angle_deg + g1_deg;
+        let worse = after.worse_than(&before, g0, g1_deg);
         Self {
             surface,
             label,

@@ -82,22 +82,16 @@ pub fn read_step(text: &str) -> Result<Imported> {
             detail: "the file holds no face whose surface is read".into(),
         });
     }
-    let mut model = named_primaries(
-        file.faces
-            .iter()
-            .map(|f| (f.name.clone(), f.id.to_string(), f.surface.clone())),
+    let (model, log) = primaries_model(
+        file.faces.iter().map(|f| ReadFace {
+            name: f.name.clone(),
+            suffix: f.id.to_string(),
+            surface: f.surface.clone(),
+            part: f.part.clone(),
+            trim: f.trim.clone(),
+        }),
+        &file.units,
     );
-    model.set_units(&file.units);
-    let tol = crate::trim::TRIM_SHARE * model.tolerances.g0;
-    for (m, f) in model.surfaces.iter_mut().zip(&file.faces) {
-        m.part = f.part.clone();
-        m.trim = f
-            .trim
-            .iter()
-            .map(|l| crate::trim::thin_loop(l, tol))
-            .collect();
-    }
-    let log = build_hierarchy(&mut model);
     let summary = format!(
         "imported {} faces, each over its parameter box with its bounds kept as trim loops; faces of surfaces not read: {}; faces and surfaces skipped: {}; {}",
         file.faces.len(),
@@ -134,21 +128,16 @@ pub fn read_iges(bytes: &[u8]) -> Result<Imported> {
             ),
         });
     }
-    let mut model = named_primaries(
-        file.surfaces
-            .iter()
-            .map(|s| (s.name.clone(), format!("de{}", s.de), s.surface.clone())),
+    let (model, log) = primaries_model(
+        file.surfaces.iter().map(|s| ReadFace {
+            name: s.name.clone(),
+            suffix: format!("de{}", s.de),
+            surface: s.surface.clone(),
+            part: None,
+            trim: s.trim_loops(),
+        }),
+        &nurbs_io::units::iges_unit(file.unit_flag, &file.units),
     );
-    model.set_units(&nurbs_io::units::iges_unit(file.unit_flag, &file.units));
-    let tol = crate::trim::TRIM_SHARE * model.tolerances.g0;
-    for (m, s) in model.surfaces.iter_mut().zip(&file.surfaces) {
-        m.trim = s
-            .trim_loops()
-            .iter()
-            .map(|l| crate::trim::thin_loop(l, tol))
-            .collect();
-    }
-    let log = build_hierarchy(&mut model);
     let trimmed = file.surfaces.iter().filter(|s| s.trimmed).count();
     let summary = format!(
         "imported {} surfaces ({} trimmed by entity 144, bounded by 143 or a face (510) of a B-rep solid: each kept over its face's box with its outer and inner boundaries kept as trim loops); {} curves (126) not imported; other entities skipped: {}; surfaces with no exact form, not imported: {}; {}{}",
@@ -174,24 +163,41 @@ pub fn read_iges(bytes: &[u8]) -> Result<Imported> {
     })
 }
 
-/// A model of primaries from (name, suffix, surface): a name already taken gets `_suffix`.
-fn named_primaries(
-    items: impl Iterator<Item = (String, String, nurbs_core::BSplineSurface)>,
-) -> Model {
-    let (names, surfaces): (Vec<(String, String)>, Vec<_>) =
-        items.map(|(n, x, s)| ((n, x), s)).unzip();
-    let mut model = Model::from_primaries(surfaces);
+/// One face as a reader gives it.
+struct ReadFace {
+    name: String,
+    /// what a name already taken gets appended (`_suffix`): the entity's id
+    suffix: String,
+    surface: nurbs_core::BSplineSurface,
+    part: Option<String>,
+    trim: Vec<Vec<nurbs_core::Point3>>,
+}
+
+/// A model of primaries from the faces read, in `units`, each face's trim loops thinned to
+/// [`crate::trim::TRIM_SHARE`] of the G0 tolerance, with its hierarchy found.
+fn primaries_model(faces: impl Iterator<Item = ReadFace>, units: &str) -> (Model, BuildLog) {
+    let faces: Vec<ReadFace> = faces.collect();
+    let mut model = Model::from_primaries(faces.iter().map(|f| f.surface.clone()).collect());
+    model.set_units(units);
+    let tol = crate::trim::TRIM_SHARE * model.tolerances.g0;
     let mut used = HashSet::new();
-    for (m, (name, suffix)) in model.surfaces.iter_mut().zip(names) {
-        let name = if used.contains(&name) {
-            format!("{name}_{suffix}")
+    for (m, f) in model.surfaces.iter_mut().zip(faces) {
+        let name = if used.contains(&f.name) {
+            format!("{}_{}", f.name, f.suffix)
         } else {
-            name
+            f.name
         };
         used.insert(name.clone());
         m.name = name;
+        m.part = f.part;
+        m.trim = f
+            .trim
+            .iter()
+            .map(|l| crate::trim::thin_loop(l, tol))
+            .collect();
     }
-    model
+    let log = build_hierarchy(&mut model);
+    (model, log)
 }
 
 /// "3×100, 2×102" of a count per kind, or "none".

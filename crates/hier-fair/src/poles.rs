@@ -332,55 +332,40 @@ fn fit_quads(
     let n = SAMPLES_PER_SPAN * spans + 1;
     let centre = patch.at(c);
     let mids = MIDS.map(|m| patch.at(m));
-    let internal: Vec<BSplineCurve> = (0..3)
-        .map(|j| {
-            side_curve(
-                &knots,
-                &side_points(patch, (MIDS[j], c), n),
-                mids[j],
-                centre,
-            )
-        })
+    // each side sampled once: its curve is fitted to the samples, the Coons interior built
+    // from them (an internal curve serves two quads)
+    let fitted = |samples: Vec<Point3>, first: Point3, last: Point3| {
+        side_curve(&knots, &samples, first, last).map(|curve| (curve, samples))
+    };
+    let internal: Vec<(BSplineCurve, Vec<Point3>)> = (0..3)
+        .map(|j| fitted(side_points(patch, (MIDS[j], c), n), mids[j], centre))
         .collect::<nurbs_core::Result<_>>()?;
     let corners = [(0.0, 0.0), (1.0, 0.0), (0.0, 1.0)].map(|v| patch.at(v));
     (0..3)
         .map(|k| {
             let sides = quad_sides(k, c);
             let prev = (k + 2) % 3;
-            let v0 = side_curve(
-                &knots,
-                &side_points(patch, sides[0], n),
-                corners[k],
-                mids[k],
-            )?;
-            let u0 = side_curve(
-                &knots,
-                &side_points(patch, sides[1], n),
-                corners[k],
-                mids[prev],
-            )?;
+            let v0 = fitted(side_points(patch, sides[0], n), corners[k], mids[k])?;
+            let u0 = fitted(side_points(patch, sides[1], n), corners[k], mids[prev])?;
             quad_fit(
-                patch,
                 projector,
                 &knots,
                 [&v0, &u0, &internal[k], &internal[prev]],
-                sides,
                 n,
             )
         })
         .collect()
 }
 
-/// One quad fitted with its side curves (v0, u0, u1, v1) fixed and its interior fitted to the
-/// Coons patch of the side samples projected onto the patch.
+/// One quad fitted with its side curves (v0, u0, u1, v1, each with its `n` samples) fixed and
+/// its interior fitted to the Coons patch of the side samples projected onto the patch.
 fn quad_fit(
-    patch: &Patch,
     projector: &mut SurfaceProjector<'_>,
     knots: &KnotVector,
-    [v0, u0, u1, v1]: [&BSplineCurve; 4],
-    sides: [(Xy, Xy); 4],
+    sides: [&(BSplineCurve, Vec<Point3>); 4],
     n: usize,
 ) -> nurbs_core::Result<BSplineSurface> {
+    let [v0, u0, u1, v1] = sides.map(|s| &s.0);
     let m = knots.num_basis();
     let mut net = vec![Point3::origin(); m * m];
     let mut mask = ControlMask::all_free(m, m);
@@ -396,7 +381,7 @@ fn quad_fit(
         }
     }
     let template = BSplineSurface::new(knots.clone(), knots.clone(), net, None)?;
-    let s = sides.map(|seg| side_points(patch, seg, n));
+    let s = sides.map(|side| &side.1);
     let (a, b, c, d) = (s[0][0], s[0][n - 1], s[1][n - 1], s[2][n - 1]);
     let t = uniform(n);
     let (mut params, mut points) = (Vec::new(), Vec::new());

@@ -253,7 +253,7 @@ impl Plan<'_> {
             .filter(|(e, _)| again.contains(&e.surface) && crate::edges::is_seam(self.model, e))
             .filter_map(|(e, b)| {
                 let m = crate::edges::measure_edge(e, now(e.surface), now(e.other));
-                let opened = m.gap > b.gap + t.g0 || m.angle_deg > b.angle_deg + t.g1_deg;
+                let opened = m.worse_than(b, t.g0, t.g1_deg);
                 opened.then(|| {
                     (e.surface, Problem {
                         kind: ProblemKind::Limited,

@@ -23,6 +23,15 @@ use crate::model::Link;
 /// Surfaces run again, each with its outcome.
 type Outcomes = Vec<(usize, Outcome)>;
 
+/// `out` with the surfaces of `results` in place of its own.
+fn with_results(out: &Model, results: &[(usize, Outcome)]) -> Model {
+    let mut current = out.clone();
+    for (k, o) in results {
+        current.surfaces[*k].surface = o.surface.clone();
+    }
+    current
+}
+
 /// Least share of a side a seam must cover to become a link: a link holds on the whole side
 /// (model-format.md). The parts of a ring share whole sides; a partial seam stays free.
 pub const LINKED_SEAM_FRACTION: f64 = 0.999;
@@ -46,10 +55,7 @@ impl Plan<'_> {
         again: &[usize],
         free: &[(usize, Outcome)],
     ) -> Option<Vec<(usize, Outcome)>> {
-        let mut current = out.clone();
-        for (k, o) in free {
-            current.surfaces[*k].surface = o.surface.clone();
-        }
+        let current = with_results(out, free);
         let mut order: Vec<(usize, usize)> = again
             .iter()
             .map(|&k| (k, self.met_own(out, k, &current.surfaces[k].surface)))
@@ -76,10 +82,7 @@ impl Plan<'_> {
         kept: &[usize],
         again: &[usize],
     ) -> Option<(Outcomes, Vec<usize>)> {
-        let mut current = out.clone();
-        for (k, o) in free {
-            current.surfaces[*k].surface = o.surface.clone();
-        }
+        let current = with_results(out, free);
         let lossy = |parts: &[usize]| {
             let order: Vec<(usize, usize)> = parts.iter().map(|&k| (k, 0)).collect();
             self.linked_in_order(out, wave, parts, &order, current.clone())
@@ -148,36 +151,42 @@ impl Plan<'_> {
     }
 }
 
-/// `start` and every surface of `wave` joined to one of them by a chain of seams
-/// ([`is_seam`]): the rest of their rings (kept on one side only, a seam would open too), in
-/// index order.
+/// `start` and every surface of `allowed` joined to one of them by a chain of seams
+/// ([`is_seam`]) through surfaces of `allowed`, in index order.
+fn along_seams(
+    model: &Model,
+    edges: &[SharedEdge],
+    start: &[usize],
+    allowed: &[usize],
+) -> Vec<usize> {
+    let seams: Vec<&SharedEdge> = edges.iter().filter(|e| is_seam(model, e)).collect();
+    let mut grown = start.to_vec();
+    loop {
+        let more: Vec<usize> = seams
+            .iter()
+            .filter(|e| grown.contains(&e.surface) != grown.contains(&e.other))
+            .flat_map(|e| [e.surface, e.other])
+            .filter(|k| allowed.contains(k) && !grown.contains(k))
+            .collect();
+        if more.is_empty() {
+            break;
+        }
+        grown.extend(more);
+    }
+    grown.sort_unstable();
+    grown.dedup();
+    grown
+}
+
+/// `start` and every surface of `wave` joined to one of them by a chain of seams: the rest of
+/// their rings (kept on one side only, a seam would open too), in index order.
 pub(super) fn ring_closure(
     model: &Model,
     edges: &[SharedEdge],
     wave: &[usize],
     start: &[usize],
 ) -> Vec<usize> {
-    let seams: Vec<&SharedEdge> = edges
-        .iter()
-        .filter(|e| is_seam(model, e))
-        .filter(|e| wave.contains(&e.surface) || wave.contains(&e.other))
-        .collect();
-    let mut again = start.to_vec();
-    loop {
-        let more: Vec<usize> = seams
-            .iter()
-            .filter(|e| again.contains(&e.surface) != again.contains(&e.other))
-            .flat_map(|e| [e.surface, e.other])
-            .filter(|k| wave.contains(k) && !again.contains(k))
-            .collect();
-        if more.is_empty() {
-            break;
-        }
-        again.extend(more);
-    }
-    again.sort_unstable();
-    again.dedup();
-    again
+    along_seams(model, edges, start, wave)
 }
 
 /// The surfaces of `wave` on a seam ([`is_seam`]) with one of `of` that the wave's results
@@ -199,7 +208,7 @@ pub(super) fn on_opened_seams<'a>(
             continue;
         }
         let m = measure_edge(e, now(e.surface), now(e.other));
-        if m.gap > b.gap + t.g0 || m.angle_deg > b.angle_deg + t.g1_deg {
+        if m.worse_than(b, t.g0, t.g1_deg) {
             out.extend(
                 [e.surface, e.other]
                     .into_iter()
@@ -218,26 +227,9 @@ pub(super) fn on_opened_seams<'a>(
 pub(super) fn seam_rings(model: &Model, edges: &[SharedEdge], parts: &[usize]) -> Vec<Vec<usize>> {
     let mut rings: Vec<Vec<usize>> = Vec::new();
     for &k in parts {
-        if rings.iter().any(|r| r.contains(&k)) {
-            continue;
+        if !rings.iter().any(|r| r.contains(&k)) {
+            rings.push(along_seams(model, edges, &[k], parts));
         }
-        let mut ring = vec![k];
-        loop {
-            let more: Vec<usize> = edges
-                .iter()
-                .filter(|e| is_seam(model, e))
-                .filter(|e| ring.contains(&e.surface) != ring.contains(&e.other))
-                .flat_map(|e| [e.surface, e.other])
-                .filter(|j| parts.contains(j) && !ring.contains(j))
-                .collect();
-            if more.is_empty() {
-                break;
-            }
-            ring.extend(more);
-        }
-        ring.sort_unstable();
-        ring.dedup();
-        rings.push(ring);
     }
     rings
 }
