@@ -244,11 +244,12 @@ pub const EDGE_FIT_SHARE: f64 = 0.5;
 /// within the same share, in model and parameter space; dated now).
 pub fn cad_text(model: &Model, format: CadFormat, file_name: &str) -> Result<String> {
     match format {
-        CadFormat::Step => nurbs_io::write_step_faces_within(
+        CadFormat::Step => nurbs_io::write_step_shell(
             &faces(model),
             written_unit(model),
             file_name,
             EDGE_FIT_SHARE * model.tolerances.g0,
+            model.tolerances.g0,
         )
         .map_err(|e| Error::Exchange {
             detail: e.to_string(),

@@ -69,3 +69,24 @@ fn what_is_not_cad_is_named() {
     let e = read_step(empty).unwrap_err().to_string();
     assert!(e.contains("no face"), "{e}");
 }
+
+/// A solid's faces written as STEP are one closed shell again: box12_r5's 26 faces, as its
+/// STEP file has them, share their 48 edges (each one EDGE_CURVE used by two faces), and the
+/// file reads back with every face and link.
+#[test]
+fn a_solids_faces_are_written_as_one_closed_shell() {
+    let m = import_cad(&fixture("occt_box12_r5.step")).unwrap().model;
+    let step = cad_text(&m, CadFormat::Step, "box.step").unwrap();
+    let count = |kind: &str| {
+        step.lines()
+            .filter(|l| l.contains(&format!("= {kind}(")))
+            .count()
+    };
+    assert_eq!(count("CLOSED_SHELL"), 1);
+    assert_eq!(count("OPEN_SHELL"), 0);
+    assert_eq!(count("EDGE_CURVE"), 48);
+    assert_eq!(count("ORIENTED_EDGE"), 96);
+    let back = read_step(&step).unwrap().model;
+    assert_eq!(back.surfaces.len(), m.surfaces.len());
+    assert_eq!(back.links.len(), m.links.len());
+}

@@ -60,6 +60,8 @@
 //!
 //! Both writers bound a face by its trim loops where it has them ([`write_step_faces`],
 //! [`write_iges_faces`]; the loops made ready on the written surface by module [`bounds`]).
+//! [`write_step_shell`] joins the faces of a STEP file into shells where they meet: shared
+//! vertices and edges, each connected set oriented, closed where every edge is used twice.
 
 pub mod bounds;
 pub mod error;
@@ -77,7 +79,8 @@ pub use error::IgesError;
 pub use reader::{IgesCurve, IgesFile, IgesSurface, read_iges};
 pub use seam::trim_is_box;
 pub use step::{
-    StepError, StepFace, StepFile, read_step, write_step, write_step_faces, write_step_faces_within,
+    StepError, StepFace, StepFile, read_step, write_step, write_step_faces,
+    write_step_faces_within, write_step_shell,
 };
 pub use structure::{StructureReport, check_structure};
 pub use writer::{IgesWriteParams, write_iges, write_iges_faces};

@@ -41,11 +41,12 @@ mod faces;
 mod knots;
 mod lexer;
 mod loose;
+mod shell;
 mod surfaces;
 mod writer;
 
 pub use lexer::{Instance, Value, parse_instances};
-pub use writer::{write_step, write_step_faces, write_step_faces_within};
+pub use writer::{write_step, write_step_faces, write_step_faces_within, write_step_shell};
 
 use nurbs_core::{BSplineSurface, Point3};
 

@@ -14,7 +14,7 @@ pub const DISTANCE_ACCURACY: f64 = 1e-7;
 
 /// Whether two boundary curves are one curve: the same knots and weights, and control points
 /// within [`DISTANCE_ACCURACY`] (so, by the convex hull property, the curves too).
-fn same_curve(a: &BSplineCurve, b: &BSplineCurve) -> bool {
+pub(super) fn same_curve(a: &BSplineCurve, b: &BSplineCurve) -> bool {
     a.knots().knots() == b.knots().knots()
         && a.weights() == b.weights()
         && a.control_points().len() == b.control_points().len()
@@ -67,23 +67,51 @@ pub fn write_step_faces_within(
     name: &str,
     edge_tolerance: f64,
 ) -> Result<String, nurbs_core::Error> {
+    write_step_shell(faces, units, name, edge_tolerance, 0.0)
+}
+
+/// [`write_step_faces_within`] with the faces joined into one shell where they meet: vertices
+/// within `join_tolerance` (model units) of each other one vertex, edges of two faces along one
+/// boundary one EDGE_CURVE used by both (split where a vertex of a third face lies on one), each
+/// connected set of faces oriented so that every shared edge is used once each way, and the
+/// shell a CLOSED_SHELL where every edge is used twice. The file's distance
+/// accuracy is then the join tolerance: the written edge lies on one of its faces and within
+/// that of the other. 0 writes every face with its own vertices and edges, as
+/// [`write_step_faces_within`].
+pub fn write_step_shell(
+    faces: &[Face<'_>],
+    units: &str,
+    name: &str,
+    edge_tolerance: f64,
+    join_tolerance: f64,
+) -> Result<String, nurbs_core::Error> {
     use std::fmt::Write as _;
     let mut w = StepWriter {
         edge_tolerance,
         ..StepWriter::default()
     };
-    let mut ids = Vec::new();
-    for f in faces {
-        ids.push(w.face(f)?);
-    }
-    let shell = w.add(format!("OPEN_SHELL('',({}))", refs(&ids)));
-    let model = w.add(format!("SHELL_BASED_SURFACE_MODEL('',(#{shell}))"));
+    let plan = super::shell::ShellPlan::new(faces, join_tolerance)?;
+    let ids = w.shell_faces(faces, &plan)?;
+    let shells: Vec<usize> = plan
+        .shells
+        .iter()
+        .map(|(members, closed)| {
+            let kind = if *closed {
+                "CLOSED_SHELL"
+            } else {
+                "OPEN_SHELL"
+            };
+            let list: Vec<usize> = members.iter().map(|&f| ids[f]).collect();
+            w.add(format!("{kind}('',({}))", refs(&list)))
+        })
+        .collect();
+    let model = w.add(format!("SHELL_BASED_SURFACE_MODEL('',({}))", refs(&shells)));
     let length = w.length_unit(units)?;
     let angle = w.add("( NAMED_UNIT(*) PLANE_ANGLE_UNIT() SI_UNIT($,.RADIAN.) )".into());
     let solid = w.add("( NAMED_UNIT(*) SI_UNIT($,.STERADIAN.) SOLID_ANGLE_UNIT() )".into());
     let uncertainty = w.add(format!(
         "UNCERTAINTY_MEASURE_WITH_UNIT(LENGTH_MEASURE({}),#{length},'distance_accuracy_value','confusion accuracy')",
-        real(DISTANCE_ACCURACY)
+        real(DISTANCE_ACCURACY.max(join_tolerance))
     ));
     let context = w.add(format!(
         "( GEOMETRIC_REPRESENTATION_CONTEXT(3) GLOBAL_UNCERTAINTY_ASSIGNED_CONTEXT((#{uncertainty})) GLOBAL_UNIT_ASSIGNED_CONTEXT((#{length},#{angle},#{solid})) REPRESENTATION_CONTEXT('Context #1','3D Context with UNIT and UNCERTAINTY') )"
@@ -254,24 +282,6 @@ impl StepWriter {
             )),
         }
     }
-    /// The face of `f`: its surface, bounded by its trim loops or else by its parameter box.
-    fn face(&mut self, f: &Face<'_>) -> Result<usize, nurbs_core::Error> {
-        let surface = self.surface(f.surface);
-        // a trim that is the parameter box: the box's own bound ([`crate::seam::trim_is_box`])
-        let boxed = crate::seam::trim_is_box(f.surface, f.trim);
-        let bounds = crate::bounds::face_bounds(f.surface, if boxed { &[] } else { f.trim });
-        let bounds = if bounds.loops.is_empty() {
-            vec![self.box_bound(f.surface)?]
-        } else {
-            self.trim_bounds(&bounds)?
-        };
-        Ok(self.add(format!(
-            "ADVANCED_FACE('{}',({}),#{surface},.T.)",
-            escape(f.name),
-            refs(&bounds)
-        )))
-    }
-
     /// The surface entity of `s`.
     fn surface(&mut self, s: &BSplineSurface) -> usize {
         let (nu, nv) = (s.num_u(), s.num_v());
@@ -311,121 +321,83 @@ impl StepWriter {
         }
     }
 
-    /// The outer bound of `s`'s parameter box: its four boundary curves, as ISO 10303-42
-    /// bounds a closed face. Corners within [`DISTANCE_ACCURACY`] of each other are one
-    /// VERTEX_POINT (a sphere's pole, a closed side's two ends), so that the loop is closed in
-    /// its topology and not only in space; a side collapsed to a point (a pole) has no edge; and
-    /// a side that coincides with its opposite side (a seam: a full cylinder, a sphere between
-    /// its poles) is the same EDGE_CURVE used both ways, which readers take as a seam and give
-    /// its two p-curves — written as two separate edges along one curve, the loop of a sphere
-    /// enclosed nothing and read back with zero area.
-    fn box_bound(&mut self, s: &BSplineSurface) -> Result<usize, nurbs_core::Error> {
-        // the boundary: u0 (v increasing), v1 (u increasing), u1 (v decreasing), v0 (u
-        // decreasing): a loop around the face, the corners its vertices
-        let (u0, u1) = s.domain_u();
-        let (v0, v1) = s.domain_v();
-        let corners = [
-            s.point(u0, v0),
-            s.point(u0, v1),
-            s.point(u1, v1),
-            s.point(u1, v0),
-        ];
-        let mut vids: Vec<usize> = Vec::with_capacity(4);
-        for (k, p) in corners.iter().enumerate() {
-            let same = (0..k).find(|&j| (corners[j] - p).norm() <= DISTANCE_ACCURACY);
-            let id = match same {
-                Some(j) => vids[j],
-                None => {
-                    let pt = self.point(p);
-                    self.add(format!("VERTEX_POINT('',#{pt})"))
-                }
-            };
-            vids.push(id);
-        }
-        let sides = [
-            (nurbs_core::Direction::U, u0, 0, 1, true),
-            (nurbs_core::Direction::V, v1, 1, 2, true),
-            (nurbs_core::Direction::U, u1, 3, 2, false),
-            (nurbs_core::Direction::V, v0, 0, 3, false),
-        ];
-        // each side's curve and EDGE_CURVE (None: collapsed)
-        let mut written: Vec<(BSplineCurve, Option<usize>)> = Vec::with_capacity(4);
-        let mut edges = Vec::new();
-        for (k, (dir, t, a, b, forward)) in sides.into_iter().enumerate() {
-            let c = s.isocurve(dir, t)?;
-            let collapsed = c
-                .control_points()
-                .iter()
-                .all(|p| (p - corners[a]).norm() <= DISTANCE_ACCURACY);
-            let seam = k
-                .checked_sub(2)
-                .and_then(|o| written[o].1.filter(|_| same_curve(&written[o].0, &c)));
-            let e = match (collapsed, seam) {
-                (true, _) => None,
-                (false, Some(e)) => Some(e),
-                (false, None) => {
-                    let cid = self.curve(&c);
-                    Some(self.add(format!(
-                        "EDGE_CURVE('',#{},#{},#{cid},.T.)",
-                        vids[a], vids[b]
-                    )))
-                }
-            };
-            if let Some(e) = e {
-                edges.push(self.add(format!(
-                    "ORIENTED_EDGE('',*,*,#{e},{})",
-                    if forward { ".T." } else { ".F." }
-                )));
-            }
-            written.push((c, e));
-        }
-        let lp = self.add(format!("EDGE_LOOP('',({}))", refs(&edges)));
-        Ok(self.add(format!("FACE_OUTER_BOUND('',#{lp},.T.)")))
-    }
-
-    /// The bounds of a face's trim loops: each edge a degree-1 B-spline curve through its points
-    /// (chord-length parameters on [0, 1]), each vertex once, the outer loop a FACE_OUTER_BOUND.
-    fn trim_bounds(
+    /// The faces of `plan` (surfaces from `faces`): its vertices and used edges once each
+    /// (an edge its exact curve, else a cubic through its points within the edge tolerance,
+    /// [`crate::bounds::fitted_edge`]), then each face with its loops — a face flipped against
+    /// its surface's normal written with `same_sense` false and its bounds reversed.
+    fn shell_faces(
         &mut self,
-        b: &crate::bounds::FaceBounds,
+        faces: &[Face<'_>],
+        plan: &super::shell::ShellPlan,
     ) -> Result<Vec<usize>, nurbs_core::Error> {
-        let vertices: Vec<usize> = b
+        let mut used = vec![false; plan.vertices.len()];
+        for e in plan.edges.iter().filter(|e| e.uses > 0) {
+            (used[e.start], used[e.end]) = (true, true);
+        }
+        let vertices: Vec<usize> = plan
             .vertices
             .iter()
-            .map(|p| {
+            .zip(&used)
+            .map(|(p, &u)| {
+                if !u {
+                    return 0;
+                }
                 let pt = self.point(p);
                 self.add(format!("VERTEX_POINT('',#{pt})"))
             })
             .collect();
-        let mut edges = Vec::new();
-        for e in &b.edges {
-            let cid = self.curve(&crate::bounds::fitted_edge(&e.points, self.edge_tolerance)?);
+        let mut edges = Vec::with_capacity(plan.edges.len());
+        for e in &plan.edges {
+            if e.uses == 0 {
+                edges.push(0);
+                continue;
+            }
+            let curve = match &e.exact {
+                Some(c) => c.clone(),
+                None => crate::bounds::fitted_edge(&e.points, self.edge_tolerance)?,
+            };
+            let cid = self.curve(&curve);
             edges.push(self.add(format!(
                 "EDGE_CURVE('',#{},#{},#{cid},.T.)",
                 vertices[e.start], vertices[e.end]
             )));
         }
-        let mut out = Vec::new();
-        for l in &b.loops {
-            let oriented: Vec<usize> = l
-                .edges
-                .iter()
-                .map(|&(k, forward)| {
-                    self.add(format!(
-                        "ORIENTED_EDGE('',*,*,#{},{})",
-                        edges[k],
-                        if forward { ".T." } else { ".F." }
-                    ))
-                })
-                .collect();
-            let lp = self.add(format!("EDGE_LOOP('',({}))", refs(&oriented)));
-            let kind = if l.outer {
-                "FACE_OUTER_BOUND"
-            } else {
-                "FACE_BOUND"
-            };
-            out.push(self.add(format!("{kind}('',#{lp},.T.)")));
+        let mut out = Vec::with_capacity(faces.len());
+        for (f, pf) in faces.iter().zip(&plan.faces) {
+            let surface = self.surface(f.surface);
+            let mut bounds = Vec::with_capacity(pf.loops.len());
+            for l in &pf.loops {
+                let oriented: Vec<usize> = l
+                    .edges
+                    .iter()
+                    .map(|&(k, forward)| {
+                        self.add(format!(
+                            "ORIENTED_EDGE('',*,*,#{},{})",
+                            edges[k],
+                            logical(forward)
+                        ))
+                    })
+                    .collect();
+                let lp = self.add(format!("EDGE_LOOP('',({}))", refs(&oriented)));
+                let kind = if l.outer {
+                    "FACE_OUTER_BOUND"
+                } else {
+                    "FACE_BOUND"
+                };
+                bounds.push(self.add(format!("{kind}('',#{lp},{})", logical(!pf.flipped))));
+            }
+            out.push(self.add(format!(
+                "ADVANCED_FACE('{}',({}),#{surface},{})",
+                escape(f.name),
+                refs(&bounds),
+                logical(!pf.flipped)
+            )));
         }
         Ok(out)
     }
+}
+
+/// A STEP logical.
+fn logical(b: bool) -> &'static str {
+    if b { ".T." } else { ".F." }
 }
