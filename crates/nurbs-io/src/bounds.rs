@@ -524,7 +524,8 @@ pub fn polyline(points: &[Point3]) -> Result<BSplineCurve, nurbs_core::Error> {
     BSplineCurve::new(KnotVector::new(1, knots)?, kept, None)
 }
 
-/// A trim edge through `points` as compact as `tolerance` allows: a cubic B-spline at
+/// A trim edge through `points` as compact as `tolerance` allows: a straight edge (every point
+/// within `tolerance` of its chord) its two ends, else a cubic B-spline at
 /// chord-length parameters, its end points the edge's (so that the edges meeting at a vertex
 /// still meet), from one span, each span holding a point farther than `tolerance` from the curve
 /// at its parameter halved and the curve fitted again — so that knots gather where the edge
@@ -535,6 +536,15 @@ pub fn polyline(points: &[Point3]) -> Result<BSplineCurve, nurbs_core::Error> {
 /// points as the polyline has (no gain).
 pub fn fitted_edge(points: &[Point3], tolerance: f64) -> Result<BSplineCurve, nurbs_core::Error> {
     let n = points.len();
+    // a straight edge: its two ends
+    if tolerance > 0.0
+        && n > 2
+        && points
+            .iter()
+            .all(|p| distance_to_polyline(p, &[points[0], points[n - 1]]) <= tolerance)
+    {
+        return polyline(&[points[0], points[n - 1]]);
+    }
     if !(tolerance > 0.0) || n < 8 {
         return polyline(points);
     }

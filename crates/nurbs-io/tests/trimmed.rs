@@ -482,3 +482,32 @@ fn a_loop_repeating_a_point_is_written() {
     assert_eq!(c.control_points().len(), 3);
     assert_eq!(c.control_points()[2], Point3::new(1000.0, 5.0, 0.0));
 }
+
+/// A straight trim edge is written as its two ends, whatever its points: 40 points along a
+/// line, waved by a tenth of the tolerance, give a degree-1 curve of two control points; waved
+/// by twice the tolerance they give a curve through the points within the tolerance.
+#[test]
+fn a_straight_edge_is_its_two_ends() {
+    let tol = 1e-3;
+    let line = |wave: f64| -> Vec<Point3> {
+        (0..40)
+            .map(|k| {
+                let t = k as f64 / 39.0;
+                Point3::new(10.0 * t, wave * (7.0 * t).sin(), 0.0)
+            })
+            .collect()
+    };
+    let straight = nurbs_io::bounds::fitted_edge(&line(0.1 * tol), tol).unwrap();
+    assert_eq!(straight.degree(), 1);
+    assert_eq!(straight.control_points().len(), 2);
+    let waved = line(2.0 * tol);
+    let curve = nurbs_io::bounds::fitted_edge(&waved, tol).unwrap();
+    assert!(curve.control_points().len() > 2);
+    let (t0, t1) = curve.domain();
+    let samples: Vec<Point3> = (0..=400)
+        .map(|k| curve.point(t0 + (t1 - t0) * k as f64 / 400.0))
+        .collect();
+    for p in &waved {
+        assert!(distance_to_polyline(p, &samples) <= 1.01 * tol);
+    }
+}
