@@ -2,7 +2,8 @@
 //! continuity of every link (cli-contract.md) as a readable table or JSON.
 
 use anyhow::{Result, anyhow};
-use g_continuity::{LinkMeasure, MeasureParams};
+use g_continuity::MeasureParams;
+use hier_fair::check::{checks_json, continuity_name, optional_json};
 use hier_fair::{LinkCheck, Model, Preset, SurfaceJoins, measure_model, surface_joins};
 use serde_json::{Value, json};
 
@@ -100,66 +101,6 @@ pub fn run_with(
         links: checks.len(),
         joins: joins.len(),
     })
-}
-
-fn opt(x: Option<f64>) -> Value {
-    x.map_or(Value::Null, |v| json!(v))
-}
-
-/// The measurements as a JSON object (the fields of a `check --json` link entry).
-pub fn measure_json(m: &LinkMeasure) -> Value {
-    json!({
-        "samples": m.samples,
-        "g0": m.g0,
-        "g1_deg": opt(m.g1_deg),
-        "g2_rel": opt(m.g2_rel),
-        "g2_abs": opt(m.g2_abs),
-        "worst_g0": {"t": m.worst_g0_t},
-        "worst_g1": {"t": opt(m.worst_g1_t)},
-        "worst_g2": {"t": opt(m.worst_g2_t)},
-        "g2_rel_across": opt(m.g2_rel_across),
-        "g2_abs_across": opt(m.g2_abs_across),
-        "worst_g2_across": {"t": opt(m.worst_g2_across_t)},
-        "g1_deg_vertex": opt(m.vertex_g1_deg),
-        "g2_rel_vertex": opt(m.vertex_g2_rel),
-        "vertex_zones": m.vertex_zones,
-        "collapsed": m.collapsed,
-        "undefined_normals": m.undefined_normals,
-        "undefined_curvatures": m.undefined_curvatures,
-    })
-}
-
-/// Continuity name as in the model format.
-pub fn continuity_name(c: nurbs_core::Continuity) -> &'static str {
-    match c {
-        nurbs_core::Continuity::G0 => "G0",
-        nurbs_core::Continuity::G1 => "G1",
-        nurbs_core::Continuity::G2 => "G2",
-    }
-}
-
-fn checks_json(model: &Model, checks: &[LinkCheck], flags: Option<&[bool]>) -> Value {
-    let links: Vec<Value> = checks
-        .iter()
-        .enumerate()
-        .map(|(k, c)| {
-            let l = &model.links[c.link];
-            let mut v = measure_json(&c.measure);
-            let o = v.as_object_mut().expect("object");
-            o.insert("slave".into(), json!(model.surfaces[l.slave].name));
-            o.insert("side".into(), json!(l.side.name()));
-            o.insert("master".into(), json!(model.surfaces[l.master].name));
-            o.insert("target".into(), json!(continuity_name(l.continuity)));
-            if let Some(f) = flags {
-                o.insert("exceeded".into(), json!(f[k]));
-            }
-            if !c.touches(model) {
-                o.insert("touches".into(), json!(false));
-            }
-            v
-        })
-        .collect();
-    json!({ "links": links })
 }
 
 fn fmt_opt(x: Option<f64>, prec: usize) -> String {
@@ -288,7 +229,7 @@ fn joins_json(joins: &[SurfaceJoins], flags: Option<&[bool]>) -> Value {
             let mut v = json!({
                 "name": j.name,
                 "knot_lines": j.lines,
-                "crease_deg": opt(j.crease_deg),
+                "crease_deg": optional_json(j.crease_deg),
             });
             if let Some(f) = flags {
                 v["exceeded"] = json!(f[k]);

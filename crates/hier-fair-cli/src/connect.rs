@@ -6,7 +6,7 @@ use hier_fair::{ConnectOptions, Model, ModelConnectReport, connect};
 use nurbs_core::Continuity;
 use serde_json::{Value, json};
 
-use crate::check::continuity_name;
+use hier_fair::check::continuity_name;
 
 /// What `connect` produces.
 #[derive(Debug, Clone)]

@@ -28,18 +28,9 @@ pub struct FairOptions {
 }
 
 /// The mask that fixes the frame of `keep` on all four sides; an error when no control point
-/// would be left free.
+/// would be left free ([`hier_fair::bare::boundary_mask`]).
 pub fn boundary_mask(surface: &BSplineSurface, keep: Continuity) -> Result<ControlMask> {
-    let rows = keep.frame().rows();
-    let need = 2 * rows + 1;
-    if surface.num_u() < need || surface.num_v() < need {
-        bail!(
-            "the surface has {}×{} control points: too few to keep {keep:?} on all four sides ({need}×{need} needed to leave a point free)",
-            surface.num_u(),
-            surface.num_v()
-        );
-    }
-    Ok(ControlMask::with_boundary_frame(surface, keep.frame()))
+    Ok(hier_fair::bare::boundary_mask(surface, keep)?)
 }
 
 /// The method object for `options`, from the program's registry ([`crate::methods`]).
@@ -112,16 +103,12 @@ pub fn fair_surfaces(
         };
         let (s, mask) = prepared_surface(s, shared.as_ref().map(|shared| &shared[k]), options)
             .map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
-        let s = &s;
         // checked against the contract: a result that moves a fixed point or leaves the
         // tolerance is an error, never an output
-        let (faired, r): (BSplineSurface, FairingReport) =
-            nurbs_core::FairingProblem::new(s, &mask, options.tolerance)
-                .solve(method.as_ref())
-                .map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
-        let (line, raised) = surface_line(name, r);
-        lines.push(line);
-        out.push(if raised { s.clone() } else { faired });
+        let alone = hier_fair::bare::fair_alone(&s, &mask, options.tolerance, method.as_ref())
+            .map_err(|e| anyhow::anyhow!("{name}: {e}"))?;
+        lines.push(surface_line(name, alone.report, alone.kept));
+        out.push(alone.surface);
     }
     Ok((
         out,
@@ -159,19 +146,14 @@ fn prepared_surface(
     Ok((s, mask))
 }
 
-/// The report line of surface `name` faired as `r`, and whether the fairing raised its energy
-/// (the surface is then kept as it was: a fairing ends fairer than it started or not at all).
-fn surface_line(name: String, r: FairingReport) -> (SurfaceLine, bool) {
-    let raised = r.energy_after > r.energy_before;
-    let line = SurfaceLine {
+/// The report line of surface `name` faired as `r`, kept as it was for the reason `kept` (the
+/// fairing raised its energy) where that is given.
+fn surface_line(name: String, r: FairingReport, kept: Option<String>) -> SurfaceLine {
+    let raised = kept.is_some();
+    SurfaceLine {
         name,
         role: "primary".into(),
-        kept: raised.then(|| {
-            format!(
-                "{} raised the thin-plate energy from {:.4e} to {:.4e}: kept as it was",
-                r.method, r.energy_before, r.energy_after
-            )
-        }),
+        kept,
         method: r.method,
         energy_before: r.energy_before,
         energy_after: if raised {
@@ -182,8 +164,7 @@ fn surface_line(name: String, r: FairingReport) -> (SurfaceLine, bool) {
         max_deviation: if raised { 0.0 } else { r.max_deviation },
         iterations: r.iterations,
         seconds: r.seconds,
-    };
-    (line, raised)
+    }
 }
 
 /// JSON of the faired surfaces: one record for one surface, `{"surfaces": [...]}` for several.

@@ -10,6 +10,7 @@
 use g_continuity::{LinkMeasure, MeasureParams};
 use nurbs_core::Continuity;
 use rayon::prelude::*;
+use serde_json::{Value, json};
 
 use crate::error::{Error, Result};
 use crate::model::Model;
@@ -179,4 +180,68 @@ pub fn surface_joins(model: &Model) -> Vec<SurfaceJoins> {
             })
         })
         .collect()
+}
+
+/// `x` as JSON, `null` where absent.
+pub fn optional_json(x: Option<f64>) -> Value {
+    x.map_or(Value::Null, |v| json!(v))
+}
+
+/// The measurements as a JSON object (the fields of a `check --json` link entry).
+pub fn measure_json(m: &LinkMeasure) -> Value {
+    json!({
+        "samples": m.samples,
+        "g0": m.g0,
+        "g1_deg": optional_json(m.g1_deg),
+        "g2_rel": optional_json(m.g2_rel),
+        "g2_abs": optional_json(m.g2_abs),
+        "worst_g0": {"t": m.worst_g0_t},
+        "worst_g1": {"t": optional_json(m.worst_g1_t)},
+        "worst_g2": {"t": optional_json(m.worst_g2_t)},
+        "g2_rel_across": optional_json(m.g2_rel_across),
+        "g2_abs_across": optional_json(m.g2_abs_across),
+        "worst_g2_across": {"t": optional_json(m.worst_g2_across_t)},
+        "g1_deg_vertex": optional_json(m.vertex_g1_deg),
+        "g2_rel_vertex": optional_json(m.vertex_g2_rel),
+        "vertex_zones": m.vertex_zones,
+        "collapsed": m.collapsed,
+        "undefined_normals": m.undefined_normals,
+        "undefined_curvatures": m.undefined_curvatures,
+    })
+}
+
+/// Continuity name as in the model format.
+pub fn continuity_name(c: nurbs_core::Continuity) -> &'static str {
+    match c {
+        nurbs_core::Continuity::G0 => "G0",
+        nurbs_core::Continuity::G1 => "G1",
+        nurbs_core::Continuity::G2 => "G2",
+    }
+}
+
+/// The links of `check --json`: each link's measures ([`measure_json`]) with its slave, side,
+/// master and target; `exceeded` where `flags` (a preset's verdict per check) are given, and
+/// `touches: false` for a link whose slave does not touch its master.
+pub fn checks_json(model: &Model, checks: &[LinkCheck], flags: Option<&[bool]>) -> Value {
+    let links: Vec<Value> = checks
+        .iter()
+        .enumerate()
+        .map(|(k, c)| {
+            let l = &model.links[c.link];
+            let mut v = measure_json(&c.measure);
+            let o = v.as_object_mut().expect("object");
+            o.insert("slave".into(), json!(model.surfaces[l.slave].name));
+            o.insert("side".into(), json!(l.side.name()));
+            o.insert("master".into(), json!(model.surfaces[l.master].name));
+            o.insert("target".into(), json!(continuity_name(l.continuity)));
+            if let Some(f) = flags {
+                o.insert("exceeded".into(), json!(f[k]));
+            }
+            if !c.touches(model) {
+                o.insert("touches".into(), json!(false));
+            }
+            v
+        })
+        .collect();
+    json!({ "links": links })
 }

@@ -75,6 +75,7 @@
 //! (JSON text, models, reports), never paths. References (keys in brackets) are listed in
 //! `docs/references.md`.
 
+pub mod bare;
 pub mod build;
 pub mod check;
 pub mod connect;
