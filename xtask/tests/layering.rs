@@ -47,6 +47,10 @@ fn allowed() -> BTreeMap<&'static str, &'static [&'static str]> {
         ],
     );
     m.insert(
+        "hier-fair-py",
+        &["nurbs-core", "g-continuity", "nurbs-io", "hier-fair"],
+    );
+    m.insert(
         "xtask",
         &[
             "nurbs-core",

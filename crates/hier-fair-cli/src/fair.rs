@@ -139,10 +139,7 @@ fn prepared_surface(
             (prepared, mask)
         }
     };
-    let g1 = hier_fair::ModelTolerances::default().g1_deg;
-    for (i, j) in hier_fair::framework::smooth_join_points(surface, &s, g1) {
-        mask.set_free(i, j, false);
-    }
+    hier_fair::bare::fix_smooth_joins(surface, &s, &mut mask);
     Ok((s, mask))
 }
 

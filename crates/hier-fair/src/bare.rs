@@ -27,6 +27,28 @@ pub fn boundary_mask(surface: &BSplineSurface, keep: Continuity) -> Result<Contr
     Ok(ControlMask::with_boundary_frame(surface, keep.frame()))
 }
 
+/// Fixes in `mask` (of `prepared`, `original` after knot insertion) the three columns at each of
+/// `original`'s own tangent-continuous C0 knot lines (rational arcs joined by double knots), as
+/// the framework's stages keep them: a fairing that moved them would crease the surface there.
+pub fn fix_smooth_joins(
+    original: &BSplineSurface,
+    prepared: &BSplineSurface,
+    mask: &mut ControlMask,
+) {
+    let g1 = crate::ModelTolerances::default().g1_deg;
+    for (i, j) in crate::framework::smooth_join_points(original, prepared, g1) {
+        mask.set_free(i, j, false);
+    }
+}
+
+/// The mask of `surface` faired alone keeping `keep` on all four sides: its boundary frames
+/// ([`boundary_mask`]) and its smooth joins ([`fix_smooth_joins`]) fixed.
+pub fn alone_mask(surface: &BSplineSurface, keep: Continuity) -> Result<ControlMask> {
+    let mut mask = boundary_mask(surface, keep)?;
+    fix_smooth_joins(surface, surface, &mut mask);
+    Ok(mask)
+}
+
 /// A surface faired alone: the surface kept (the input, where the method raised the energy),
 /// the method's report, and why the input was kept where it was.
 #[derive(Debug, Clone)]

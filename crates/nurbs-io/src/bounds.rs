@@ -16,9 +16,9 @@
 //! surface; [`SAME_POINT_RELATIVE`] merges vertices; [`SEAM_RELATIVE`] finds a seam edge a loop
 //! runs along twice. All scale with the surface's size (its control net's diagonal).
 
-use nurbs_core::{
-    BSplineCurve, BSplineSurface, KnotVector, Point3, ProjectionParams, SurfaceProjector,
-};
+use nurbs_core::{BSplineSurface, Point3, ProjectionParams, SurfaceProjector};
+
+pub use crate::edge_fit::{fitted_edge, polyline};
 
 /// Turning angle (radians) at a loop point above which the loop is split into two edges there:
 /// 30°. A kernel's edges meet at corners of 90° or so, and a loop thinned to the G0 tolerance
@@ -484,142 +484,6 @@ fn halve(
             halve(projector, surface, c, b, tol, depth - 1, out);
         }
         None => out.push(b.0),
-    }
-}
-
-/// The degree-1 B-spline curve through `points` (at least two, distinct in a row), its knots the
-/// chord lengths scaled to [0, 1].
-pub fn polyline(points: &[Point3]) -> Result<BSplineCurve, nurbs_core::Error> {
-    let mut t = vec![0.0];
-    for w in points.windows(2) {
-        t.push(t[t.len() - 1] + (w[1] - w[0]).norm());
-    }
-    let total = t[t.len() - 1];
-    // a point whose chord-length parameter equals its predecessor's — repeated, or nearer to
-    // it than the parameter resolves (a loop of pr1db.stp's I-DEAS faces in parameter space:
-    // 0.5861111111136063 twice after a jump across its seam) — would be a knot of multiplicity
-    // 2, which a degree-1 curve cannot carry: it is dropped (the end point stays, in place of
-    // its predecessor if that one coincides with it)
-    let n = points.len();
-    let mut kept: Vec<Point3> = Vec::with_capacity(n);
-    let mut knots = vec![0.0];
-    for (k, p) in points.iter().enumerate() {
-        let x = if k + 1 == n { 1.0 } else { t[k] / total };
-        match knots.last() {
-            Some(&last) if !kept.is_empty() && x <= last => {
-                if k + 1 == n {
-                    kept.pop();
-                    knots.pop();
-                    kept.push(*p);
-                    knots.push(1.0);
-                }
-            }
-            _ => {
-                kept.push(*p);
-                knots.push(x);
-            }
-        }
-    }
-    knots.push(1.0);
-    BSplineCurve::new(KnotVector::new(1, knots)?, kept, None)
-}
-
-/// A trim edge through `points` as compact as `tolerance` allows: a straight edge (every point
-/// within `tolerance` of its chord) its two ends, else a cubic B-spline at
-/// chord-length parameters, its end points the edge's (so that the edges meeting at a vertex
-/// still meet), from one span, each span holding a point farther than `tolerance` from the curve
-/// at its parameter halved and the curve fitted again — so that knots gather where the edge
-/// turns fast (a kink between two faces' boundaries meeting at a few degrees, which no number
-/// of uniform spans follows within a fraction of a micrometre short of one span per point) —
-/// until every point lies within `tolerance`; the [`polyline`] where `tolerance` is 0, where
-/// the edge has too few points, or where the fit would need more than half as many control
-/// points as the polyline has (no gain).
-pub fn fitted_edge(points: &[Point3], tolerance: f64) -> Result<BSplineCurve, nurbs_core::Error> {
-    let n = points.len();
-    // a straight edge: its two ends
-    if tolerance > 0.0
-        && n > 2
-        && points
-            .iter()
-            .all(|p| distance_to_polyline(p, &[points[0], points[n - 1]]) <= tolerance)
-    {
-        return polyline(&[points[0], points[n - 1]]);
-    }
-    if !(tolerance > 0.0) || n < 8 {
-        return polyline(points);
-    }
-    let mut t = vec![0.0];
-    for w in points.windows(2) {
-        t.push(t[t.len() - 1] + (w[1] - w[0]).norm());
-    }
-    let total = t[n - 1];
-    if !(total > 0.0) {
-        return polyline(points);
-    }
-    let params: Vec<f64> = t.iter().map(|x| x / total).collect();
-    // the distinct knots: one span to start with
-    let mut breaks = vec![0.0, 1.0];
-    loop {
-        let count = breaks.len() + 2;
-        if 2 * count > n {
-            return polyline(points);
-        }
-        let mut knots = vec![0.0; 3];
-        knots.extend(&breaks);
-        knots.extend([1.0; 3]);
-        let knots = KnotVector::new(3, knots)?;
-        // the template's interior points are the data points nearest their Greville fractions;
-        // they are free, only the two ends are kept
-        let mut ends: Vec<Point3> = knots
-            .greville()
-            .iter()
-            .map(|&g| points[params.partition_point(|&p| p < g).min(n - 1)])
-            .collect();
-        let mut free = vec![true; count];
-        free[0] = false;
-        free[count - 1] = false;
-        ends[0] = points[0];
-        ends[count - 1] = points[n - 1];
-        let start = BSplineCurve::new(knots, ends, None)?;
-        let fit = nurbs_core::fit::fit_curve(
-            &start,
-            &free,
-            &params,
-            points,
-            &nurbs_core::fit::FitParams::default(),
-        );
-        // the spans to halve: those holding a point beyond the tolerance (every span where the
-        // system had no solution)
-        let mut halve = vec![fit.is_err(); breaks.len() - 1];
-        if let Ok((curve, report)) = &fit {
-            if report.max_error <= tolerance {
-                return Ok(curve.clone());
-            }
-            for (x, p) in params.iter().zip(points) {
-                if (curve.point(*x) - p).norm() > tolerance {
-                    let span = breaks
-                        .partition_point(|&b| b <= *x)
-                        .clamp(1, breaks.len() - 1);
-                    halve[span - 1] = true;
-                }
-            }
-        }
-        let mut next = Vec::with_capacity(2 * breaks.len());
-        for (k, w) in breaks.windows(2).enumerate() {
-            next.push(w[0]);
-            // a half with no point of its own would leave the system without a solution
-            let mid = 0.5 * (w[0] + w[1]);
-            let holds = |a: f64, b: f64| params.iter().any(|&x| x > a && x < b);
-            if halve[k] && holds(w[0], mid) && holds(mid, w[1]) {
-                next.push(mid);
-            }
-        }
-        next.push(1.0);
-        if next.len() == breaks.len() {
-            // nothing left to halve: the points are too few for the turns
-            return polyline(points);
-        }
-        breaks = next;
     }
 }
 

@@ -64,6 +64,7 @@
 //! vertices and edges, each connected set oriented, closed where every edge is used twice.
 
 pub mod bounds;
+mod edge_fit;
 pub mod error;
 pub mod offset;
 pub mod params;

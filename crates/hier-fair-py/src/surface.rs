@@ -1,0 +1,363 @@
+//! `hierfair.Surface`: a B-spline surface (plain or rational) with numpy arrays in and out —
+//! its net, knots and weights as arrays, evaluation, derivatives and curvature vectorised over
+//! arrays of parameters.
+
+use numpy::ndarray::{Array2, Array3, ArrayD, IxDyn};
+use numpy::{IntoPyArray, PyArray2, PyArray3, PyArrayDyn, PyReadonlyArrayDyn};
+use pyo3::prelude::*;
+use pyo3::types::PyDict;
+
+use nurbs_core::{BSplineSurface, Direction, KnotVector, Point3};
+
+use crate::error::{HierFairError, core_err};
+
+/// A B-spline surface: degrees (p, q), knot vectors in u and v, an n × m net of control points
+/// (and weights for a rational surface).
+#[pyclass(module = "hierfair", name = "Surface")]
+#[derive(Debug, Clone)]
+pub struct PySurface {
+    /// the surface
+    pub inner: BSplineSurface,
+}
+
+/// `x` as a float64 numpy array (a scalar as a 0-d array).
+fn as_array<'py>(py: Python<'py>, x: &Bound<'py, PyAny>) -> PyResult<PyReadonlyArrayDyn<'py, f64>> {
+    let np = py.import("numpy")?;
+    np.call_method1("asarray", (x, "float64"))?.extract()
+}
+
+/// Parameters broadcast to one shape: the shape and the (u, v) pairs in C order.
+type Broadcast = (Vec<usize>, Vec<(f64, f64)>);
+
+/// `u` and `v` broadcast to one shape: the shape and the parameter pairs in C order.
+fn parameters<'py>(
+    py: Python<'py>,
+    u: &Bound<'py, PyAny>,
+    v: &Bound<'py, PyAny>,
+) -> PyResult<Broadcast> {
+    let np = py.import("numpy")?;
+    let float = |x: &Bound<'py, PyAny>| np.call_method1("asarray", (x, "float64"));
+    let both = np.call_method1("broadcast_arrays", (float(u)?, float(v)?))?;
+    let (bu, bv): (Bound<'py, PyAny>, Bound<'py, PyAny>) = (both.get_item(0)?, both.get_item(1)?);
+    let (au, av) = (as_array(py, &bu)?, as_array(py, &bv)?);
+    let (au, av) = (au.as_array(), av.as_array());
+    let shape = au.shape().to_vec();
+    let pairs = au.iter().zip(av.iter()).map(|(&a, &b)| (a, b)).collect();
+    Ok((shape, pairs))
+}
+
+/// The direction named `name` ("u" or "v").
+fn direction(name: &str) -> PyResult<Direction> {
+    match name {
+        "u" | "U" => Ok(Direction::U),
+        "v" | "V" => Ok(Direction::V),
+        _ => Err(HierFairError::new_err(format!(
+            "direction {name:?}: expected \"u\" or \"v\""
+        ))),
+    }
+}
+
+/// Vectors (one per parameter pair) as an array of `shape` + (3,).
+fn vectors<'py>(
+    py: Python<'py>,
+    shape: &[usize],
+    v: &[[f64; 3]],
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let mut full = shape.to_vec();
+    full.push(3);
+    let flat: Vec<f64> = v.iter().flatten().copied().collect();
+    let a = ArrayD::from_shape_vec(IxDyn(&full), flat)
+        .map_err(|e| HierFairError::new_err(e.to_string()))?;
+    Ok(a.into_pyarray(py))
+}
+
+/// Scalars (one per parameter pair) as an array of `shape`.
+fn scalars<'py>(
+    py: Python<'py>,
+    shape: &[usize],
+    v: Vec<f64>,
+) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+    let a = ArrayD::from_shape_vec(IxDyn(shape), v)
+        .map_err(|e| HierFairError::new_err(e.to_string()))?;
+    Ok(a.into_pyarray(py))
+}
+
+fn xyz(v: &nurbs_core::Vector3) -> [f64; 3] {
+    [v.x, v.y, v.z]
+}
+
+#[pymethods]
+impl PySurface {
+    /// Surface(degrees, knots, points, weights=None)
+    ///
+    /// `degrees` (p, q); `knots` (knots_u, knots_v), full (clamped or not) knot vectors;
+    /// `points` an (n, m, 3) array of control points, n along u; `weights` an (n, m) array for
+    /// a rational surface.
+    ///
+    /// >>> import numpy as np, hierfair
+    /// >>> net = np.array([[[i, j, 0.0] for j in range(2)] for i in range(2)])
+    /// >>> s = hierfair.Surface((1, 1), ([0, 0, 1, 1], [0, 0, 1, 1]), net)
+    /// >>> s.evaluate(0.5, 0.5).tolist()
+    /// [0.5, 0.5, 0.0]
+    #[new]
+    #[pyo3(signature = (degrees, knots, points, weights=None))]
+    fn new(
+        py: Python<'_>,
+        degrees: (usize, usize),
+        knots: (Vec<f64>, Vec<f64>),
+        points: &Bound<'_, PyAny>,
+        weights: Option<&Bound<'_, PyAny>>,
+    ) -> PyResult<Self> {
+        let pts = as_array(py, points)?;
+        let pts = pts.as_array();
+        let [n, m, 3] = pts.shape() else {
+            return Err(HierFairError::new_err(format!(
+                "points: expected an (n, m, 3) array, got shape {:?}",
+                pts.shape()
+            )));
+        };
+        let (n, m) = (*n, *m);
+        let mut net = Vec::with_capacity(n * m);
+        for i in 0..n {
+            for j in 0..m {
+                net.push(Point3::new(pts[[i, j, 0]], pts[[i, j, 1]], pts[[i, j, 2]]));
+            }
+        }
+        let w = match weights {
+            None => None,
+            Some(w) => {
+                let w = as_array(py, w)?;
+                let w = w.as_array();
+                if w.shape() != [n, m] {
+                    return Err(HierFairError::new_err(format!(
+                        "weights: expected an ({n}, {m}) array, got shape {:?}",
+                        w.shape()
+                    )));
+                }
+                Some(w.iter().copied().collect())
+            }
+        };
+        let ku = KnotVector::new(degrees.0, knots.0).map_err(|e| core_err("knots_u", e))?;
+        let kv = KnotVector::new(degrees.1, knots.1).map_err(|e| core_err("knots_v", e))?;
+        let inner = BSplineSurface::new(ku, kv, net, w).map_err(|e| core_err("surface", e))?;
+        Ok(Self { inner })
+    }
+
+    /// The surface from its JSON record (the model format's `surface` object).
+    #[staticmethod]
+    fn from_json(text: &str) -> PyResult<Self> {
+        let mut all = nurbs_core::io::surfaces_from_json(text).map_err(|e| core_err("json", e))?;
+        if all.len() != 1 {
+            return Err(HierFairError::new_err(format!(
+                "json: {} surfaces where one was expected",
+                all.len()
+            )));
+        }
+        Ok(Self {
+            inner: all.remove(0),
+        })
+    }
+
+    /// The surface as its JSON record.
+    fn to_json(&self) -> String {
+        nurbs_core::io::surface_to_json(&self.inner)
+    }
+
+    /// (p, q): the degrees in u and v.
+    #[getter]
+    fn degrees(&self) -> (usize, usize) {
+        (self.inner.degree_u(), self.inner.degree_v())
+    }
+
+    /// (knots_u, knots_v) as float64 arrays.
+    #[getter]
+    fn knots<'py>(
+        &self,
+        py: Python<'py>,
+    ) -> (
+        Bound<'py, numpy::PyArray1<f64>>,
+        Bound<'py, numpy::PyArray1<f64>>,
+    ) {
+        (
+            self.inner.knots_u().knots().to_vec().into_pyarray(py),
+            self.inner.knots_v().knots().to_vec().into_pyarray(py),
+        )
+    }
+
+    /// The (n, m, 3) array of control points.
+    #[getter]
+    fn points<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray3<f64>> {
+        let (n, m) = (self.inner.num_u(), self.inner.num_v());
+        Array3::from_shape_fn((n, m, 3), |(i, j, k)| self.inner.control_point(i, j)[k])
+            .into_pyarray(py)
+    }
+
+    /// The (n, m) array of weights; `None` for a polynomial surface.
+    #[getter]
+    fn weights<'py>(&self, py: Python<'py>) -> Option<Bound<'py, PyArray2<f64>>> {
+        let (n, m) = (self.inner.num_u(), self.inner.num_v());
+        self.inner
+            .weights()
+            .map(|w| Array2::from_shape_fn((n, m), |(i, j)| w[i * m + j]).into_pyarray(py))
+    }
+
+    /// ((u0, u1), (v0, v1)): the parameter domain.
+    #[getter]
+    fn domain(&self) -> ((f64, f64), (f64, f64)) {
+        (self.inner.domain_u(), self.inner.domain_v())
+    }
+
+    /// Points S(u, v): `u` and `v` scalars or arrays (broadcast); an array of their shape + (3,).
+    fn evaluate<'py>(
+        &self,
+        py: Python<'py>,
+        u: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
+        let (shape, pairs) = parameters(py, u, v)?;
+        let s = &self.inner;
+        let pts: Vec<[f64; 3]> = py.detach(|| {
+            pairs
+                .iter()
+                .map(|&(a, b)| xyz(&s.point(a, b).coords))
+                .collect()
+        });
+        vectors(py, &shape, &pts)
+    }
+
+    /// Partial derivatives at (u, v) up to `order` (1 or 2): a dict of arrays of the
+    /// parameters' shape + (3,), keys "point", "du", "dv" and, for order 2, "duu", "duv", "dvv".
+    #[pyo3(signature = (u, v, order=2))]
+    fn derivatives<'py>(
+        &self,
+        py: Python<'py>,
+        u: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
+        order: usize,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        if !(1..=2).contains(&order) {
+            return Err(HierFairError::new_err(format!(
+                "order {order}: expected 1 or 2"
+            )));
+        }
+        let (shape, pairs) = parameters(py, u, v)?;
+        let s = &self.inner;
+        let ds: Vec<nurbs_core::SurfaceDerivatives> =
+            py.detach(|| pairs.iter().map(|&(a, b)| s.derivatives(a, b)).collect());
+        let out = PyDict::new(py);
+        let pick = |f: &dyn Fn(&nurbs_core::SurfaceDerivatives) -> [f64; 3]| -> Vec<[f64; 3]> {
+            ds.iter().map(f).collect()
+        };
+        out.set_item(
+            "point",
+            vectors(py, &shape, &pick(&|d| xyz(&d.point.coords)))?,
+        )?;
+        out.set_item("du", vectors(py, &shape, &pick(&|d| xyz(&d.du)))?)?;
+        out.set_item("dv", vectors(py, &shape, &pick(&|d| xyz(&d.dv)))?)?;
+        if order == 2 {
+            out.set_item("duu", vectors(py, &shape, &pick(&|d| xyz(&d.duu)))?)?;
+            out.set_item("duv", vectors(py, &shape, &pick(&|d| xyz(&d.duv)))?)?;
+            out.set_item("dvv", vectors(py, &shape, &pick(&|d| xyz(&d.dvv)))?)?;
+        }
+        Ok(out)
+    }
+
+    /// Curvature at (u, v): a dict of arrays — "normal" (shape + (3,), the unit normal
+    /// S_u × S_v), "k1" ≥ "k2" (principal curvatures, signed against the normal), "mean",
+    /// "gauss"; NaN where the surface is singular (a pole).
+    fn curvature<'py>(
+        &self,
+        py: Python<'py>,
+        u: &Bound<'py, PyAny>,
+        v: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, PyDict>> {
+        let (shape, pairs) = parameters(py, u, v)?;
+        let s = &self.inner;
+        let values: Vec<Option<nurbs_core::CurvatureValues>> = py.detach(|| {
+            pairs
+                .iter()
+                .map(|&(a, b)| s.derivatives(a, b).curvature_values())
+                .collect()
+        });
+        let nan = f64::NAN;
+        let out = PyDict::new(py);
+        let normals: Vec<[f64; 3]> = values
+            .iter()
+            .map(|c| c.as_ref().map_or([nan; 3], |c| xyz(&c.normal)))
+            .collect();
+        out.set_item("normal", vectors(py, &shape, &normals)?)?;
+        let field = |f: &dyn Fn(&nurbs_core::CurvatureValues) -> f64| -> Vec<f64> {
+            values.iter().map(|c| c.as_ref().map_or(nan, f)).collect()
+        };
+        out.set_item("k1", scalars(py, &shape, field(&|c| c.k1))?)?;
+        out.set_item("k2", scalars(py, &shape, field(&|c| c.k2))?)?;
+        out.set_item("mean", scalars(py, &shape, field(&|c| c.mean))?)?;
+        out.set_item("gauss", scalars(py, &shape, field(&|c| c.gauss))?)?;
+        Ok(out)
+    }
+
+    /// Points on an nu × nv grid of uniform parameters over the domain: an (nu, nv, 3) array.
+    fn grid<'py>(
+        &self,
+        py: Python<'py>,
+        nu: usize,
+        nv: usize,
+    ) -> PyResult<Bound<'py, PyArray3<f64>>> {
+        if nu < 2 || nv < 2 {
+            return Err(HierFairError::new_err(format!(
+                "grid {nu} × {nv}: at least 2 × 2"
+            )));
+        }
+        let ((u0, u1), (v0, v1)) = (self.inner.domain_u(), self.inner.domain_v());
+        let s = &self.inner;
+        let pts: Vec<Point3> = py.detach(|| {
+            (0..nu)
+                .flat_map(|i| {
+                    let u = u0 + (u1 - u0) * i as f64 / (nu - 1) as f64;
+                    (0..nv).map(move |j| s.point(u, v0 + (v1 - v0) * j as f64 / (nv - 1) as f64))
+                })
+                .collect()
+        });
+        Ok(Array3::from_shape_fn((nu, nv, 3), |(i, j, k)| pts[i * nv + j][k]).into_pyarray(py))
+    }
+
+    /// The same surface with knot `t` inserted `times` times in `direction` ("u" or "v").
+    #[pyo3(signature = (direction, t, times=1))]
+    fn insert_knot(&self, direction: &str, t: f64, times: usize) -> PyResult<Self> {
+        let inner = self
+            .inner
+            .insert_knot(self::direction(direction)?, t, times)
+            .map_err(|e| core_err("insert_knot", e))?;
+        Ok(Self { inner })
+    }
+
+    /// The same surface with its degree in `direction` raised by `by`.
+    #[pyo3(signature = (direction, by=1))]
+    fn elevate(&self, direction: &str, by: usize) -> PyResult<Self> {
+        let inner = self
+            .inner
+            .elevate_degree(self::direction(direction)?, by)
+            .map_err(|e| core_err("elevate", e))?;
+        Ok(Self { inner })
+    }
+
+    /// The thin-plate energy ∫∫ |S_uu|² + 2|S_uv|² + |S_vv|² du dv.
+    fn thin_plate_energy(&self) -> f64 {
+        nurbs_core::energy::thin_plate_energy(&self.inner)
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Surface(degrees=({}, {}), net={}×{}, rational={})",
+            self.inner.degree_u(),
+            self.inner.degree_v(),
+            self.inner.num_u(),
+            self.inner.num_v(),
+            if self.inner.is_rational() {
+                "True"
+            } else {
+                "False"
+            }
+        )
+    }
+}
