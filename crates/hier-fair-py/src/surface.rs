@@ -46,6 +46,33 @@ fn parameters<'py>(
     Ok((shape, pairs))
 }
 
+/// Parameter pairs per rayon task: enough that a task's evaluator setup is nothing against its
+/// points, few enough that both cores share a grid of a few thousand points.
+const CHUNK: usize = 4096;
+
+/// `f` at every parameter pair, in order, each task with its own evaluator (the basis buffers
+/// of [`nurbs_core::SurfaceEvaluator`]); `width` values per pair, flattened.
+fn map_pairs(
+    s: &BSplineSurface,
+    pairs: &[(f64, f64)],
+    width: usize,
+    f: impl Fn(&mut nurbs_core::SurfaceEvaluator<'_>, f64, f64, &mut Vec<f64>) + Sync,
+) -> Vec<f64> {
+    use rayon::prelude::*;
+    let parts: Vec<Vec<f64>> = pairs
+        .par_chunks(CHUNK)
+        .map(|chunk| {
+            let mut e = s.evaluator();
+            let mut out = Vec::with_capacity(width * chunk.len());
+            for &(u, v) in chunk {
+                f(&mut e, u, v, &mut out);
+            }
+            out
+        })
+        .collect();
+    parts.concat()
+}
+
 /// The direction named `name` ("u" or "v").
 fn direction(name: &str) -> PyResult<Direction> {
     match name {
@@ -57,15 +84,14 @@ fn direction(name: &str) -> PyResult<Direction> {
     }
 }
 
-/// Vectors (one per parameter pair) as an array of `shape` + (3,).
+/// Vectors (three values per parameter pair, flattened) as an array of `shape` + (3,).
 fn vectors<'py>(
     py: Python<'py>,
     shape: &[usize],
-    v: &[[f64; 3]],
+    flat: Vec<f64>,
 ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
     let mut full = shape.to_vec();
     full.push(3);
-    let flat: Vec<f64> = v.iter().flatten().copied().collect();
     let a = ArrayD::from_shape_vec(IxDyn(&full), flat)
         .map_err(|e| HierFairError::new_err(e.to_string()))?;
     Ok(a.into_pyarray(py))
@@ -216,13 +242,12 @@ impl PySurface {
     ) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
         let (shape, pairs) = parameters(py, u, v)?;
         let s = &self.inner;
-        let pts: Vec<[f64; 3]> = py.detach(|| {
-            pairs
-                .iter()
-                .map(|&(a, b)| xyz(&s.point(a, b).coords))
-                .collect()
+        let flat = py.detach(|| {
+            map_pairs(s, &pairs, 3, |e, a, b, out| {
+                out.extend_from_slice(&xyz(&e.point(a, b).coords))
+            })
         });
-        vectors(py, &shape, &pts)
+        vectors(py, &shape, flat)
     }
 
     /// Partial derivatives at (u, v) up to `order` (1 or 2): a dict of arrays of the
@@ -242,22 +267,26 @@ impl PySurface {
         }
         let (shape, pairs) = parameters(py, u, v)?;
         let s = &self.inner;
-        let ds: Vec<nurbs_core::SurfaceDerivatives> =
-            py.detach(|| pairs.iter().map(|&(a, b)| s.derivatives(a, b)).collect());
+        let width = if order == 2 { 18 } else { 9 };
+        let flat = py.detach(|| {
+            map_pairs(s, &pairs, width, |e, a, b, out| {
+                let d = e.evaluate(a, b, order);
+                for w in [d.point.coords, d.du, d.dv, d.duu, d.duv, d.dvv]
+                    .iter()
+                    .take(width / 3)
+                {
+                    out.extend_from_slice(&xyz(w));
+                }
+            })
+        });
         let out = PyDict::new(py);
-        let pick = |f: &dyn Fn(&nurbs_core::SurfaceDerivatives) -> [f64; 3]| -> Vec<[f64; 3]> {
-            ds.iter().map(f).collect()
-        };
-        out.set_item(
-            "point",
-            vectors(py, &shape, &pick(&|d| xyz(&d.point.coords)))?,
-        )?;
-        out.set_item("du", vectors(py, &shape, &pick(&|d| xyz(&d.du)))?)?;
-        out.set_item("dv", vectors(py, &shape, &pick(&|d| xyz(&d.dv)))?)?;
-        if order == 2 {
-            out.set_item("duu", vectors(py, &shape, &pick(&|d| xyz(&d.duu)))?)?;
-            out.set_item("duv", vectors(py, &shape, &pick(&|d| xyz(&d.duv)))?)?;
-            out.set_item("dvv", vectors(py, &shape, &pick(&|d| xyz(&d.dvv)))?)?;
+        let names = ["point", "du", "dv", "duu", "duv", "dvv"];
+        for (k, name) in names.iter().take(width / 3).enumerate() {
+            let part: Vec<f64> = flat
+                .chunks_exact(width)
+                .flat_map(|c| c[3 * k..3 * k + 3].iter().copied())
+                .collect();
+            out.set_item(name, vectors(py, &shape, part)?)?;
         }
         Ok(out)
     }
@@ -273,26 +302,28 @@ impl PySurface {
     ) -> PyResult<Bound<'py, PyDict>> {
         let (shape, pairs) = parameters(py, u, v)?;
         let s = &self.inner;
-        let values: Vec<Option<nurbs_core::CurvatureValues>> = py.detach(|| {
-            pairs
-                .iter()
-                .map(|&(a, b)| s.derivatives(a, b).curvature_values())
-                .collect()
+        // normal (3), k1, k2, mean, gauss per pair; NaN where the surface is singular
+        let flat = py.detach(|| {
+            map_pairs(s, &pairs, 7, |e, a, b, out| {
+                match e.evaluate(a, b, 2).curvature_values() {
+                    Some(c) => {
+                        out.extend_from_slice(&xyz(&c.normal));
+                        out.extend_from_slice(&[c.k1, c.k2, c.mean, c.gauss]);
+                    }
+                    None => out.extend_from_slice(&[f64::NAN; 7]),
+                }
+            })
         });
-        let nan = f64::NAN;
         let out = PyDict::new(py);
-        let normals: Vec<[f64; 3]> = values
-            .iter()
-            .map(|c| c.as_ref().map_or([nan; 3], |c| xyz(&c.normal)))
+        let normals: Vec<f64> = flat
+            .chunks_exact(7)
+            .flat_map(|c| c[..3].iter().copied())
             .collect();
-        out.set_item("normal", vectors(py, &shape, &normals)?)?;
-        let field = |f: &dyn Fn(&nurbs_core::CurvatureValues) -> f64| -> Vec<f64> {
-            values.iter().map(|c| c.as_ref().map_or(nan, f)).collect()
-        };
-        out.set_item("k1", scalars(py, &shape, field(&|c| c.k1))?)?;
-        out.set_item("k2", scalars(py, &shape, field(&|c| c.k2))?)?;
-        out.set_item("mean", scalars(py, &shape, field(&|c| c.mean))?)?;
-        out.set_item("gauss", scalars(py, &shape, field(&|c| c.gauss))?)?;
+        out.set_item("normal", vectors(py, &shape, normals)?)?;
+        for (k, name) in ["k1", "k2", "mean", "gauss"].iter().enumerate() {
+            let part: Vec<f64> = flat.chunks_exact(7).map(|c| c[3 + k]).collect();
+            out.set_item(name, scalars(py, &shape, part)?)?;
+        }
         Ok(out)
     }
 
@@ -309,16 +340,23 @@ impl PySurface {
             )));
         }
         let ((u0, u1), (v0, v1)) = (self.inner.domain_u(), self.inner.domain_v());
+        let us: Vec<f64> = (0..nu)
+            .map(|i| u0 + (u1 - u0) * i as f64 / (nu - 1) as f64)
+            .collect();
+        let vs: Vec<f64> = (0..nv)
+            .map(|j| v0 + (v1 - v0) * j as f64 / (nv - 1) as f64)
+            .collect();
         let s = &self.inner;
-        let pts: Vec<Point3> = py.detach(|| {
-            (0..nu)
-                .flat_map(|i| {
-                    let u = u0 + (u1 - u0) * i as f64 / (nu - 1) as f64;
-                    (0..nv).map(move |j| s.point(u, v0 + (v1 - v0) * j as f64 / (nv - 1) as f64))
-                })
+        // the tensor-product grid: the basis of each row and column once
+        let flat: Vec<f64> = py.detach(|| {
+            s.eval_grid_points(&us, &vs)
+                .iter()
+                .flat_map(|p| xyz(&p.coords))
                 .collect()
         });
-        Ok(Array3::from_shape_fn((nu, nv, 3), |(i, j, k)| pts[i * nv + j][k]).into_pyarray(py))
+        let a = Array3::from_shape_vec((nu, nv, 3), flat)
+            .map_err(|e| HierFairError::new_err(e.to_string()))?;
+        Ok(a.into_pyarray(py))
     }
 
     /// The same surface with knot `t` inserted `times` times in `direction` ("u" or "v").

@@ -123,6 +123,24 @@ def test_derivatives_match_finite_differences():
     assert set(s.derivatives(0.5, 0.5, order=1)) == {"point", "du", "dv"}
 
 
+def test_evaluation_gives_the_command_lines_values(tmp_path):
+    path = FIXTURES / "surfaces" / "sphere_patch_r50.json"
+    want = json.loads(run("eval", path, "--grid", "5,4"))["results"]
+    s = hierfair.Surface.from_json(path.read_text())
+    u = np.array([r["u"] for r in want])
+    v = np.array([r["v"] for r in want])
+    d, c = s.derivatives(u, v), s.curvature(u, v)
+    for key in ("point", "du", "dv", "duu", "duv", "dvv"):
+        assert np.allclose(d[key], [r[key] for r in want], rtol=1e-12, atol=1e-12), key
+    assert np.allclose(s.evaluate(u, v), d["point"], rtol=0, atol=0)
+    assert np.allclose(c["normal"], [r["normal"] for r in want], atol=1e-12)
+    for key in ("k1", "k2", "mean", "gauss"):
+        assert np.allclose(c[key], [r[key] for r in want], rtol=1e-12, atol=1e-15), key
+    # the grid is the command line's grid
+    g = s.grid(5, 4).reshape(-1, 3)
+    assert np.allclose(g, [r["point"] for r in want], rtol=1e-12, atol=1e-12)
+
+
 def test_knot_insertion_and_degree_elevation_keep_the_shape():
     s = sphere_octant()
     u, v = np.meshgrid(np.linspace(0, 1, 11), np.linspace(0, 1, 11), indexing="ij")
@@ -235,9 +253,13 @@ def test_a_method_written_in_python_runs_in_the_framework():
     assert report["method"] == "halfway"
     assert report["max_control_move"] <= 0.5
     assert calls and faired.points.shape == s.points.shape
-    m = hierfair.Model.load(str(FIXTURES / "occt" / "occt_plate_boss.json"))
+    # the X-node: a corner patch linked G2 to four fillets, faired with the Python method
+    m = hierfair.Model.load(str(FIXTURES / "models" / "x_node.json"))
+    calls.clear()
     faired, report = m.fair(method=halfway)
-    assert {s["method"] for s in report["surfaces"] if s.get("processed", True)} <= {"halfway"}
+    assert calls, "the framework never called the method"
+    assert all(s["method"] == "halfway" for s in report["surfaces"] if s["processed"])
+    assert all(link["met"] for link in report["links"])
 
     def broken(surface, mask, tolerance):
         raise RuntimeError("no idea")

@@ -250,6 +250,7 @@ pub fn cad_text(model: &Model, format: CadFormat, file_name: &str) -> Result<Str
             file_name,
             EDGE_FIT_SHARE * model.tolerances.g0,
             model.tolerances.g0,
+            &parts(model),
         )
         .map_err(|e| Error::Exchange {
             detail: e.to_string(),
@@ -265,6 +266,23 @@ fn written_unit(model: &Model) -> &str {
         Some(u) if nurbs_io::units::mm_per_unit(u).is_some() => u,
         _ => "mm",
     }
+}
+
+/// Each surface's part of an assembly, numbered in order of first appearance (surfaces of no
+/// part are one part): the STEP writer joins faces into shells within a part only.
+fn parts(model: &Model) -> Vec<usize> {
+    let mut names: Vec<Option<&str>> = Vec::new();
+    model
+        .surfaces
+        .iter()
+        .map(|s| {
+            let p = s.part.as_deref();
+            names.iter().position(|&n| n == p).unwrap_or_else(|| {
+                names.push(p);
+                names.len() - 1
+            })
+        })
+        .collect()
 }
 
 /// The model's surfaces as faces to write, each with its trim loops (the writers put the loops

@@ -104,7 +104,7 @@ fn a_cube_is_one_closed_shell_oriented_outward_or_inward_throughout() {
         .iter()
         .map(|(n, s, _)| Face::untrimmed(n, s))
         .collect();
-    let text = write_step_shell(&list, "mm", "cube.step", 0.0, JOIN).unwrap();
+    let text = write_step_shell(&list, "mm", "cube.step", 0.0, JOIN, &[]).unwrap();
     let e = entities(&text);
     assert_eq!(count(&e, "CLOSED_SHELL"), 1);
     assert_eq!(count(&e, "OPEN_SHELL"), 0);
@@ -146,7 +146,7 @@ fn without_a_join_tolerance_every_face_keeps_its_own_edges() {
         .iter()
         .map(|(n, s, _)| Face::untrimmed(n, s))
         .collect();
-    let text = write_step_shell(&list, "mm", "cube.step", 0.0, 0.0).unwrap();
+    let text = write_step_shell(&list, "mm", "cube.step", 0.0, 0.0, &[]).unwrap();
     let e = entities(&text);
     // each face a shell of its own
     assert_eq!(count(&e, "OPEN_SHELL"), 6);
@@ -162,7 +162,7 @@ fn faces_apart_by_less_than_the_join_tolerance_share_and_farther_do_not() {
     let far = patch(Point3::new(1.0 + 5.0 * JOIN, 0.0, 0.0), x, y);
     for (b, shared) in [(&near, true), (&far, false)] {
         let list = [Face::untrimmed("a", &a), Face::untrimmed("b", b)];
-        let text = write_step_shell(&list, "mm", "two.step", 0.0, JOIN).unwrap();
+        let text = write_step_shell(&list, "mm", "two.step", 0.0, JOIN, &[]).unwrap();
         let e = entities(&text);
         let (edges, shells) = if shared { (7, 1) } else { (8, 2) };
         assert_eq!(count(&e, "EDGE_CURVE"), edges, "shared: {shared}");
@@ -184,7 +184,7 @@ fn an_edge_another_faces_vertex_lies_on_is_split_there() {
         Face::untrimmed("left", &left),
         Face::untrimmed("right", &right),
     ];
-    let text = write_step_shell(&list, "mm", "t.step", 0.0, JOIN).unwrap();
+    let text = write_step_shell(&list, "mm", "t.step", 0.0, JOIN, &[]).unwrap();
     let e = entities(&text);
     // long: 5 edges (its top split), left 4 − 1, right 4 − 2
     assert_eq!(count(&e, "EDGE_CURVE"), 10);
@@ -222,9 +222,25 @@ fn a_trimmed_face_shares_its_edge_with_a_boxed_neighbour() {
         },
         Face::untrimmed("below", &below),
     ];
-    let text = write_step_shell(&list, "mm", "tri.step", 0.0, JOIN).unwrap();
+    let text = write_step_shell(&list, "mm", "tri.step", 0.0, JOIN, &[]).unwrap();
     let e = entities(&text);
     assert_eq!(count(&e, "EDGE_CURVE"), 3 + 4 - 1);
     let back = read_step(&text).unwrap();
     assert_eq!(back.faces.len(), 2);
+}
+
+#[test]
+fn faces_of_two_parts_are_never_joined() {
+    // two unit squares side by side: one shell in one part, two shells in two parts (two
+    // solids of an assembly that touch stay two)
+    let (x, y) = (Vector3::x(), Vector3::y());
+    let a = patch(Point3::origin(), x, y);
+    let b = patch(Point3::new(1.0, 0.0, 0.0), x, y);
+    let list = [Face::untrimmed("a", &a), Face::untrimmed("b", &b)];
+    for (parts, edges, shells) in [(vec![0, 0], 7, 1), (vec![0, 1], 8, 2)] {
+        let text = write_step_shell(&list, "mm", "two.step", 0.0, JOIN, &parts).unwrap();
+        let e = entities(&text);
+        assert_eq!(count(&e, "EDGE_CURVE"), edges, "{parts:?}");
+        assert_eq!(count(&e, "OPEN_SHELL"), shells, "{parts:?}");
+    }
 }

@@ -78,6 +78,10 @@ pub(super) struct ShellPlan {
     pub(super) vertices: Vec<Point3>,
     /// for each vertex, the faces that use it
     vertex_faces: Vec<Vec<usize>>,
+    /// for each vertex, the part (of an assembly) of the faces that use it
+    vertex_part: Vec<usize>,
+    /// for each face, its part
+    face_part: Vec<usize>,
     /// for each vertex, how far it reaches: the join tolerance, capped at [`EDGE_SHARE`] of
     /// the shortest edge at it in any face that uses it
     reach: Vec<f64>,
@@ -89,9 +93,20 @@ pub(super) struct ShellPlan {
 }
 
 impl ShellPlan {
-    /// The plan of `faces`, joined within `join` (model units; 0: every face on its own).
-    pub(super) fn new(faces: &[Face<'_>], join: f64) -> Result<Self, nurbs_core::Error> {
-        let mut plan = Self::default();
+    /// The plan of `faces`, joined within `join` (model units; 0: every face on its own), faces
+    /// only with faces of their own part (`parts`, one per face; empty: one part) — two parts
+    /// of an assembly that touch are two solids, not one.
+    pub(super) fn new(
+        faces: &[Face<'_>],
+        join: f64,
+        parts: &[usize],
+    ) -> Result<Self, nurbs_core::Error> {
+        let mut plan = Self {
+            face_part: (0..faces.len())
+                .map(|k| parts.get(k).copied().unwrap_or(0))
+                .collect(),
+            ..Self::default()
+        };
         for (k, f) in faces.iter().enumerate() {
             plan.add_face(k, f, join)?;
         }
@@ -107,8 +122,9 @@ impl ShellPlan {
     /// one within both reaches that `face` does not use yet, else a new one (each distinct
     /// vertex of a face its own).
     fn vertex(&mut self, face: usize, p: Point3, reach: f64) -> usize {
+        let part = self.face_part[face];
         let near = (0..self.vertices.len())
-            .filter(|&k| !self.vertex_faces[k].contains(&face))
+            .filter(|&k| self.vertex_part[k] == part && !self.vertex_faces[k].contains(&face))
             .map(|k| (k, (self.vertices[k] - p).norm()))
             .filter(|&(k, d)| reach > 0.0 && d <= reach.min(self.reach[k]))
             .min_by(|a, b| a.1.total_cmp(&b.1));
@@ -121,6 +137,7 @@ impl ShellPlan {
             None => {
                 self.vertices.push(p);
                 self.vertex_faces.push(vec![face]);
+                self.vertex_part.push(part);
                 self.reach.push(reach);
                 self.vertices.len() - 1
             }
@@ -289,6 +306,7 @@ impl ShellPlan {
                 let p = self.vertices[v];
                 if v == edge.start
                     || v == edge.end
+                    || self.vertex_part[v] != self.face_part[edge.face]
                     || self.vertex_faces[v].contains(&edge.face)
                     || (0..3).any(|i| p[i] < lo[i] || p[i] > hi[i])
                 {

@@ -67,7 +67,7 @@ pub fn write_step_faces_within(
     name: &str,
     edge_tolerance: f64,
 ) -> Result<String, nurbs_core::Error> {
-    write_step_shell(faces, units, name, edge_tolerance, 0.0)
+    write_step_shell(faces, units, name, edge_tolerance, 0.0, &[])
 }
 
 /// [`write_step_faces_within`] with the faces joined into one shell where they meet: vertices
@@ -77,20 +77,22 @@ pub fn write_step_faces_within(
 /// shell a CLOSED_SHELL where every edge is used twice. The file's distance
 /// accuracy is then the join tolerance: the written edge lies on one of its faces and within
 /// that of the other. 0 writes every face with its own vertices and edges, as
-/// [`write_step_faces_within`].
+/// [`write_step_faces_within`]. `parts` gives each face's part of an assembly (empty: one part):
+/// faces are joined only within a part.
 pub fn write_step_shell(
     faces: &[Face<'_>],
     units: &str,
     name: &str,
     edge_tolerance: f64,
     join_tolerance: f64,
+    parts: &[usize],
 ) -> Result<String, nurbs_core::Error> {
     use std::fmt::Write as _;
     let mut w = StepWriter {
         edge_tolerance,
         ..StepWriter::default()
     };
-    let plan = super::shell::ShellPlan::new(faces, join_tolerance)?;
+    let plan = super::shell::ShellPlan::new(faces, join_tolerance, parts)?;
     let ids = w.shell_faces(faces, &plan)?;
     let shells: Vec<usize> = plan
         .shells
