@@ -20,6 +20,7 @@ fn _hierfair(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("HierFairError", m.py().get_type::<error::HierFairError>())?;
     m.add_function(wrap_pyfunction!(method::fair_surface, m)?)?;
     m.add_function(wrap_pyfunction!(method::continuity, m)?)?;
+    m.add_function(wrap_pyfunction!(method::connect, m)?)?;
     m.add_function(wrap_pyfunction!(method::methods, m)?)?;
     Ok(())
 }

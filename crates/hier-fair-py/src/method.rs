@@ -195,6 +195,76 @@ pub fn continuity<'py>(
     to_python(py, &hier_fair::check::measure_json(&m))
 }
 
+/// connect(slave, masters, target="G2")
+///
+/// Sets `slave`'s continuity to its masters as the framework's continuity steps do (degree
+/// raised, knots inserted where the rows need room, the G0, G1 and G2 rows fitted by least
+/// squares): `masters` a list of (side, master) or (side, master, target) tuples, the side
+/// "u0", "u1", "v0" or "v1", the target "G0", "G1" or "G2" (`target` by default). Returns the
+/// surface and a list of dicts per side: side, target, met, before and after (the measures of
+/// `continuity`).
+#[pyfunction]
+#[pyo3(signature = (slave, masters, target="G2"))]
+pub fn connect<'py>(
+    py: Python<'py>,
+    slave: &PySurface,
+    masters: Vec<Bound<'py, PyAny>>,
+    target: &str,
+) -> PyResult<(PySurface, Bound<'py, PyList>)> {
+    let default = continuity_of(target)?;
+    let mut given: Vec<(nurbs_core::Side, PySurface, Continuity)> =
+        Vec::with_capacity(masters.len());
+    for m in &masters {
+        let (side, master, level): (String, PySurface, Option<String>) =
+            if let Ok((a, b, c)) = m.extract::<(String, PyRef<'_, PySurface>, String)>() {
+                (a, b.clone(), Some(c))
+            } else {
+                let (a, b) = m.extract::<(String, PyRef<'_, PySurface>)>().map_err(|_| {
+                    HierFairError::new_err(
+                        "masters: expected (side, Surface) or (side, Surface, target) tuples",
+                    )
+                })?;
+                (a, b.clone(), None)
+            };
+        let side = nurbs_core::Side::parse(&side).ok_or_else(|| {
+            HierFairError::new_err(format!("side {side:?}: expected u0, u1, v0 or v1"))
+        })?;
+        let level = level.map_or(Ok(default), |l| continuity_of(&l))?;
+        given.push((side, master, level));
+    }
+    let links: Vec<g_continuity::SideLink<'_>> = given
+        .iter()
+        .map(|(side, master, level)| g_continuity::SideLink {
+            side: *side,
+            master: &master.inner,
+            target: *level,
+            range: None,
+            g2_zones: [0.0; 2],
+        })
+        .collect();
+    let params = g_continuity::ConnectParams::default();
+    let (out, report) = py
+        .detach(|| g_continuity::connect_slave(&slave.inner, &links, &params))
+        .map_err(|e| HierFairError::new_err(e.to_string()))?;
+    let sides = PyList::empty(py);
+    for r in &report.sides {
+        let d = PyDict::new(py);
+        d.set_item("side", r.side.name())?;
+        d.set_item("target", hier_fair::check::continuity_name(r.target))?;
+        d.set_item("met", r.met)?;
+        d.set_item(
+            "before",
+            to_python(py, &hier_fair::check::measure_json(&r.before))?,
+        )?;
+        d.set_item(
+            "after",
+            to_python(py, &hier_fair::check::measure_json(&r.after))?,
+        )?;
+        sides.append(d)?;
+    }
+    Ok((PySurface { inner: out }, sides))
+}
+
 /// methods() → the built-in fairing methods: a list of dicts with `name`, `summary` and
 /// `takes_iterations`.
 #[pyfunction]

@@ -180,6 +180,33 @@ def test_continuity_of_one_side_is_the_checks():
         assert got[key] == pytest.approx(entry[key], abs=1e-15)
 
 
+def bezier_patch(z):
+    """The bicubic Bézier patch over [0, 1]² with heights z(x, y) at its control points."""
+    t = np.linspace(0.0, 1.0, 4)
+    net = np.array([[[x, y, z(x, y)] for y in t] for x in t])
+    knots = [0.0] * 4 + [1.0] * 4
+    return hierfair.Surface((3, 3), (knots, knots), net)
+
+
+def test_connect_sets_g2_to_a_plane():
+    # the plane z = 0 over [0, 1] × [−1, 0]; the slave over [0, 1]² rises from its side y = 0
+    plane = bezier_patch(lambda x, y: 0.0)
+    plane = hierfair.Surface(
+        plane.degrees, plane.knots, plane.points - np.array([0.0, 1.0, 0.0])
+    )
+    slave = bezier_patch(lambda x, y: 0.3 * y + 0.2 * y * y)
+    before = hierfair.continuity(slave, "v0", plane)
+    assert before["g1_deg"] > 10.0
+    out, sides = hierfair.connect(slave, [("v0", plane)], target="G2")
+    assert [s["side"] for s in sides] == ["v0"] and sides[0]["met"]
+    after = hierfair.continuity(out, "v0", plane)
+    assert after["g0"] < 1e-9 and after["g1_deg"] < 1e-6
+    assert after["g2_abs"] < 1e-6
+    assert sides[0]["after"]["g1_deg"] == pytest.approx(after["g1_deg"], abs=1e-12)
+    with pytest.raises(hierfair.HierFairError, match="masters"):
+        hierfair.connect(slave, [plane])
+
+
 def test_fair_gives_the_command_lines_model_and_report(tmp_path):
     path = FIXTURES / "occt" / "occt_plate_boss.json"
     out, rep = tmp_path / "out.json", tmp_path / "rep.json"

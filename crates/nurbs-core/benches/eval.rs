@@ -82,6 +82,16 @@ fn grid(c: &mut Criterion) {
         b.iter(|| s.eval_grid_into(&us, &vs, GridOrder::Points, &mut points, |d| d.point))
     });
     let mut derivs = Vec::new();
+    g.bench_function("points", |b| {
+        b.iter(|| {
+            let mut eval = s.evaluator();
+            let mut acc = 0.0;
+            for &(u, v) in &params {
+                acc += eval.point(u, v).x;
+            }
+            black_box(acc)
+        })
+    });
     g.bench_function("second_derivatives", |b| {
         b.iter(|| s.eval_grid_into(&us, &vs, GridOrder::Second, &mut derivs, |d| *d))
     });
@@ -124,6 +134,16 @@ fn scattered(c: &mut Criterion) {
     let mut g = c.benchmark_group("scattered_1M");
     g.sample_size(20);
     g.throughput(Throughput::Elements(params.len() as u64));
+    g.bench_function("points", |b| {
+        b.iter(|| {
+            let mut eval = s.evaluator();
+            let mut acc = 0.0;
+            for &(u, v) in &params {
+                acc += eval.point(u, v).x;
+            }
+            black_box(acc)
+        })
+    });
     g.bench_function("second_derivatives", |b| {
         b.iter(|| {
             let mut eval = s.evaluator();

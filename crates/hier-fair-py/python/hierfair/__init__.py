@@ -2,7 +2,7 @@
 
 Surfaces with numpy arrays in and out (:class:`Surface`), models with their hierarchy, CAD
 exchange, checks and the fairing framework (:class:`Model`), one surface faired or measured on
-its own (:func:`fair_surface`, :func:`continuity`), and fairing methods written in Python: any
+its own (:func:`fair_surface`, :func:`connect`, :func:`continuity`), and fairing methods written in Python: any
 callable ``method(surface, mask, tolerance) -> Surface`` runs where a built-in method would.
 
 >>> import numpy as np, hierfair
@@ -16,6 +16,7 @@ from ._hierfair import (
     HierFairError,
     Model,
     Surface,
+    connect,
     continuity,
     fair_surface,
     methods,
@@ -25,6 +26,7 @@ __all__ = [
     "HierFairError",
     "Model",
     "Surface",
+    "connect",
     "continuity",
     "fair_surface",
     "methods",
