@@ -5,7 +5,7 @@
 use numpy::ndarray::{Array2, Array3, ArrayD, IxDyn};
 use numpy::{IntoPyArray, PyArray2, PyArray3, PyArrayDyn, PyReadonlyArrayDyn};
 use pyo3::prelude::*;
-use pyo3::types::PyDict;
+use pyo3::types::{PyDict, PySlice};
 
 use nurbs_core::{BSplineSurface, Direction, KnotVector, Point3};
 
@@ -51,26 +51,46 @@ fn parameters<'py>(
 const CHUNK: usize = 4096;
 
 /// `f` at every parameter pair, in order, each task with its own evaluator (the basis buffers
-/// of [`nurbs_core::SurfaceEvaluator`]); `width` values per pair, flattened.
+/// of [`nurbs_core::SurfaceEvaluator`]), writing its `width` values per pair into one flat
+/// buffer (no copy after: numpy takes the buffer as it is).
 fn map_pairs(
     s: &BSplineSurface,
     pairs: &[(f64, f64)],
     width: usize,
-    f: impl Fn(&mut nurbs_core::SurfaceEvaluator<'_>, f64, f64, &mut Vec<f64>) + Sync,
+    f: impl Fn(&mut nurbs_core::SurfaceEvaluator<'_>, f64, f64, &mut [f64]) + Sync,
 ) -> Vec<f64> {
     use rayon::prelude::*;
-    let parts: Vec<Vec<f64>> = pairs
-        .par_chunks(CHUNK)
-        .map(|chunk| {
+    let mut out = vec![0.0; width * pairs.len()];
+    out.par_chunks_mut(width * CHUNK)
+        .zip(pairs.par_chunks(CHUNK))
+        .for_each(|(block, chunk)| {
             let mut e = s.evaluator();
-            let mut out = Vec::with_capacity(width * chunk.len());
-            for &(u, v) in chunk {
-                f(&mut e, u, v, &mut out);
+            for (slot, &(u, v)) in block.chunks_exact_mut(width).zip(chunk) {
+                f(&mut e, u, v, slot);
             }
-            out
-        })
-        .collect();
-    parts.concat()
+        });
+    out
+}
+
+/// `flat` (`tail` values per parameter pair) as one array of `shape` + `tail`, and the views
+/// `index` picks from it per name (numpy indexing after the parameters' axes: no copies).
+fn views<'py>(
+    py: Python<'py>,
+    shape: &[usize],
+    tail: &[usize],
+    flat: Vec<f64>,
+    picks: &[(&str, Bound<'py, PyAny>)],
+) -> PyResult<Bound<'py, PyDict>> {
+    let mut full = shape.to_vec();
+    full.extend_from_slice(tail);
+    let all = ArrayD::from_shape_vec(IxDyn(&full), flat)
+        .map_err(|e| HierFairError::new_err(e.to_string()))?
+        .into_pyarray(py);
+    let out = PyDict::new(py);
+    for (name, index) in picks {
+        out.set_item(name, all.as_any().get_item(index)?)?;
+    }
+    Ok(out)
 }
 
 /// The direction named `name` ("u" or "v").
@@ -93,17 +113,6 @@ fn vectors<'py>(
     let mut full = shape.to_vec();
     full.push(3);
     let a = ArrayD::from_shape_vec(IxDyn(&full), flat)
-        .map_err(|e| HierFairError::new_err(e.to_string()))?;
-    Ok(a.into_pyarray(py))
-}
-
-/// Scalars (one per parameter pair) as an array of `shape`.
-fn scalars<'py>(
-    py: Python<'py>,
-    shape: &[usize],
-    v: Vec<f64>,
-) -> PyResult<Bound<'py, PyArrayDyn<f64>>> {
-    let a = ArrayD::from_shape_vec(IxDyn(shape), v)
         .map_err(|e| HierFairError::new_err(e.to_string()))?;
     Ok(a.into_pyarray(py))
 }
@@ -244,7 +253,7 @@ impl PySurface {
         let s = &self.inner;
         let flat = py.detach(|| {
             map_pairs(s, &pairs, 3, |e, a, b, out| {
-                out.extend_from_slice(&xyz(&e.point(a, b).coords))
+                out.copy_from_slice(&xyz(&e.point(a, b).coords))
             })
         });
         vectors(py, &shape, flat)
@@ -267,28 +276,28 @@ impl PySurface {
         }
         let (shape, pairs) = parameters(py, u, v)?;
         let s = &self.inner;
-        let width = if order == 2 { 18 } else { 9 };
+        let rows = if order == 2 { 6 } else { 3 };
         let flat = py.detach(|| {
-            map_pairs(s, &pairs, width, |e, a, b, out| {
+            map_pairs(s, &pairs, 3 * rows, |e, a, b, out| {
                 let d = e.evaluate(a, b, order);
-                for w in [d.point.coords, d.du, d.dv, d.duu, d.duv, d.dvv]
-                    .iter()
-                    .take(width / 3)
-                {
-                    out.extend_from_slice(&xyz(w));
+                let all = [d.point.coords, d.du, d.dv, d.duu, d.duv, d.dvv];
+                for (slot, w) in out.chunks_exact_mut(3).zip(&all) {
+                    slot.copy_from_slice(&xyz(w));
                 }
             })
         });
-        let out = PyDict::new(py);
         let names = ["point", "du", "dv", "duu", "duv", "dvv"];
-        for (k, name) in names.iter().take(width / 3).enumerate() {
-            let part: Vec<f64> = flat
-                .chunks_exact(width)
-                .flat_map(|c| c[3 * k..3 * k + 3].iter().copied())
-                .collect();
-            out.set_item(name, vectors(py, &shape, part)?)?;
-        }
-        Ok(out)
+        let ellipsis = py.Ellipsis().into_bound(py);
+        let picks: Vec<(&str, Bound<'py, PyAny>)> = names
+            .iter()
+            .take(rows)
+            .enumerate()
+            .map(|(k, &name)| {
+                let index = (ellipsis.clone(), k, PySlice::full(py)).into_pyobject(py)?;
+                Ok((name, index.into_any()))
+            })
+            .collect::<PyResult<_>>()?;
+        views(py, &shape, &[rows, 3], flat, &picks)
     }
 
     /// Curvature at (u, v): a dict of arrays — "normal" (shape + (3,), the unit normal
@@ -307,24 +316,27 @@ impl PySurface {
             map_pairs(s, &pairs, 7, |e, a, b, out| {
                 match e.evaluate(a, b, 2).curvature_values() {
                     Some(c) => {
-                        out.extend_from_slice(&xyz(&c.normal));
-                        out.extend_from_slice(&[c.k1, c.k2, c.mean, c.gauss]);
+                        out[..3].copy_from_slice(&xyz(&c.normal));
+                        out[3..].copy_from_slice(&[c.k1, c.k2, c.mean, c.gauss]);
                     }
-                    None => out.extend_from_slice(&[f64::NAN; 7]),
+                    None => out.fill(f64::NAN),
                 }
             })
         });
-        let out = PyDict::new(py);
-        let normals: Vec<f64> = flat
-            .chunks_exact(7)
-            .flat_map(|c| c[..3].iter().copied())
-            .collect();
-        out.set_item("normal", vectors(py, &shape, normals)?)?;
-        for (k, name) in ["k1", "k2", "mean", "gauss"].iter().enumerate() {
-            let part: Vec<f64> = flat.chunks_exact(7).map(|c| c[3 + k]).collect();
-            out.set_item(name, scalars(py, &shape, part)?)?;
+        let ellipsis = py.Ellipsis().into_bound(py);
+        let mut picks = vec![(
+            "normal",
+            (ellipsis.clone(), PySlice::new(py, 0, 3, 1))
+                .into_pyobject(py)?
+                .into_any(),
+        )];
+        for (k, name) in ["k1", "k2", "mean", "gauss"].into_iter().enumerate() {
+            picks.push((
+                name,
+                (ellipsis.clone(), 3 + k).into_pyobject(py)?.into_any(),
+            ));
         }
-        Ok(out)
+        views(py, &shape, &[7], flat, &picks)
     }
 
     /// Points on an nu × nv grid of uniform parameters over the domain: an (nu, nv, 3) array.
@@ -347,12 +359,20 @@ impl PySurface {
             .map(|j| v0 + (v1 - v0) * j as f64 / (nv - 1) as f64)
             .collect();
         let s = &self.inner;
-        // the tensor-product grid: the basis of each row and column once
+        // the tensor-product grid (the basis of each row and column once), blocks of rows on
+        // rayon tasks written straight into the array's buffer
         let flat: Vec<f64> = py.detach(|| {
-            s.eval_grid_points(&us, &vs)
-                .iter()
-                .flat_map(|p| xyz(&p.coords))
-                .collect()
+            use rayon::prelude::*;
+            let rows = CHUNK.div_ceil(nv).max(1);
+            let mut out = vec![0.0; 3 * nu * nv];
+            out.par_chunks_mut(3 * nv * rows)
+                .zip(us.par_chunks(rows))
+                .for_each(|(block, us)| {
+                    for (slot, p) in block.chunks_exact_mut(3).zip(s.eval_grid_points(us, &vs)) {
+                        slot.copy_from_slice(&xyz(&p.coords));
+                    }
+                });
+            out
         });
         let a = Array3::from_shape_vec((nu, nv, 3), flat)
             .map_err(|e| HierFairError::new_err(e.to_string()))?;

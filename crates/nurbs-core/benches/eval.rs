@@ -82,16 +82,6 @@ fn grid(c: &mut Criterion) {
         b.iter(|| s.eval_grid_into(&us, &vs, GridOrder::Points, &mut points, |d| d.point))
     });
     let mut derivs = Vec::new();
-    g.bench_function("points", |b| {
-        b.iter(|| {
-            let mut eval = s.evaluator();
-            let mut acc = 0.0;
-            for &(u, v) in &params {
-                acc += eval.point(u, v).x;
-            }
-            black_box(acc)
-        })
-    });
     g.bench_function("second_derivatives", |b| {
         b.iter(|| s.eval_grid_into(&us, &vs, GridOrder::Second, &mut derivs, |d| *d))
     });
