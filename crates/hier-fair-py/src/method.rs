@@ -103,7 +103,7 @@ pub fn to_python<'py>(py: Python<'py>, v: &serde_json::Value) -> PyResult<Bound<
     py.import("json")?.call_method1("loads", (v.to_string(),))
 }
 
-/// fair_surface(surface, method="energy", tolerance=..., keep="G2", iterations=None)
+/// fair_surface(surface, method=None, tolerance=0.05, keep="G2", iterations=None)
 ///
 /// Fairs one surface on its own, as `hier-fair fair` fairs a bare surface file: its boundary
 /// frames of `keep` fixed on all four sides (G0: the boundary rows, G1 two rows, G2 three) and
@@ -111,6 +111,13 @@ pub fn to_python<'py>(py: Python<'py>, v: &serde_json::Value) -> PyResult<Bound<
 /// `(surface, mask, tolerance) -> Surface`. Returns the surface (the input where the method
 /// raised the thin-plate energy) and a report dict: method, energy_before, energy_after,
 /// max_deviation, max_control_move, iterations, seconds, and `kept` where the input was kept.
+///
+/// >>> import numpy as np, hierfair
+/// >>> net = np.array([[[i, j, 0.1 * i * j] for j in range(5)] for i in range(5)], dtype=float)
+/// >>> s = hierfair.Surface((3, 3), ([0.0] * 4 + [0.5] + [1.0] * 4, [0.0] * 4 + [0.5] + [1.0] * 4), net)
+/// >>> faired, report = hierfair.fair_surface(s, tolerance=0.01, keep="G1")
+/// >>> report["method"], report["max_control_move"] <= 0.01
+/// ('energy', True)
 #[pyfunction]
 #[pyo3(signature = (surface, method=None, tolerance=0.05, keep="G2", iterations=None))]
 pub fn fair_surface<'py>(
@@ -173,6 +180,14 @@ pub fn fair_surface<'py>(
 /// `hier-fair check --json` measures a link: gap `g0`, normal angle `g1_deg`, relative
 /// curvature difference `g2_rel` (along the side's cross direction and across it, n × T), their
 /// worst places and the vertex figures.
+///
+/// >>> import numpy as np, hierfair
+/// >>> net = np.array([[[i, j, 0.1 * i * j] for j in range(5)] for i in range(5)], dtype=float)
+/// >>> s = hierfair.Surface((3, 3), ([0.0] * 4 + [0.5] + [1.0] * 4, [0.0] * 4 + [0.5] + [1.0] * 4), net)
+/// >>> flat = hierfair.Surface(s.degrees, s.knots, net * [1, 1, 0] - [4, 0, 0])
+/// >>> c = hierfair.continuity(s, "u0", flat)
+/// >>> c["g0"] < 1e-9, c["g1_deg"] > 1.0
+/// (True, True)
 #[pyfunction]
 #[pyo3(signature = (slave, side, master, samples=None))]
 pub fn continuity<'py>(
@@ -267,6 +282,11 @@ pub fn connect<'py>(
 
 /// methods() → the built-in fairing methods: a list of dicts with `name`, `summary` and
 /// `takes_iterations`.
+///
+/// >>> import hierfair
+/// >>> names = [m["name"] for m in hierfair.methods()]
+/// >>> names[0], "krr" in names
+/// ('energy', True)
 #[pyfunction]
 pub fn methods(py: Python<'_>) -> PyResult<Bound<'_, PyList>> {
     let out = PyList::empty(py);

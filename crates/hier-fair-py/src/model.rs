@@ -54,6 +54,11 @@ impl PyModel {
 #[pymethods]
 impl PyModel {
     /// The model in the JSON model file at `path`.
+    ///
+    /// >>> import hierfair
+    /// >>> m = hierfair.Model.load("fixtures/occt/occt_plate_boss.json")
+    /// >>> m
+    /// Model(10 surfaces, 4 links)
     #[staticmethod]
     fn load(path: &str) -> PyResult<Self> {
         let bytes = read(path)?;
@@ -152,6 +157,11 @@ impl PyModel {
     }
 
     /// {name: role} for every surface.
+    ///
+    /// >>> import hierfair
+    /// >>> m = hierfair.Model.load("fixtures/occt/occt_plate_boss.json")
+    /// >>> m.roles["F02_torus"]
+    /// 'connecting'
     #[getter]
     fn roles<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyDict>> {
         let d = PyDict::new(py);
@@ -162,6 +172,11 @@ impl PyModel {
     }
 
     /// The links: a list of dicts with `slave`, `side`, `master` and `target`.
+    ///
+    /// >>> import hierfair
+    /// >>> m = hierfair.Model.load("fixtures/occt/occt_plate_boss.json")
+    /// >>> m.links[0]
+    /// {'slave': 'F02_torus', 'side': 'v0', 'master': 'P01_plane', 'target': 'G2'}
     #[getter]
     fn links<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let out = PyList::empty(py);
@@ -179,6 +194,12 @@ impl PyModel {
     /// check(samples=None) → one dict per link with the fields of `hier-fair check --json`:
     /// slave, side, master, target, g0, g1_deg, g2_rel (and across the boundary, n × T), the
     /// worst places, the vertex figures.
+    ///
+    /// >>> import hierfair
+    /// >>> m = hierfair.Model.load("fixtures/occt/occt_plate_boss.json")
+    /// >>> link = m.check()[0]
+    /// >>> link["slave"], link["g1_deg"] < 0.01, link["g2_rel"]
+    /// ('F02_torus', True, 1.0)
     #[pyo3(signature = (samples=None))]
     fn check<'py>(&self, py: Python<'py>, samples: Option<usize>) -> PyResult<Bound<'py, PyAny>> {
         let params = g_continuity::MeasureParams {
@@ -202,6 +223,12 @@ impl PyModel {
     /// default per role); `tolerance` the deviation in millimetres, `tolerance_role` a dict
     /// {"primary"|"connecting"|"corner": mm}; `target` the highest continuity ("G0", "G1",
     /// "G2"); the report is the dict of `fair --report`.
+    ///
+    /// >>> import hierfair
+    /// >>> m = hierfair.Model.load("fixtures/occt/occt_plate_boss.json")
+    /// >>> faired, report = m.fair()
+    /// >>> all(link["met"] for link in report["links"])
+    /// True
     #[pyo3(signature = (method=None, tolerance=None, tolerance_role=None, target=None, iterations=None, verify=true, keep_faired=false))]
     fn fair<'py>(
         &self,

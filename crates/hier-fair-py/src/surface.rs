@@ -243,6 +243,12 @@ impl PySurface {
     }
 
     /// Points S(u, v): `u` and `v` scalars or arrays (broadcast); an array of their shape + (3,).
+    ///
+    /// >>> import numpy as np, hierfair
+    /// >>> net = np.array([[[i, j, i * j] for j in range(2)] for i in range(2)], dtype=float)
+    /// >>> s = hierfair.Surface((1, 1), ([0, 0, 1, 1], [0, 0, 1, 1]), net)
+    /// >>> s.evaluate([0.0, 0.5], 0.5).tolist()
+    /// [[0.0, 0.5, 0.0], [0.5, 0.5, 0.25]]
     fn evaluate<'py>(
         &self,
         py: Python<'py>,
@@ -261,6 +267,13 @@ impl PySurface {
 
     /// Partial derivatives at (u, v) up to `order` (1 or 2): a dict of arrays of the
     /// parameters' shape + (3,), keys "point", "du", "dv" and, for order 2, "duu", "duv", "dvv".
+    ///
+    /// >>> import numpy as np, hierfair
+    /// >>> net = np.array([[[i, j, i * j] for j in range(2)] for i in range(2)], dtype=float)
+    /// >>> s = hierfair.Surface((1, 1), ([0, 0, 1, 1], [0, 0, 1, 1]), net)
+    /// >>> d = s.derivatives(0.5, 0.5)
+    /// >>> d["du"].tolist(), d["duv"].tolist()
+    /// ([1.0, 0.0, 0.5], [0.0, 0.0, 1.0])
     #[pyo3(signature = (u, v, order=2))]
     fn derivatives<'py>(
         &self,
@@ -303,6 +316,13 @@ impl PySurface {
     /// Curvature at (u, v): a dict of arrays — "normal" (shape + (3,), the unit normal
     /// S_u × S_v), "k1" ≥ "k2" (principal curvatures, signed against the normal), "mean",
     /// "gauss"; NaN where the surface is singular (a pole).
+    ///
+    /// >>> import numpy as np, hierfair
+    /// >>> net = np.array([[[i, j, i * j] for j in range(2)] for i in range(2)], dtype=float)
+    /// >>> s = hierfair.Surface((1, 1), ([0, 0, 1, 1], [0, 0, 1, 1]), net)
+    /// >>> c = s.curvature(0.0, 0.0)
+    /// >>> round(float(c["gauss"]), 6), round(float(c["mean"]), 6)
+    /// (-1.0, 0.0)
     fn curvature<'py>(
         &self,
         py: Python<'py>,
@@ -340,6 +360,12 @@ impl PySurface {
     }
 
     /// Points on an nu × nv grid of uniform parameters over the domain: an (nu, nv, 3) array.
+    ///
+    /// >>> import numpy as np, hierfair
+    /// >>> net = np.array([[[i, j, i * j] for j in range(2)] for i in range(2)], dtype=float)
+    /// >>> s = hierfair.Surface((1, 1), ([0, 0, 1, 1], [0, 0, 1, 1]), net)
+    /// >>> s.grid(3, 2).shape
+    /// (3, 2, 3)
     fn grid<'py>(
         &self,
         py: Python<'py>,
@@ -380,6 +406,13 @@ impl PySurface {
     }
 
     /// The same surface with knot `t` inserted `times` times in `direction` ("u" or "v").
+    ///
+    /// >>> import numpy as np, hierfair
+    /// >>> net = np.array([[[i, j, i * j] for j in range(2)] for i in range(2)], dtype=float)
+    /// >>> s = hierfair.Surface((1, 1), ([0, 0, 1, 1], [0, 0, 1, 1]), net)
+    /// >>> t = s.insert_knot("u", 0.5)
+    /// >>> t.points.shape, bool(np.allclose(t.evaluate(0.3, 0.7), s.evaluate(0.3, 0.7)))
+    /// ((3, 2, 3), True)
     #[pyo3(signature = (direction, t, times=1))]
     fn insert_knot(&self, direction: &str, t: f64, times: usize) -> PyResult<Self> {
         let inner = self
@@ -390,6 +423,12 @@ impl PySurface {
     }
 
     /// The same surface with its degree in `direction` raised by `by`.
+    ///
+    /// >>> import numpy as np, hierfair
+    /// >>> net = np.array([[[i, j, i * j] for j in range(2)] for i in range(2)], dtype=float)
+    /// >>> s = hierfair.Surface((1, 1), ([0, 0, 1, 1], [0, 0, 1, 1]), net)
+    /// >>> s.elevate("v").degrees
+    /// (1, 2)
     #[pyo3(signature = (direction, by=1))]
     fn elevate(&self, direction: &str, by: usize) -> PyResult<Self> {
         let inner = self
