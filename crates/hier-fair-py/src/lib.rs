@@ -5,6 +5,10 @@
 //! `hierfair.HierFairError` with its one-line message. Built as an abi3 wheel by maturin
 //! (`pip install ./crates/hier-fair-py`); its tests are `tests/test_hierfair.py` (pytest).
 
+// the doc comments of the Python-facing items are Python docstrings: their doctest lines index
+// lists and dicts (`m.links[0]`), which rustdoc would take for intra-doc links
+#![allow(rustdoc::broken_intra_doc_links)]
+
 pub mod error;
 pub mod method;
 pub mod model;
