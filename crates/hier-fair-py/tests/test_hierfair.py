@@ -248,6 +248,18 @@ def test_a_cad_file_comes_in_as_the_command_line_reads_it(tmp_path):
     assert hierfair.Model.load(str(tmp_path / "again.json")).to_json() == m.to_json()
 
 
+def test_export_writes_the_command_lines_step_file(tmp_path):
+    path = FIXTURES / "occt" / "occt_loft_block.json"
+    (tmp_path / "cli").mkdir()
+    (tmp_path / "py").mkdir()
+    run("export", path, "-o", tmp_path / "cli" / "block.step")
+    hierfair.Model.load(str(path)).export(str(tmp_path / "py" / "block.step"))
+    cli_text = (tmp_path / "cli" / "block.step").read_text()
+    assert (tmp_path / "py" / "block.step").read_text() == cli_text
+    with pytest.raises(hierfair.HierFairError, match="export writes"):
+        hierfair.Model.load(str(path)).export(str(tmp_path / "block.txt"))
+
+
 def test_fair_surface_gives_the_command_lines_surface(tmp_path):
     path = FIXTURES / "surfaces" / "hood_panel.json"
     out, rep = tmp_path / "out.json", tmp_path / "rep.json"
