@@ -240,8 +240,10 @@ pub const EDGE_FIT_SHARE: f64 = 0.5;
 /// The model as the text of a CAD file in `format`, named `file_name` in its header: STEP
 /// (AP214, each surface a B-spline face bounded by its trim loops — each edge a cubic within
 /// [`EDGE_FIT_SHARE`] of the G0 tolerance of its points — or by its boundary curves where it
-/// has none) or IGES (each trim loop composite curves of cubic pieces between its corners,
-/// within the same share, in model and parameter space; dated now).
+/// has none; faces that meet within the G0 tolerance share their vertices and edges, a shell
+/// per connected set of faces of one part, closed where every edge is used twice:
+/// [`nurbs_io::write_step_shell`]) or IGES (each trim loop composite curves of cubic pieces
+/// between its corners, within the same share, in model and parameter space; dated now).
 pub fn cad_text(model: &Model, format: CadFormat, file_name: &str) -> Result<String> {
     match format {
         CadFormat::Step => nurbs_io::write_step_shell(
