@@ -377,13 +377,8 @@ impl PySurface {
                 "grid {nu} × {nv}: at least 2 × 2"
             )));
         }
-        let ((u0, u1), (v0, v1)) = (self.inner.domain_u(), self.inner.domain_v());
-        let us: Vec<f64> = (0..nu)
-            .map(|i| u0 + (u1 - u0) * i as f64 / (nu - 1) as f64)
-            .collect();
-        let vs: Vec<f64> = (0..nv)
-            .map(|j| v0 + (v1 - v0) * j as f64 / (nv - 1) as f64)
-            .collect();
+        let us = self.inner.knots_u().uniform_params(nu);
+        let vs = self.inner.knots_v().uniform_params(nv);
         let s = &self.inner;
         // the tensor-product grid (the basis of each row and column once), blocks of rows on
         // rayon tasks written straight into the array's buffer

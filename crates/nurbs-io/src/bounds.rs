@@ -492,18 +492,27 @@ pub fn distance_to_polyline(x: &Point3, pts: &[Point3]) -> f64 {
     if pts.len() == 1 {
         return (x - pts[0]).norm();
     }
-    pts.windows(2)
-        .map(|w| {
-            let d = w[1] - w[0];
-            let len2 = d.norm_squared();
-            let t = if len2 > 0.0 {
-                ((x - w[0]).dot(&d) / len2).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            (x - (w[0] + d * t)).norm()
-        })
-        .fold(f64::INFINITY, f64::min)
+    foot_on_polyline(x, pts).1
+}
+
+/// The foot of `x` on the polyline `pts` (two points at least): (segment, fraction along it)
+/// and the distance.
+pub(crate) fn foot_on_polyline(x: &Point3, pts: &[Point3]) -> ((usize, f64), f64) {
+    let mut best = ((0, 0.0), f64::INFINITY);
+    for (i, w) in pts.windows(2).enumerate() {
+        let d = w[1] - w[0];
+        let len2 = d.norm_squared();
+        let t = if len2 > 0.0 {
+            ((x - w[0]).dot(&d) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let dist = (x - (w[0] + d * t)).norm();
+        if dist < best.1 {
+            best = ((i, t), dist);
+        }
+    }
+    best
 }
 
 #[cfg(test)]

@@ -1,6 +1,7 @@
 //! A face's trim edge written as a curve ([`fitted_edge`]): its two ends where it is straight,
 //! else a cubic B-spline through its points within a tolerance, else the polyline through them
-//! ([`polyline`]).
+//! ([`polyline`]); and a curve sampled within a sag ([`sample_within`]), the boundary curves the
+//! readers sample and the exact edges the STEP writer compares.
 
 use nurbs_core::{BSplineCurve, KnotVector, Point3};
 
@@ -147,5 +148,65 @@ fn fitted_cubic(points: &[Point3], tolerance: f64) -> Result<BSplineCurve, nurbs
             return polyline(points);
         }
         breaks = next;
+    }
+}
+
+/// Points of `curve` at `samples` uniform parameters (both ends included), each interval halved
+/// until its middle and quarter points lie within `tol` of its chord, at most `max_halvings`
+/// times.
+pub(crate) fn sample_within(
+    curve: &BSplineCurve,
+    samples: usize,
+    tol: f64,
+    max_halvings: usize,
+) -> Vec<Point3> {
+    let (t0, t1) = curve.knots().domain();
+    let n = samples.max(2);
+    let mut out = vec![curve.point(t0)];
+    for k in 1..n {
+        let (a, b) = (
+            t0 + (t1 - t0) * (k - 1) as f64 / (n - 1) as f64,
+            t0 + (t1 - t0) * k as f64 / (n - 1) as f64,
+        );
+        let pb = curve.point(b);
+        let a = (a, out[out.len() - 1]);
+        halve(curve, a, (b, pb), tol, max_halvings, &mut out);
+    }
+    out
+}
+
+/// Pushes the points of `curve` after `a` up to and including `b`, halving [a, b] (`depth`
+/// halvings left) while a point between lies farther than `tol` from the chord.
+fn halve(
+    curve: &BSplineCurve,
+    a: (f64, Point3),
+    b: (f64, Point3),
+    tol: f64,
+    depth: usize,
+    out: &mut Vec<Point3>,
+) {
+    let chord = b.1 - a.1;
+    let len2 = chord.norm_squared();
+    let off = |p: Point3| {
+        let w = p - a.1;
+        let s = if len2 > 0.0 {
+            (w.dot(&chord) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        (w - chord * s).norm()
+    };
+    let h = b.0 - a.0;
+    let m = a.0 + 0.5 * h;
+    let pm = (m, curve.point(m));
+    let far = off(pm.1) > tol
+        || [0.25, 0.75]
+            .iter()
+            .any(|&f| off(curve.point(a.0 + f * h)) > tol);
+    if far && depth > 0 {
+        halve(curve, a, pm, tol, depth - 1, out);
+        halve(curve, pm, b, tol, depth - 1, out);
+    } else {
+        out.push(b.1);
     }
 }

@@ -97,14 +97,19 @@ fn cube() -> Vec<(String, BSplineSurface, Vector3)> {
     ]
 }
 
-#[test]
-fn a_cube_is_one_closed_shell_oriented_outward_or_inward_throughout() {
-    let parts = cube();
+/// The cube's faces written as one STEP file, joined within `join`.
+fn cube_text(parts: &[(String, BSplineSurface, Vector3)], join: f64) -> String {
     let list: Vec<Face<'_>> = parts
         .iter()
         .map(|(n, s, _)| Face::untrimmed(n, s))
         .collect();
-    let text = write_step_shell(&list, "mm", "cube.step", 0.0, JOIN, &[]).unwrap();
+    write_step_shell(&list, "mm", "cube.step", 0.0, join, &[]).unwrap()
+}
+
+#[test]
+fn a_cube_is_one_closed_shell_oriented_outward_or_inward_throughout() {
+    let parts = cube();
+    let text = cube_text(&parts, JOIN);
     let e = entities(&text);
     assert_eq!(count(&e, "CLOSED_SHELL"), 1);
     assert_eq!(count(&e, "OPEN_SHELL"), 0);
@@ -141,12 +146,7 @@ fn a_cube_is_one_closed_shell_oriented_outward_or_inward_throughout() {
 
 #[test]
 fn without_a_join_tolerance_every_face_keeps_its_own_edges() {
-    let parts = cube();
-    let list: Vec<Face<'_>> = parts
-        .iter()
-        .map(|(n, s, _)| Face::untrimmed(n, s))
-        .collect();
-    let text = write_step_shell(&list, "mm", "cube.step", 0.0, 0.0, &[]).unwrap();
+    let text = cube_text(&cube(), 0.0);
     let e = entities(&text);
     // each face a shell of its own
     assert_eq!(count(&e, "OPEN_SHELL"), 6);

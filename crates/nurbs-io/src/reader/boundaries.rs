@@ -540,8 +540,9 @@ impl Reader<'_> {
 
 /// Points of `curve` at `samples` uniform parameters (both ends included), each interval halved
 /// until its middle and quarter points lie within [`BOUNDARY_SAG_RELATIVE`] × the curve's size
-/// of its chord, at most [`MAX_SAG_HALVINGS`] times: a fixed count cut a circle of radius 25 on a
-/// plane's boundary into 16 chords, 0.48 mm inside the circle.
+/// of its chord, at most [`MAX_SAG_HALVINGS`] times ([`crate::edge_fit::sample_within`]): a fixed
+/// count cut a circle of radius 25 on a plane's boundary into 16 chords, 0.48 mm inside the
+/// circle.
 fn sample_within_sag(curve: &BSplineCurve, samples: usize) -> Vec<Point3> {
     let pts = curve.control_points();
     let (lo, hi) = pts.iter().fold(
@@ -552,54 +553,7 @@ fn sample_within_sag(curve: &BSplineCurve, samples: usize) -> Vec<Point3> {
         |(lo, hi), p| (lo.inf(p), hi.sup(p)),
     );
     let tol = BOUNDARY_SAG_RELATIVE * (hi - lo).norm();
-    let (t0, t1) = curve.knots().domain();
-    let n = samples.max(2);
-    let mut out = vec![curve.point(t0)];
-    for k in 1..n {
-        let (a, b) = (
-            t0 + (t1 - t0) * (k - 1) as f64 / (n - 1) as f64,
-            t0 + (t1 - t0) * k as f64 / (n - 1) as f64,
-        );
-        let pb = curve.point(b);
-        halve(curve, (a, out[out.len() - 1]), (b, pb), tol, 0, &mut out);
-    }
-    out
-}
-
-/// Pushes the points of `curve` after `a` up to and including `b`, halving [a, b] while a point
-/// between lies farther than `tol` from the chord (see [`sample_within_sag`]).
-fn halve(
-    curve: &BSplineCurve,
-    a: (f64, Point3),
-    b: (f64, Point3),
-    tol: f64,
-    depth: usize,
-    out: &mut Vec<Point3>,
-) {
-    let chord = b.1 - a.1;
-    let len2 = chord.norm_squared();
-    let off = |p: Point3| {
-        let w = p - a.1;
-        let s = if len2 > 0.0 {
-            (w.dot(&chord) / len2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        (w - chord * s).norm()
-    };
-    let h = b.0 - a.0;
-    let m = a.0 + 0.5 * h;
-    let pm = (m, curve.point(m));
-    let far = off(pm.1) > tol
-        || [0.25, 0.75]
-            .iter()
-            .any(|&f| off(curve.point(a.0 + f * h)) > tol);
-    if far && depth < MAX_SAG_HALVINGS {
-        halve(curve, a, pm, tol, depth + 1, out);
-        halve(curve, pm, b, tol, depth + 1, out);
-    } else {
-        out.push(b.1);
-    }
+    crate::edge_fit::sample_within(curve, samples, tol, MAX_SAG_HALVINGS)
 }
 
 #[cfg(test)]

@@ -22,7 +22,7 @@
 
 use nurbs_core::{BSplineCurve, BSplineSurface, Direction, Point3};
 
-use crate::bounds::{BoundLoop, Face, distance_to_polyline, face_bounds};
+use crate::bounds::{BoundLoop, Face, distance_to_polyline, face_bounds, foot_on_polyline};
 
 use super::writer::DISTANCE_ACCURACY;
 
@@ -509,53 +509,15 @@ fn same_direction(a: &PlanEdge, b: &PlanEdge) -> bool {
 }
 
 /// Points of `c` from its start to its end: [`SAMPLES_PER_CONTROL_POINT`] per control point,
-/// each chord halved while its midpoint's curve point lies farther than `tol` from it.
+/// each interval halved while it leaves its chord by more than `tol`.
 fn sampled(c: &BSplineCurve, tol: f64) -> Vec<Point3> {
-    let (t0, t1) = c.domain();
-    let n = (SAMPLES_PER_CONTROL_POINT * c.control_points().len()).max(2);
-    let ts: Vec<f64> = (0..=n)
-        .map(|k| t0 + (t1 - t0) * k as f64 / n as f64)
-        .collect();
-    let mut out = vec![c.point(t0)];
-    for w in ts.windows(2) {
-        halve(c, w[0], w[1], tol, crate::bounds::MAX_HALVINGS, &mut out);
-        out.push(c.point(w[1]));
-    }
-    out
+    let n = SAMPLES_PER_CONTROL_POINT * c.control_points().len() + 1;
+    crate::edge_fit::sample_within(c, n, tol, crate::bounds::MAX_HALVINGS)
 }
 
-fn halve(c: &BSplineCurve, a: f64, b: f64, tol: f64, depth: usize, out: &mut Vec<Point3>) {
-    let m = 0.5 * (a + b);
-    let chord = Point3::from((c.point(a).coords + c.point(b).coords) * 0.5);
-    if depth == 0 || (c.point(m) - chord).norm() <= tol {
-        return;
-    }
-    halve(c, a, m, tol, depth - 1, out);
-    out.push(c.point(m));
-    halve(c, m, b, tol, depth - 1, out);
-}
-
-/// The parameter of `c` nearest `p`: the nearest of 64 samples per span count, then
-/// golden-section search between its neighbours.
+/// The parameter of `c` nearest `p` (nurbs-core's projection).
 fn closest_parameter(c: &BSplineCurve, p: &Point3) -> f64 {
-    let (t0, t1) = c.domain();
-    let n = 64 * c.control_points().len();
-    let at = |k: usize| t0 + (t1 - t0) * k as f64 / n as f64;
-    let d = |t: f64| (c.point(t) - p).norm_squared();
-    let best = (0..=n)
-        .min_by(|&a, &b| d(at(a)).total_cmp(&d(at(b))))
-        .unwrap_or(0);
-    let (mut a, mut b) = (at(best.saturating_sub(1)), at((best + 1).min(n)));
-    let g = 0.5 * (5f64.sqrt() - 1.0);
-    for _ in 0..60 {
-        let (x, y) = (b - g * (b - a), a + g * (b - a));
-        if d(x) < d(y) {
-            b = y;
-        } else {
-            a = x;
-        }
-    }
-    0.5 * (a + b)
+    nurbs_core::project_to_curve(c, p, &nurbs_core::ProjectionParams::default()).t
 }
 
 /// The length of the polyline `pts`.
@@ -574,25 +536,6 @@ fn bounding_box(pts: &[Point3], margin: f64) -> ([f64; 3], [f64; 3]) {
         }
     }
     (lo, hi)
-}
-
-/// The foot of `x` on the polyline `pts`: (segment, fraction along it) and the distance.
-fn foot_on_polyline(x: &Point3, pts: &[Point3]) -> ((usize, f64), f64) {
-    let mut best = ((0, 0.0), f64::INFINITY);
-    for (i, w) in pts.windows(2).enumerate() {
-        let d = w[1] - w[0];
-        let len2 = d.norm_squared();
-        let t = if len2 > 0.0 {
-            ((x - w[0]).dot(&d) / len2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let dist = (x - (w[0] + d * t)).norm();
-        if dist < best.1 {
-            best = ((i, t), dist);
-        }
-    }
-    best
 }
 
 /// Whether [`MATCH_SAMPLES`] points spread along `a` (ends excluded) lie within `join` of the
