@@ -103,6 +103,31 @@ pub fn run_with(
     })
 }
 
+/// `check --html`: the model's quality report ([`hier_fair::html`]), its link table the links of
+/// `check --json` measured with `samples` samples, written atomically to `path`.
+pub fn write_html(
+    model_text: &str,
+    source: &str,
+    samples: usize,
+    path: &std::path::Path,
+) -> Result<()> {
+    let model = Model::from_json(model_text).map_err(|e| anyhow!("{source}: {e}"))?;
+    let params = MeasureParams {
+        samples,
+        ..MeasureParams::default()
+    };
+    let checks = measure_model(&model, &params).map_err(|e| anyhow!("{source}: {e}"))?;
+    let checks = checks_json(&model, &checks, None);
+    let page = hier_fair::html::html_report(&hier_fair::html::HtmlReport {
+        title: &format!("hier-fair check {source}"),
+        model: &model,
+        faired: None,
+        report: None,
+        checks: Some(&checks),
+    });
+    crate::files::write_atomic(path, page.as_bytes())
+}
+
 fn fmt_opt(x: Option<f64>, prec: usize) -> String {
     match x {
         Some(v) => format!("{v:.prec$e}"),

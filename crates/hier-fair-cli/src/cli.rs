@@ -65,6 +65,11 @@ enum Command {
         /// curvature extrema across its linked sides, thin-plate energy, net and degree.
         #[arg(long)]
         fairness: bool,
+        /// Also writes a quality report REPORT.html (one self-contained file to open offline:
+        /// a 3D view with zebra and curvature shading, curvature combs across every link, the
+        /// link and surface tables).
+        #[arg(long)]
+        html: Option<PathBuf>,
     },
     /// Sets continuity only (no fairing), slave by slave in hierarchy order.
     Connect {
@@ -147,7 +152,8 @@ fn run(cli: Cli) -> Result<()> {
             json,
             fail_above,
             fairness,
-        } => check_command(model, samples, json, fail_above, fairness),
+            html,
+        } => check_command(model, samples, json, fail_above, fairness, html),
         Command::Connect {
             model,
             output,
@@ -240,7 +246,11 @@ fn check_command(
     json: bool,
     fail_above: Option<String>,
     fairness: bool,
+    html: Option<PathBuf>,
 ) -> Result<()> {
+    if let Some(h) = &html {
+        files::check_outputs(&[("--html", h.as_path())], &[&model])?;
+    }
     crate::kind::expect(
         "check",
         &model,
@@ -258,6 +268,14 @@ fn check_command(
         fail_above.as_deref(),
         fairness,
     )?;
+    if let Some(h) = &html {
+        crate::check::write_html(
+            &text,
+            &model.display().to_string(),
+            samples.unwrap_or(101),
+            h,
+        )?;
+    }
     if let (Some(k), 0) = (samples, outcome.links) {
         eprintln!(
             "warning: --samples {k} applies to a model's links; {} has no links: nothing was sampled",
@@ -435,6 +453,7 @@ fn fair_command(args: FairArgs) -> Result<()> {
         target,
         report,
         images,
+        html,
         quiet,
         no_verify,
         keep_faired,
@@ -444,6 +463,7 @@ fn fair_command(args: FairArgs) -> Result<()> {
     let target = target.map(crate::values::ContinuityValue::continuity);
     let mut outputs = vec![("-o", output.as_path())];
     outputs.extend(report.as_deref().map(|r| ("--report", r)));
+    outputs.extend(html.as_deref().map(|h| ("--html", h)));
     files::check_outputs(&outputs, &[&input])?;
     if let Some(dir) = &images {
         files::check_output_folder("--images", dir, &[&input])?;
@@ -478,6 +498,7 @@ fn fair_command(args: FairArgs) -> Result<()> {
             &output,
             report.as_deref(),
             images.as_deref(),
+            html.as_deref(),
             &options,
         )?;
         crate::pipeline::finish(outcome, quiet);
@@ -485,6 +506,7 @@ fn fair_command(args: FairArgs) -> Result<()> {
     }
     let model_options = [
         ("--images", images.is_some()),
+        ("--html", html.is_some()),
         ("--target", target.is_some()),
         (
             "--tolerance-role",
@@ -610,6 +632,11 @@ struct FairArgs {
     /// models: write pictures (zebra, mean curvature, link curvature plots) into DIR
     #[arg(long)]
     images: Option<PathBuf>,
+    /// models: write a quality report REPORT.html, one self-contained file to open offline: a
+    /// 3D view with zebra, curvature and deviation shading, curvature combs across every link,
+    /// before / after, and the link and surface tables
+    #[arg(long)]
+    html: Option<PathBuf>,
     /// no progress bar, and the verdict line alone on stdout (the report file holds the rest)
     #[arg(long)]
     quiet: bool,

@@ -346,6 +346,8 @@ pub fn demo(dir: &Path, quiet: bool) -> Result<String> {
         + &format!("\n## Verdict\n\n{verdict}; wrote faired.json, faired.igs\n");
     files::write_atomic(&dir.join("report.md"), md.as_bytes())?;
     let images = write_images(&dir.join("images"), &model, &faired, &report)?;
+    let page = html_page("hier-fair demo: the X-node", &model, &faired, &report);
+    files::write_atomic(&dir.join("report.html"), page.as_bytes())?;
     let mut text = crate::verdict::summary(
         &report,
         &model,
@@ -353,7 +355,7 @@ pub fn demo(dir: &Path, quiet: bool) -> Result<String> {
     );
     text.push_str(&format!("{verdict}\n"));
     text.push_str(&format!(
-        "wrote {0}/faired.json, {0}/faired.igs, {0}/report.json, {0}/report.md and {1} pictures in {0}/images\n",
+        "wrote {0}/faired.json, {0}/faired.igs, {0}/report.json, {0}/report.md, {0}/report.html and {1} pictures in {0}/images\n",
         dir.display(),
         images.len()
     ));
@@ -397,11 +399,15 @@ pub fn run_fair(
     output: &Path,
     report_path: Option<&Path>,
     images: Option<&Path>,
+    html: Option<&Path>,
     options: &ModelOptions,
 ) -> Result<FairOutcome> {
     files::refuse_overwrite(output, &[input])?;
     if let Some(r) = report_path {
         files::refuse_overwrite(r, &[input, output])?;
+    }
+    if let Some(h) = html {
+        files::refuse_overwrite(h, &[input, output])?;
     }
     // a CAD file in, a CAD file out: STEP or IGES is imported (hierarchy found) and written
     // back in the format the output's extension names
@@ -441,6 +447,10 @@ pub fn run_fair(
     if let Some(dir) = images {
         write_images(dir, &model, &faired, &report)?;
     }
+    if let Some(path) = html {
+        let title = format!("hier-fair fair {}", input.display());
+        files::write_atomic(path, html_page(&title, &model, &faired, &report).as_bytes())?;
+    }
     let failed = report
         .problems
         .iter()
@@ -465,6 +475,19 @@ pub fn run_fair(
         text,
         failed,
         unmet,
+    })
+}
+
+/// The quality report of a faired model ([`hier_fair::html`]): `model` as it came in, `faired`,
+/// and the tables of `report` (its `report.json` value).
+pub fn html_page(title: &str, model: &Model, faired: &Model, report: &FairModelReport) -> String {
+    let json = hier_fair::report_json(report);
+    hier_fair::html::html_report(&hier_fair::html::HtmlReport {
+        title,
+        model,
+        faired: Some(faired),
+        report: Some(&json),
+        checks: None,
     })
 }
 

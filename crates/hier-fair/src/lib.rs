@@ -85,6 +85,7 @@ pub mod error;
 pub mod exchange;
 pub mod fairness;
 pub mod framework;
+pub mod html;
 pub mod methods;
 pub mod model;
 pub mod patches;

@@ -1,0 +1,132 @@
+//! One self-contained HTML file a surfacing engineer opens offline to judge a model: a 3D view
+//! (turn, zoom, pick) shaded by zebra stripes, mean or Gaussian curvature, or the deviation from
+//! the input, with the control nets, knot lines and trims on demand and a before / after
+//! toggle; curvature combs across every link (slave and master, normal curvature in the direction
+//! n × T, as `check` measures G2) and along a chosen iso-line; the link table and the surface
+//! table, sortable, a click focusing the view.
+//!
+//! The viewer is this crate's own small WebGL program (`assets/html/viewer.js`), embedded with
+//! its style sheet and the data ([`data`]) in the page: the file loads nothing from anywhere, so
+//! it can be mailed, archived with the model, and opened without a network. The data of the
+//! tables are the `report.json` (or `check --json`) values themselves, embedded unchanged.
+//!
+//! Zebra stripes are the reflection lines of \[SV\] §6: the view ray reflected in the surface
+//! normal, striped by its component along a direction across the view; a G1 join keeps them
+//! continuous, a G2 join keeps them without kinks.
+
+pub mod data;
+
+use serde_json::{Value, json};
+
+use crate::model::Model;
+
+/// The page's frame: the style sheet, the viewer and the data are put in its slots.
+const TEMPLATE: &str = include_str!("../../assets/html/template.html");
+/// The page's style sheet.
+const STYLE: &str = include_str!("../../assets/html/viewer.css");
+/// The viewer (WebGL 1, no library).
+const VIEWER: &str = include_str!("../../assets/html/viewer.js");
+/// The link and surface tables.
+const TABLES: &str = include_str!("../../assets/html/tables.js");
+
+/// What a report shows.
+#[derive(Debug, Clone, Copy)]
+pub struct HtmlReport<'a> {
+    /// the page title (e.g. the command that made it)
+    pub title: &'a str,
+    /// the model as it came in
+    pub model: &'a Model,
+    /// the faired model (`fair`), `None` for `check`
+    pub faired: Option<&'a Model>,
+    /// `fair`'s `report.json` value ([`crate::report_json`]), shown in the tables as it is
+    pub report: Option<&'a Value>,
+    /// `check --json`'s value ([`crate::check::checks_json`]), for a report of `check`
+    pub checks: Option<&'a Value>,
+}
+
+/// The whole page as text.
+pub fn html_report(r: &HtmlReport) -> String {
+    let payload = payload(r).to_string();
+    // inside <script> a "</" would end the element: JSON allows "<\/" for it
+    let payload = payload.replace("</", "<\\/");
+    TEMPLATE
+        .replace("{{title}}", &escape(r.title))
+        .replace("/*{{style}}*/", STYLE)
+        .replace("/*{{tables}}*/", TABLES)
+        .replace("/*{{viewer}}*/", VIEWER)
+        .replace("{{data}}", &payload)
+}
+
+/// `text` with the characters HTML gives meaning escaped.
+fn escape(text: &str) -> String {
+    text.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
+/// The data of the page ([`data`] for the geometry; the tables' values as given).
+pub fn payload(r: &HtmlReport) -> Value {
+    let model = r.model;
+    let n = data::grid_size(model.surfaces.len());
+    let fair_before = crate::fairness::model_fairness(model);
+    let fair_after = r.faired.map(crate::fairness::model_fairness);
+    let surfaces: Vec<Value> = model
+        .surfaces
+        .iter()
+        .enumerate()
+        .map(|(k, s)| {
+            let after = r.faired.and_then(|f| f.surfaces.get(k)).map(|s| &s.surface);
+            json!({
+                "name": s.name,
+                "role": s.role.name(),
+                "n": n,
+                "trim": data::trim_json(s, n),
+                "before": data::state_json(&s.surface, n, None),
+                "after": after.map(|a| data::state_json(a, n, Some(&s.surface))),
+                "fairness_before": crate::report::fairness_json(&fair_before[k]),
+                "fairness_after": fair_after.as_ref().map(|f| crate::report::fairness_json(&f[k])),
+            })
+        })
+        .collect();
+    let combs = |m: &Model| {
+        let measures = data::link_measures(m);
+        (measures.len() == m.links.len()).then_some(measures)
+    };
+    let (combs_before, combs_after) = (combs(model), r.faired.and_then(combs));
+    let links: Vec<Value> = model
+        .links
+        .iter()
+        .enumerate()
+        .map(|(k, l)| {
+            let comb = |state: Option<&Model>, measures: &Option<Vec<_>>| match (state, measures) {
+                (Some(m), Some(ms)) => {
+                    data::comb_json(&m.surfaces[l.slave].surface, l.side, &ms[k])
+                }
+                _ => Value::Null,
+            };
+            json!({
+                "label": model.link_label(k),
+                "slave": l.slave,
+                "master": l.master,
+                "side": l.side.name(),
+                "target": crate::check::continuity_name(l.continuity),
+                "comb_before": comb(Some(model), &combs_before),
+                "comb_after": comb(r.faired, &combs_after),
+            })
+        })
+        .collect();
+    let t = &model.tolerances;
+    json!({
+        "title": r.title,
+        "generator": concat!("hier-fair ", env!("CARGO_PKG_VERSION")),
+        "kind": if r.faired.is_some() { "fair" } else { "check" },
+        "unit": model.units.clone().unwrap_or_else(|| "mm".into()),
+        "mm_per_unit": model.mm_per_unit(),
+        "tolerances": {"g0": t.g0, "g1_deg": t.g1_deg, "g2_rel": t.g2_rel, "deviation": t.deviation},
+        "surfaces": surfaces,
+        "links": links,
+        "report": r.report,
+        "checks": r.checks,
+    })
+}
