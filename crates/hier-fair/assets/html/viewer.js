@@ -195,11 +195,27 @@
       if (r + 1 < nu) { var k1 = k0 + nv * 3; segs.push(net[k0], net[k0 + 1], net[k0 + 2], net[k1], net[k1 + 1], net[k1 + 2]); }
     }
     out.net = new Float32Array(segs);
-    var kl = st.knots, kp = shifted(floats(kl.points)), ks = [], kn = [];
-    for (var q = 0; q < kl.u + kl.v; q++) { ks.push(q * kl.samples); kn.push(kl.samples); }
-    out.knots = polylineSegments(kp, ks, kn, false);
+    out.knots = knotLines(pos, n, st.knots);
     ['edges', 'net', 'knots'].forEach(function (key) { out['b_' + key] = gl && buffer(out[key]); });
     return out;
+  }
+  // the iso-lines at the knots (shares of the domain) on the grid as drawn: between grid rows
+  // i and i + 1 at share f, each line through every column
+  function knotLines(pos, n, knots) {
+    var out = [];
+    function at(i, j) { return [pos[(i * n + j) * 3], pos[(i * n + j) * 3 + 1], pos[(i * n + j) * 3 + 2]]; }
+    function lerp(a, b, f) { return [a[0] + f * (b[0] - a[0]), a[1] + f * (b[1] - a[1]), a[2] + f * (b[2] - a[2])]; }
+    [['u', knots.u], ['v', knots.v]].forEach(function (d) {
+      d[1].forEach(function (t) {
+        var x = t * (n - 1), i = Math.min(n - 2, Math.floor(x)), f = x - i, prev = null;
+        for (var j = 0; j < n; j++) {
+          var p = d[0] === 'u' ? lerp(at(i, j), at(i + 1, j), f) : lerp(at(j, i), at(j, i + 1), f);
+          if (prev) out.push(prev[0], prev[1], prev[2], p[0], p[1], p[2]);
+          prev = p;
+        }
+      });
+    });
+    return new Float32Array(out);
   }
   function concat(a, b) { var o = new Float32Array(a.length + b.length); o.set(a); o.set(b, a.length); return o; }
 
@@ -320,29 +336,31 @@
     gl.disableVertexAttribArray(P.a.aVal);
   }
 
+  // the typical tooth (that of the 95th percentile of the curvatures shown) as a share of the
+  // model's diagonal: long enough to read a wiggle, short enough not to hide the surfaces
+  var COMB_TOOTH = 0.04;
   // ---- combs: a tooth from each sample p to p − scale·κ·n (on the convex side), and the
   // envelope through the tips
+  // the comb scale comes from the surfaces' curvature (the 95th percentile of the normal
+  // curvatures along both iso-directions of every grid), not from the combs' own: across a G2
+  // join to a plane every comb is near zero and must stay drawn near zero
   function combScaleBase() {
-    var ks = [];
-    D.links.forEach(function (l) {
-      var c = l['comb_' + ui.state] || l.comb_before;
-      if (!c) return;
-      [c.slave, c.master].forEach(function (b) {
-        floats(b).forEach(function (k) { if (isFinite(k)) ks.push(Math.abs(k)); });
-      });
-    });
-    ks.sort(function (a, b) { return a - b; });
-    return 0.06 * diag / (quantile(ks, 0.95) || 1 / diag);
+    var ks = fieldValues('k_u').concat(fieldValues('k_v')).map(Math.abs).sort(function (a, b) { return a - b; });
+    return COMB_TOOTH * diag / (quantile(ks, 0.95) || 1 / diag);
   }
   var combBase = null;
+  // a tooth longer than COMB_CAP × the comb's typical tooth (that of the 95th percentile) is
+  // cut there, so that one spike does not hide the model; the table gives its figure
+  var COMB_CAP = 1.5;
   function comb(points, normals, kappa, stride, scale) {
-    var teeth = [], env = [], prev = null;
+    var teeth = [], env = [], prev = null, cap = COMB_CAP * COMB_TOOTH * diag * Math.pow(2, ui.combScale);
     for (var i = 0; i * 3 < points.length; i++) {
       var k = kappa[i * stride] !== undefined ? kappa[i * stride] : kappa[i];
-      if (!isFinite(k)) { prev = null; continue; }
+      if (!isFinite(k) || !isFinite(normals[i * 3])) { prev = null; continue; }
       var p = [points[i * 3] - centre[0], points[i * 3 + 1] - centre[1], points[i * 3 + 2] - centre[2]];
       var n = [normals[i * 3], normals[i * 3 + 1], normals[i * 3 + 2]];
-      var t = [p[0] - scale * k * n[0], p[1] - scale * k * n[1], p[2] - scale * k * n[2]];
+      var len = Math.max(-cap, Math.min(cap, scale * k));
+      var t = [p[0] - len * n[0], p[1] - len * n[1], p[2] - len * n[2]];
       teeth.push(p[0], p[1], p[2], t[0], t[1], t[2]);
       if (prev) env.push(prev[0], prev[1], prev[2], t[0], t[1], t[2]);
       prev = t;
@@ -437,6 +455,17 @@
     var t = f * dot(e2, q);
     return t > 0 ? t : Infinity;
   }
+  // looks at surface k from outside: along its mean normal, turned to the side away from the
+  // model's centre (a corner of a solid is seen from outside the solid)
+  function lookFrom(k) {
+    var st = stateOf(D.surfaces[k]), nr = st.normals, p = st.pos, m = [0, 0, 0], c = [0, 0, 0];
+    for (var i = 0; i + 2 < nr.length; i += 3) for (var j = 0; j < 3; j++) { m[j] += nr[i + j]; c[j] += p[i + j]; }
+    var out = unit(c), d = dot(m, m) > 1e-12 ? unit(m) : out;
+    if (dot(d, out) < 0) d = [-d[0], -d[1], -d[2]];
+    if (dot(c, c) < 1e-24 && dot(m, m) < 1e-12) return;
+    cam.yaw = Math.atan2(d[1], d[0]);
+    cam.pitch = Math.max(-1.4, Math.min(1.4, Math.asin(Math.max(-1, Math.min(1, d[2])))));
+  }
   function focus(box) {
     var a = sub(box[0], centre), b = sub(box[1], centre);
     cam.target = [(a[0] + b[0]) / 2, (a[1] + b[1]) / 2, (a[2] + b[2]) / 2];
@@ -521,8 +550,9 @@
     if (link >= 0) {
       var l = D.links[link];
       box = union(D.surfaces[l.slave].box, D.surfaces[l.master].box);
-      if (zoom) focus(D.surfaces[l.slave].box);
+      if (zoom) { lookFrom(l.slave); focus(D.surfaces[l.slave].box); }
     } else if (surface >= 0 && zoom) {
+      lookFrom(surface);
       focus(D.surfaces[surface].box);
     }
     var text = '';

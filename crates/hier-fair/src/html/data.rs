@@ -30,9 +30,6 @@ pub const GRID_MIN: usize = 17;
 /// window size a report is read in (6 400 quads), and its indices fit the 16 bits WebGL 1 draws.
 pub const GRID_MAX: usize = 81;
 
-/// Samples along each knot line.
-pub const KNOT_LINE_SAMPLES: usize = 33;
-
 /// Samples of a link's curvature comb (as `check` measures a link).
 pub const COMB_SAMPLES: usize = 41;
 
@@ -169,29 +166,19 @@ fn net_json(s: &BSplineSurface) -> Value {
     json!({"size": [s.num_u(), s.num_v()], "points": f32_base64(&pts)})
 }
 
-/// The iso-lines at the distinct interior knots, each [`KNOT_LINE_SAMPLES`] points: `u` lines
-/// (u fixed) then `v` lines, flat xyz.
+/// The distinct interior knots as shares of the domain (`u`, `v`): the viewer draws their
+/// iso-lines on the grid it shows (a line across the grid's cells, interpolated), so that
+/// they lie on the surface as drawn and cost a number each.
 fn knot_lines_json(s: &BSplineSurface) -> Value {
-    let (u0, u1) = s.domain_u();
-    let (v0, v1) = s.domain_v();
-    let along_v = params(v0, v1, KNOT_LINE_SAMPLES);
-    let along_u = params(u0, u1, KNOT_LINE_SAMPLES);
-    let mut pts = Vec::new();
-    let ku = s.knots_u().interior_knots();
-    let kv = s.knots_v().interior_knots();
-    for &(u, _) in &ku {
-        for &v in &along_v {
-            let p = s.point(u, v);
-            pts.extend([p.x, p.y, p.z]);
-        }
-    }
-    for &(v, _) in &kv {
-        for &u in &along_u {
-            let p = s.point(u, v);
-            pts.extend([p.x, p.y, p.z]);
-        }
-    }
-    json!({"u": ku.len(), "v": kv.len(), "samples": KNOT_LINE_SAMPLES, "points": f32_base64(&pts)})
+    let share = |knots: &nurbs_core::KnotVector| -> Vec<f64> {
+        let (a, b) = knots.domain();
+        knots
+            .interior_knots()
+            .iter()
+            .map(|&(t, _)| (t - a) / (b - a))
+            .collect()
+    };
+    json!({"u": share(s.knots_u()), "v": share(s.knots_v())})
 }
 
 /// One state of a surface: its grid, net and knot lines, `n` samples per direction.
@@ -278,8 +265,12 @@ fn inside(polys: &[Vec<(f64, f64)>], (x, y): (f64, f64)) -> bool {
 
 /// The curvature comb of a link in one state: at each sample of the slave side its point,
 /// the slave's unit normal, and the slave's and master's normal curvatures across the boundary
-/// (direction n × T, as `check` measures G2), flat arrays; NaN where undefined.
+/// (direction n × T, as `check` measures G2), flat arrays; NaN where undefined. `null` for a
+/// side collapsed to a point (no direction across it).
 pub fn comb_json(slave: &BSplineSurface, side: Side, m: &LinkMeasure) -> Value {
+    if m.collapsed {
+        return Value::Null;
+    }
     let (mut pts, mut nrm, mut ks, mut km) = (Vec::new(), Vec::new(), Vec::new(), Vec::new());
     for d in &m.detail {
         let (u, v) = side.params(slave, d.t);
@@ -313,4 +304,172 @@ pub fn link_measures(model: &Model) -> Vec<LinkMeasure> {
     crate::check::measure_model(model, &params)
         .map(|checks| checks.into_iter().map(|c| c.measure).collect())
         .unwrap_or_default()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nurbs_core::shapes;
+
+    fn decode(v: &Value) -> Vec<f32> {
+        let bytes = base64::engine::general_purpose::STANDARD
+            .decode(v.as_str().expect("base64 text"))
+            .expect("base64");
+        bytes
+            .chunks_exact(4)
+            .map(|c| f32::from_le_bytes([c[0], c[1], c[2], c[3]]))
+            .collect()
+    }
+
+    #[test]
+    fn base64_holds_the_values_as_f32() {
+        let values = [0.0, -1.5, 1e-7, 123_456.789, f64::NAN];
+        let back = decode(&json!(f32_base64(&values)));
+        for (a, b) in values.iter().zip(&back) {
+            assert!(a.is_nan() && b.is_nan() || (*a as f32) == *b, "{a} {b}");
+        }
+    }
+
+    #[test]
+    fn grid_size_shares_the_budget_within_its_bounds() {
+        assert_eq!(grid_size(1), GRID_MAX);
+        assert_eq!(grid_size(100), 20);
+        assert_eq!(grid_size(10_000), GRID_MIN);
+        for count in 1..400 {
+            let n = grid_size(count);
+            assert!(
+                n * n * count <= GRID_BUDGET || n == GRID_MIN,
+                "{count}: {n}"
+            );
+        }
+    }
+
+    /// An exact sphere patch (radius 2): mean curvature 1/2, Gaussian 1/4, both iso-curvatures
+    /// 1/2 with respect to its (inward) normal, unit normals pointing to the centre; a sphere of
+    /// radius 2.1 lies 0.1 from it everywhere.
+    #[test]
+    fn sphere_grid_has_closed_form_curvatures_and_deviation() {
+        let (r, n) = (2.0, 9);
+        let s = shapes::sphere_patch(r).expect("sphere");
+        let bigger = shapes::sphere_patch(r + 0.1).expect("sphere");
+        let g = grid_json(&bigger, n, Some(&s));
+        let pts = decode(&g["points"]);
+        let nrm = decode(&g["normals"]);
+        let r2 = r + 0.1;
+        for (field, want) in [
+            ("mean", 1.0 / r2),
+            ("gauss", 1.0 / (r2 * r2)),
+            ("k_u", 1.0 / r2),
+            ("k_v", 1.0 / r2),
+        ] {
+            for x in decode(&g[field]) {
+                assert!((f64::from(x) - want).abs() < 1e-5, "{field}: {x} vs {want}");
+            }
+        }
+        for x in decode(&g["deviation"]) {
+            assert!((f64::from(x) - 0.1).abs() < 1e-5, "deviation {x}");
+        }
+        for (p, m) in pts.chunks_exact(3).zip(nrm.chunks_exact(3)) {
+            let p = Vector3::new(p[0].into(), p[1].into(), p[2].into());
+            let m = Vector3::new(m[0].into(), m[1].into(), m[2].into());
+            assert!((m + p / r2).norm() < 1e-5, "normal {m} at {p}");
+        }
+    }
+
+    /// An exact cylinder (radius 3, u along the axis): the iso-curvature along the axis is 0,
+    /// around it 1/3, mean 1/6, Gaussian 0.
+    #[test]
+    fn cylinder_grid_has_closed_form_curvatures() {
+        let s = shapes::cylinder(3.0, 5.0).expect("cylinder");
+        let g = grid_json(&s, 7, None);
+        assert!(g.get("deviation").is_none());
+        let along = decode(&g["k_u"]);
+        let around = decode(&g["k_v"]);
+        let mean = decode(&g["mean"]);
+        let gauss = decode(&g["gauss"]);
+        for k in 0..along.len() {
+            assert!(along[k].abs() < 1e-6, "along {}", along[k]);
+            assert!(
+                (around[k].abs() - 1.0 / 3.0).abs() < 1e-5,
+                "around {}",
+                around[k]
+            );
+            assert!((mean[k].abs() - 1.0 / 6.0).abs() < 1e-5, "mean {}", mean[k]);
+            assert!(gauss[k].abs() < 1e-6, "gauss {}", gauss[k]);
+        }
+    }
+
+    /// A pole (the sphere octant's collapsed side) has no curvature there (NaN) but a normal:
+    /// that of its neighbours, so that shading runs into it smoothly.
+    #[test]
+    fn a_pole_gets_its_neighbours_normal() {
+        let s = shapes::sphere_octant(1.0).expect("octant");
+        let n = 5;
+        let g = grid_json(&s, n, None);
+        let mean = decode(&g["mean"]);
+        let nrm = decode(&g["normals"]);
+        for j in 0..n {
+            let m = &nrm[3 * j..3 * j + 3];
+            let len = (m[0] * m[0] + m[1] * m[1] + m[2] * m[2]).sqrt();
+            assert!((len - 1.0).abs() < 1e-5, "pole normal {m:?}");
+            assert!(m[2].abs() > 0.9, "the pole's normal is the axis: {m:?}");
+        }
+        assert!(mean[n..].iter().all(|x| x.is_finite()));
+    }
+
+    /// A square trim loop over the middle quarter of a plane keeps the cells whose centre lies
+    /// inside it, and the loops travel as 3D points; a face without trim has none.
+    #[test]
+    fn trim_cells_are_the_cells_inside_the_loop() {
+        let plane = shapes::plane_patch(
+            Point3::origin(),
+            Vector3::x(),
+            Vector3::y(),
+            (0.0, 4.0),
+            (0.0, 4.0),
+        )
+        .expect("plane");
+        let square = vec![
+            Point3::new(1.0, 1.0, 0.0),
+            Point3::new(3.0, 1.0, 0.0),
+            Point3::new(3.0, 3.0, 0.0),
+            Point3::new(1.0, 3.0, 0.0),
+        ];
+        let mut m = crate::model::Model::from_primaries(vec![plane])
+            .surfaces
+            .remove(0);
+        assert_eq!(trim_json(&m, 9), Value::Null);
+        m.trim = vec![square];
+        let t = trim_json(&m, 9);
+        let cells = base64::engine::general_purpose::STANDARD
+            .decode(t["cells"].as_str().expect("cells"))
+            .expect("base64");
+        assert_eq!(cells.len(), 64);
+        // cells of width 0.5: centres 0.25 … 3.75; inside (1, 3): 1.25 … 2.75, four per row
+        assert_eq!(cells.iter().filter(|&&c| c == 1).count(), 16);
+        assert_eq!(cells[3 * 8 + 3], 1);
+        assert_eq!(cells[0], 0);
+        assert_eq!(decode(&t["loops"]).len(), 12);
+        assert_eq!(t["lengths"], json!([4]));
+    }
+
+    /// A loop that runs across a closed surface's seam does not bound a region of the parameter
+    /// square: no cells (the face is shown whole, its loop drawn), never a wrong cut.
+    #[test]
+    fn a_loop_across_a_seam_cuts_nothing() {
+        let s = shapes::full_cylinder(1.0, 2.0).expect("cylinder");
+        let ring: Vec<Point3> = (0..12)
+            .map(|k| {
+                let a = std::f64::consts::TAU * k as f64 / 12.0;
+                Point3::new(a.cos(), a.sin(), 1.0)
+            })
+            .collect();
+        let mut m = crate::model::Model::from_primaries(vec![s])
+            .surfaces
+            .remove(0);
+        m.trim = vec![ring];
+        let t = trim_json(&m, 9);
+        assert!(t.get("cells").is_none(), "{t}");
+        assert!(t["loops"].is_string());
+    }
 }

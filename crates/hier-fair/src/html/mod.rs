@@ -130,3 +130,82 @@ pub fn payload(r: &HtmlReport) -> Value {
         "checks": r.checks,
     })
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nurbs_core::{KnotVector, Point3};
+
+    /// A bicubic patch with an `n` × `n` net over the unit square at `(x, y)`, gently curved.
+    fn patch(x: f64, y: f64, n: usize) -> nurbs_core::BSplineSurface {
+        let knots = KnotVector::clamped_uniform(3, n).expect("knots");
+        let pts = (0..n * n)
+            .map(|k| {
+                let (a, b) = (
+                    (k / n) as f64 / (n - 1) as f64,
+                    (k % n) as f64 / (n - 1) as f64,
+                );
+                Point3::new(x + a, y + b, 0.1 * (a * a - b * b))
+            })
+            .collect();
+        nurbs_core::BSplineSurface::new(knots.clone(), knots, pts, None).expect("patch")
+    }
+
+    /// A 100-surface model whose faired nets have grown to 40 × 40 (as corner blends grow)
+    /// gives a page under 10 MB, before and after.
+    #[test]
+    fn a_hundred_surfaces_stay_under_ten_megabytes() {
+        let model = Model::from_primaries(
+            (0..100)
+                .map(|k| patch((k % 10) as f64, (k / 10) as f64, 8))
+                .collect(),
+        );
+        let faired = Model::from_primaries(
+            (0..100)
+                .map(|k| patch((k % 10) as f64, (k / 10) as f64, 40))
+                .collect(),
+        );
+        let page = html_report(&HtmlReport {
+            title: "a hundred patches",
+            model: &model,
+            faired: Some(&faired),
+            report: None,
+            checks: None,
+        });
+        assert!(page.len() < 10_000_000, "{} bytes", page.len());
+        assert!(
+            page.len() > 1_000_000,
+            "{} bytes: the grids are missing",
+            page.len()
+        );
+    }
+
+    /// The page embeds the tables' JSON unchanged, escapes what would end its script element,
+    /// and loads nothing from the network.
+    #[test]
+    fn page_embeds_the_values_and_nothing_external() {
+        let model = Model::from_primaries(vec![patch(0.0, 0.0, 4)]);
+        let checks = json!({"links": [], "note": "</script><script>alert(1)</script>"});
+        let page = html_report(&HtmlReport {
+            title: "<b>check</b>",
+            model: &model,
+            faired: None,
+            report: None,
+            checks: Some(&checks),
+        });
+        assert!(!page.contains("http://") && !page.contains("https://"));
+        assert!(page.contains("<title>&lt;b&gt;check&lt;/b&gt;</title>"));
+        assert_eq!(
+            page.matches("</script>").count(),
+            2,
+            "the data and the viewer elements only"
+        );
+        let start = page.find(r#"id="hf-data">"#).expect("data") + r#"id="hf-data">"#.len();
+        let end = start + page[start..].find("</script>").expect("end");
+        let data: Value = serde_json::from_str(&page[start..end]).expect("parses");
+        assert_eq!(data["checks"], checks);
+        assert_eq!(data["kind"], "check");
+        assert_eq!(data["surfaces"][0]["after"], Value::Null);
+        assert!(!page.contains("/*{{"), "every slot filled");
+    }
+}
