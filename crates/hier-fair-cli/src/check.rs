@@ -1,6 +1,9 @@
 //! `hier-fair check MODEL.json [--samples K] [--json] [--fail-above PRESET]`: measures the
 //! continuity of every link (cli-contract.md) as a readable table or JSON.
 
+use std::path::PathBuf;
+
+use crate::files;
 use anyhow::{Result, anyhow};
 use g_continuity::MeasureParams;
 use hier_fair::check::{checks_json, continuity_name, optional_json};
@@ -101,6 +104,65 @@ pub fn run_with(
         links: checks.len(),
         joins: joins.len(),
     })
+}
+
+/// `hier-fair check` (the subcommand's arguments as parsed).
+pub fn command(
+    model: PathBuf,
+    samples: Option<usize>,
+    json: bool,
+    fail_above: Option<String>,
+    fairness: bool,
+    html: Option<PathBuf>,
+) -> Result<()> {
+    if let Some(h) = &html {
+        crate::kind::expect_extension("--html", h, crate::kind::HTML_OUTPUTS)?;
+        files::check_outputs(&[("--html", h.as_path())], &[&model])?;
+    }
+    crate::kind::expect(
+        "check",
+        &model,
+        &[
+            crate::kind::FileKind::Model,
+            crate::kind::FileKind::Surfaces,
+        ],
+    )?;
+    let text = files::read_text(&model)?;
+    let outcome = crate::check::run_with(
+        &text,
+        &model.display().to_string(),
+        samples.unwrap_or(101),
+        json,
+        fail_above.as_deref(),
+        fairness,
+    )?;
+    if let Some(h) = &html {
+        crate::check::write_html(
+            &text,
+            &model.display().to_string(),
+            samples.unwrap_or(101),
+            h,
+        )?;
+    }
+    if let (Some(k), 0) = (samples, outcome.links) {
+        eprintln!(
+            "warning: --samples {k} applies to a model's links; {} has no links: nothing was sampled",
+            model.display()
+        );
+    }
+    if let (Some(p), 0, 0) = (&fail_above, outcome.links, outcome.joins) {
+        eprintln!(
+            "warning: --fail-above {p} has nothing to judge: {} has no links and no surface with C0 knot lines",
+            model.display()
+        );
+    }
+    print!("{}", outcome.text);
+    if outcome.exceeded {
+        use std::io::Write;
+        let _ = std::io::stdout().flush();
+        std::process::exit(1);
+    }
+    Ok(())
 }
 
 /// `check --html`: the model's quality report ([`hier_fair::html`]), its link table the links of

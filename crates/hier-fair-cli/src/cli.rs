@@ -153,7 +153,7 @@ fn run(cli: Cli) -> Result<()> {
             fail_above,
             fairness,
             html,
-        } => check_command(model, samples, json, fail_above, fairness, html),
+        } => crate::check::command(model, samples, json, fail_above, fairness, html),
         Command::Connect {
             model,
             output,
@@ -236,64 +236,6 @@ fn build_command(input: PathBuf, output: PathBuf, explain: bool) -> Result<()> {
     crate::kind::expect("build", &input, &[FileKind::Model, FileKind::Surfaces])?;
     crate::kind::expect_extension("-o", &output, crate::kind::JSON_OUTPUTS)?;
     println!("{}", crate::exchange::build(&input, &output, explain)?);
-    Ok(())
-}
-
-/// `hier-fair check`.
-fn check_command(
-    model: PathBuf,
-    samples: Option<usize>,
-    json: bool,
-    fail_above: Option<String>,
-    fairness: bool,
-    html: Option<PathBuf>,
-) -> Result<()> {
-    if let Some(h) = &html {
-        files::check_outputs(&[("--html", h.as_path())], &[&model])?;
-    }
-    crate::kind::expect(
-        "check",
-        &model,
-        &[
-            crate::kind::FileKind::Model,
-            crate::kind::FileKind::Surfaces,
-        ],
-    )?;
-    let text = files::read_text(&model)?;
-    let outcome = crate::check::run_with(
-        &text,
-        &model.display().to_string(),
-        samples.unwrap_or(101),
-        json,
-        fail_above.as_deref(),
-        fairness,
-    )?;
-    if let Some(h) = &html {
-        crate::check::write_html(
-            &text,
-            &model.display().to_string(),
-            samples.unwrap_or(101),
-            h,
-        )?;
-    }
-    if let (Some(k), 0) = (samples, outcome.links) {
-        eprintln!(
-            "warning: --samples {k} applies to a model's links; {} has no links: nothing was sampled",
-            model.display()
-        );
-    }
-    if let (Some(p), 0, 0) = (&fail_above, outcome.links, outcome.joins) {
-        eprintln!(
-            "warning: --fail-above {p} has nothing to judge: {} has no links and no surface with C0 knot lines",
-            model.display()
-        );
-    }
-    print!("{}", outcome.text);
-    if outcome.exceeded {
-        use std::io::Write;
-        let _ = std::io::stdout().flush();
-        std::process::exit(1);
-    }
     Ok(())
 }
 
@@ -440,8 +382,36 @@ fn eval_command(args: EvalArgs) -> Result<()> {
     Ok(())
 }
 
+/// The `--tolerance-role` lengths by role rank (primary, connecting, corner), the last given
+/// for a role winning.
+fn by_role(given: &[(hier_fair::Role, f64)]) -> [Option<f64>; 3] {
+    let mut out = [None; 3];
+    for &(role, mm) in given {
+        out[role.rank()] = Some(mm);
+    }
+    out
+}
+
+/// Validates `fair`'s outputs before any work: none an input or another output, the report
+/// page an `.html` file, the pictures' folder one that takes new files.
+fn check_fair_outputs(args: &FairArgs) -> Result<()> {
+    let input = args.input.as_path();
+    let mut outputs = vec![("-o", args.output.as_path())];
+    outputs.extend(args.report.as_deref().map(|r| ("--report", r)));
+    outputs.extend(args.html.as_deref().map(|h| ("--html", h)));
+    files::check_outputs(&outputs, &[input])?;
+    if let Some(h) = &args.html {
+        crate::kind::expect_extension("--html", h, crate::kind::HTML_OUTPUTS)?;
+    }
+    if let Some(dir) = &args.images {
+        files::check_output_folder("--images", dir, &[input])?;
+    }
+    Ok(())
+}
+
 /// `hier-fair fair`: a model (or a STEP/IGES file) through the framework, or a bare surface file.
 fn fair_command(args: FairArgs) -> Result<()> {
+    check_fair_outputs(&args)?;
     let FairArgs {
         input,
         output,
@@ -461,18 +431,8 @@ fn fair_command(args: FairArgs) -> Result<()> {
     } = args;
     let keep = keep.map(crate::values::ContinuityValue::continuity);
     let target = target.map(crate::values::ContinuityValue::continuity);
-    let mut outputs = vec![("-o", output.as_path())];
-    outputs.extend(report.as_deref().map(|r| ("--report", r)));
-    outputs.extend(html.as_deref().map(|h| ("--html", h)));
-    files::check_outputs(&outputs, &[&input])?;
-    if let Some(dir) = &images {
-        files::check_output_folder("--images", dir, &[&input])?;
-    }
     let method = registered_method(method.as_deref(), iterations)?;
-    let mut role_tolerance = [None; 3];
-    for (role, mm) in tolerance_role {
-        role_tolerance[role.rank()] = Some(mm);
-    }
+    let role_tolerance = by_role(&tolerance_role);
     let iges = crate::kind::fair_input_is_cad(&input, report.as_deref())?;
     let text = if iges {
         String::new()
@@ -508,10 +468,7 @@ fn fair_command(args: FairArgs) -> Result<()> {
         ("--images", images.is_some()),
         ("--html", html.is_some()),
         ("--target", target.is_some()),
-        (
-            "--tolerance-role",
-            role_tolerance.iter().any(Option::is_some),
-        ),
+        ("--tolerance-role", role_tolerance != [None; 3]),
         ("--keep-faired", keep_faired),
         ("--no-verify", no_verify),
         ("--split-poles", split_poles),
@@ -522,8 +479,14 @@ fn fair_command(args: FairArgs) -> Result<()> {
         iterations,
         keep: keep.unwrap_or(nurbs_core::Continuity::G0),
     };
-    let report = report.as_deref();
-    fair_surfaces(&input, &output, report, &options, &model_options, quiet)
+    fair_surfaces(
+        &input,
+        &output,
+        report.as_deref(),
+        &options,
+        &model_options,
+        quiet,
+    )
 }
 
 /// `fair` on a bare surface file: each surface faired alone, boundaries kept; the model options

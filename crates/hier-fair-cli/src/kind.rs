@@ -214,6 +214,9 @@ pub const MODEL_OUTPUTS: &[&str] = &["json", "step", "stp", "igs", "iges"];
 /// Extensions a mesh is written to (`fair-mesh -o`).
 pub const MESH_OUTPUTS: &[&str] = &["obj"];
 
+/// Extensions the HTML quality report is written to (`--html`).
+pub const HTML_OUTPUTS: &[&str] = &["html", "htm"];
+
 /// Extensions a drawing is written to (`label --svg`).
 pub const SVG_OUTPUTS: &[&str] = &["svg"];
 

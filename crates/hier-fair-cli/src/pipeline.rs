@@ -440,17 +440,12 @@ pub fn run_fair(
         faired.to_json()
     };
     files::write_atomic(output, written.as_bytes())?;
-    if let Some(r) = report_path {
-        let json = serde_json::to_string_pretty(&hier_fair::report_json(&report))? + "\n";
-        files::write_atomic(r, json.as_bytes())?;
-    }
-    if let Some(dir) = images {
-        write_images(dir, &model, &faired, &report)?;
-    }
-    if let Some(path) = html {
-        let title = format!("hier-fair fair {}", input.display());
-        files::write_atomic(path, html_page(&title, &model, &faired, &report).as_bytes())?;
-    }
+    let extras = Extras {
+        report: report_path,
+        images,
+        html,
+    };
+    write_extras(&extras, input, &model, &faired, &report)?;
     let failed = report
         .problems
         .iter()
@@ -476,6 +471,38 @@ pub fn run_fair(
         failed,
         unmet,
     })
+}
+
+/// The outputs of `fair` besides the model, each where it was asked for.
+struct Extras<'a> {
+    /// `--report`: report.json
+    report: Option<&'a Path>,
+    /// `--images`: the pictures' folder
+    images: Option<&'a Path>,
+    /// `--html`: the quality report page
+    html: Option<&'a Path>,
+}
+
+/// Writes the report, pictures and page of `extras` for `input` faired into `faired`.
+fn write_extras(
+    extras: &Extras,
+    input: &Path,
+    model: &Model,
+    faired: &Model,
+    report: &FairModelReport,
+) -> Result<()> {
+    if let Some(r) = extras.report {
+        let json = serde_json::to_string_pretty(&hier_fair::report_json(report))? + "\n";
+        files::write_atomic(r, json.as_bytes())?;
+    }
+    if let Some(dir) = extras.images {
+        write_images(dir, model, faired, report)?;
+    }
+    if let Some(path) = extras.html {
+        let title = format!("hier-fair fair {}", input.display());
+        files::write_atomic(path, html_page(&title, model, faired, report).as_bytes())?;
+    }
+    Ok(())
 }
 
 /// The quality report of a faired model ([`hier_fair::html`]): `model` as it came in, `faired`,

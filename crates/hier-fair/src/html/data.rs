@@ -143,10 +143,13 @@ fn fill_normals(normals: &[Option<Vector3>], n: usize) -> Vec<f64> {
                 (1, -1),
             ] {
                 let (a, b) = (i + di, j + dj);
-                if a >= 0 && b >= 0 && (a as usize) < n && (b as usize) < n {
-                    if let Some(m) = normals[a as usize * n + b as usize] {
-                        sum += m;
-                    }
+                if a >= 0
+                    && b >= 0
+                    && (a as usize) < n
+                    && (b as usize) < n
+                    && let Some(m) = normals[a as usize * n + b as usize]
+                {
+                    sum += m;
                 }
             }
             sum.try_normalize(0.0).unwrap_or_else(Vector3::zeros)
