@@ -126,10 +126,8 @@ pub fn write_images(
     report: &FairModelReport,
 ) -> Result<Vec<PathBuf>> {
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
-    let before: Vec<&BSplineSurface> = original.surfaces.iter().map(|s| &s.surface).collect();
-    let after: Vec<&BSplineSurface> = faired.surfaces.iter().map(|s| &s.surface).collect();
     let unit = original.units.as_deref().unwrap_or("model unit");
-    let mut written = write_maps(dir, &before, &after, unit)?;
+    let mut written = write_maps(dir, original, faired, unit)?;
     for l in &report.links {
         written.push(write_link_plot(dir, l, unit)?);
     }
@@ -138,13 +136,14 @@ pub fn write_images(
             written.push(write_profile_plot(dir, original, faired, k, along, unit)?);
         }
     }
+    let unmet: Vec<usize> = report
+        .links
+        .iter()
+        .filter(|l| !l.met)
+        .map(|l| l.link)
+        .collect();
     written.extend(crate::corner_views::write_corner_views(
-        dir,
-        original,
-        faired,
-        unit,
-        &png,
-        ZEBRA_STRIPES,
+        dir, original, faired, &unmet, unit, &png,
     )?);
     Ok(written)
 }
@@ -226,32 +225,44 @@ fn curvature_plot(
     Ok(path.to_path_buf())
 }
 
-/// The zebra pictures (two views) and the mean-curvature map of the surfaces `before` and
-/// `after`, in the views and colour range of `before`; returns the files.
-fn write_maps(
-    dir: &Path,
-    before: &[&BSplineSurface],
-    after: &[&BSplineSurface],
-    unit: &str,
-) -> Result<Vec<PathBuf>> {
-    let view = View::for_points(&render::sample_points(before), IMAGE_SIZE.0, IMAGE_SIZE.1);
-    let range = render::curvature_range(before);
-    let mut written = Vec::new();
-    let side_view =
-        View::second_for_points(&render::sample_points(before), IMAGE_SIZE.0, IMAGE_SIZE.1);
-    let zebra = Shading::Zebra {
-        stripes: ZEBRA_STRIPES,
+/// The zebra pictures (two views) and the mean-curvature map of the model `before` and `after`
+/// (trimmed faces by their trims), in the views, stripe density and colour range of `before`,
+/// each titled and labelled; returns the files.
+fn write_maps(dir: &Path, before: &Model, after: &Model, unit: &str) -> Result<Vec<PathBuf>> {
+    let owned = |m: &Model| -> Vec<(BSplineSurface, Vec<Vec<nurbs_core::Point3>>)> {
+        m.surfaces
+            .iter()
+            .map(|s| (s.surface.clone(), s.trim.clone()))
+            .collect()
     };
-    for (name, surfaces) in [("before", before), ("after", after)] {
-        for (suffix, v) in [("", &view), ("_second_view", &side_view)] {
+    let (b, a) = (owned(before), owned(after));
+    let surfaces: Vec<&BSplineSurface> = b.iter().map(|f| &f.0).collect();
+    let points = render::sample_points(&surfaces);
+    let view = View::for_points(&points, IMAGE_SIZE.0, IMAGE_SIZE.1);
+    let side_view = View::second_for_points(&points, IMAGE_SIZE.0, IMAGE_SIZE.1);
+    let range = render::curvature_range(&surfaces);
+    let stripes = render::zebra_stripes(&crate::corner_views::faces(&b), &view);
+    let zebra = Shading::Zebra { stripes };
+    let mut written = Vec::new();
+    for (name, owned) in [("before", &b), ("after", &a)] {
+        let faces = crate::corner_views::faces(owned);
+        for (suffix, v, what) in [
+            ("", &view, "zebra"),
+            ("_second_view", &side_view, "zebra, second view"),
+        ] {
             let path = dir.join(format!("zebra_{name}{suffix}.png"));
-            png(&path, &render::render(surfaces, v, zebra))?;
+            let img = render::render_faces(&faces, v, zebra);
+            png(
+                &path,
+                &hier_fair::plots::titled(&img, &format!("the model: {what}"), name),
+            )?;
             written.push(path);
         }
         let path = dir.join(format!("mean_curvature_{name}.png"));
+        let map = crate::corner_views::mean_curvature_map(&faces, &view, range, unit)?;
         png(
             &path,
-            &crate::corner_views::mean_curvature_map(surfaces, &view, range, unit)?,
+            &hier_fair::plots::titled(&map, "the model: mean curvature", name),
         )?;
         written.push(path);
     }
@@ -338,12 +349,12 @@ pub fn demo(dir: &Path, quiet: bool) -> Result<String> {
     let json = serde_json::to_string_pretty(&hier_fair::report_json(&report))? + "\n";
     files::write_atomic(&dir.join("report.json"), json.as_bytes())?;
     let verdict = crate::verdict::verdict_line(&report, &model);
-    let md = hier_fair::report_markdown_in(
+    let md = report_md(
         &report,
+        &model,
         "hier-fair demo: the X-node (fixtures/models/x_node.json)",
-        model.units.as_deref(),
-    ) + &images_legend()
-        + &format!("\n## Verdict\n\n{verdict}; wrote faired.json, faired.igs\n");
+        "; wrote faired.json, faired.igs",
+    );
     files::write_atomic(&dir.join("report.md"), md.as_bytes())?;
     let images = write_images(&dir.join("images"), &model, &faired, &report)?;
     let page = html_page("hier-fair demo: the X-node", &model, &faired, &report);
@@ -362,9 +373,14 @@ pub fn demo(dir: &Path, quiet: bool) -> Result<String> {
     Ok(text)
 }
 
-/// Stripes across the view of the zebra pictures: fine enough that a curvature jump bends them
-/// visibly (about 20 pixels per stripe pair at 900 pixels).
-pub const ZEBRA_STRIPES: f64 = 40.0;
+/// report.md: the report of `fair` on `model`, what the pictures show, and the verdict line
+/// followed by `wrote`.
+fn report_md(report: &FairModelReport, model: &Model, title: &str, wrote: &str) -> String {
+    let verdict = crate::verdict::verdict_line(report, model);
+    hier_fair::report_markdown_in(report, title, model.units.as_deref())
+        + &images_legend()
+        + &format!("\n## Verdict\n\n{verdict}{wrote}\n")
+}
 
 /// What the pictures show, for report.md.
 pub fn images_legend() -> String {
@@ -385,7 +401,12 @@ pub fn images_legend() -> String {
      - `corner_<corner>_zebra_<before|after>.png`, `corner_<corner>_mean_curvature_<before|after>.png`: \
      each corner patch with the surfaces it hangs on, seen along its middle normal and zoomed on it; \
      one colour range for both maps (twice the 95th percentile of the corner's |H| before): the \
-     input's curvature at half strength, a spike at a pole or beside a side saturated.\n"
+     input's curvature at half strength, a spike at a pole or beside a side saturated.\n\
+     - `link_<slave>_<side>_zebra_<before|after>.png`, `link_<slave>_<side>_mean_curvature_<before|after>.png`: \
+     the same zoomed views of each link left unmet, its slave with its master.\n\
+     Every picture is titled and labelled before or after; the zebra stripes are as dense as the \
+     view needs (a stripe about 14 pixels wide on a typical curved face: a plane reflects one \
+     direction and shows one shade); trimmed faces are drawn within their trims, bounded by them.\n"
         .to_string()
 }
 
@@ -497,6 +518,10 @@ fn write_extras(
     }
     if let Some(dir) = extras.images {
         write_images(dir, model, faired, report)?;
+        // the pictures come with the report that explains them, as the demo writes it
+        let title = format!("hier-fair fair {}", input.display());
+        let md = report_md(report, model, &title, "");
+        files::write_atomic(&dir.join("report.md"), md.as_bytes())?;
     }
     if let Some(path) = extras.html {
         let title = format!("hier-fair fair {}", input.display());

@@ -96,6 +96,8 @@ pub mod poles;
 pub mod render;
 pub mod report;
 pub mod synthetic;
+#[cfg(feature = "render")]
+pub mod text;
 pub mod trim;
 pub mod zones;
 

@@ -128,27 +128,36 @@ pub enum Shading {
     },
 }
 
-/// One sampled vertex: position, unit normal (if defined), mean curvature (if defined).
+/// One sampled vertex: position, unit normal (if defined), mean curvature (if defined), and
+/// its parameters as shares of the domain (for a trim's [`crate::trim::ParameterMask`]).
 #[derive(Debug, Clone, Copy)]
 struct Sample {
     p: Point3,
     n: Option<Vector3>,
     h: Option<f64>,
+    uv: (f64, f64),
 }
 
 fn sample(surface: &BSplineSurface, n: usize) -> Vec<Sample> {
     let us = surface.knots_u().uniform_params(n);
     let vs = surface.knots_v().uniform_params(n);
+    let share = |k: usize| k as f64 / (n.max(2) - 1) as f64;
     surface
         .eval_grid_derivatives(&us, &vs)
         .into_iter()
-        .map(|d| Sample {
+        .enumerate()
+        .map(|(k, d)| Sample {
             p: d.point,
             n: d.normal(),
             h: d.mean_curvature(),
+            uv: (share(k / n), share(k % n)),
         })
         .collect()
 }
+
+/// Cells per direction of a trimmed face's parameter mask in a picture: 1 024, finer than a
+/// pixel for a face up to a thousand pixels across, so that a trim edge is not a staircase.
+pub const TRIM_MASK_RES: usize = 1024;
 
 /// All sample points of `surfaces` (for [`View::for_points`]).
 pub fn sample_points(surfaces: &[&BSplineSurface]) -> Vec<Point3> {
@@ -216,14 +225,39 @@ pub fn curvature_colour(t: f64) -> Rgb<u8> {
     }
 }
 
-/// Renders `surfaces` with `shading` from `view`.
+/// A face to draw: its surface and its trim loops (points on the surface, outer first; empty:
+/// the whole surface is the face, [`crate::model::ModelSurface::trim`]).
+#[derive(Debug, Clone, Copy)]
+pub struct Face<'a> {
+    /// the surface
+    pub surface: &'a BSplineSurface,
+    /// its trim loops
+    pub trim: &'a [Vec<Point3>],
+}
+
+/// Renders `surfaces` (whole) with `shading` from `view`.
 pub fn render(surfaces: &[&BSplineSurface], view: &View, shading: Shading) -> RgbImage {
+    let faces: Vec<Face> = surfaces
+        .iter()
+        .map(|&surface| Face { surface, trim: &[] })
+        .collect();
+    render_faces(&faces, view, shading)
+}
+
+/// Renders `faces` with `shading` from `view`: a trimmed face by the grid cells inside its trim
+/// ([`crate::trim::cell_mask`]) and bounded by its trim loops, so that a cap plane does not
+/// hide the body it bounds; a face whose loops cross a seam is drawn whole, its loops over it.
+pub fn render_faces(faces: &[Face], view: &View, shading: Shading) -> RgbImage {
     let (w, h) = (view.width as usize, view.height as usize);
     let mut img = RgbImage::from_pixel(view.width, view.height, BACKGROUND);
     let mut depth = vec![f64::INFINITY; w * h];
     let n = RENDER_GRID;
-    for s in surfaces {
-        let samples = sample(s, n);
+    let masks: Vec<Option<crate::trim::ParameterMask>> = faces
+        .iter()
+        .map(|f| crate::trim::ParameterMask::new(f.surface, f.trim, TRIM_MASK_RES))
+        .collect();
+    for (f, mask) in faces.iter().zip(&masks) {
+        let samples = sample(f.surface, n);
         let proj: Vec<(f64, f64, f64)> = samples.iter().map(|x| view.project(&x.p)).collect();
         for a in 0..n - 1 {
             for b in 0..n - 1 {
@@ -234,16 +268,63 @@ pub fn render(surfaces: &[&BSplineSurface], view: &View, shading: Shading) -> Rg
                     a * n + b + 1,
                 ];
                 for tri in [[quad[0], quad[1], quad[2]], [quad[0], quad[2], quad[3]]] {
-                    raster(&mut img, &mut depth, view, shading, &samples, &proj, tri);
+                    let target = Target {
+                        img: &mut img,
+                        depth: &mut depth,
+                        view,
+                        mask: mask.as_ref(),
+                    };
+                    raster(target, shading, &samples, &proj, tri);
                 }
             }
         }
     }
-    for s in surfaces {
-        draw_boundary(&mut img, &depth, view, s);
+    for (f, mask) in faces.iter().zip(&masks) {
+        if mask.is_none() {
+            draw_boundary(&mut img, &depth, view, f.surface);
+        }
+        for l in f.trim {
+            let mut pts: Vec<(f64, f64, f64)> = l.iter().map(|p| view.project(p)).collect();
+            pts.extend(pts.first().copied());
+            draw_polyline(&mut img, &depth, view, &pts);
+        }
     }
     img
 }
+
+/// Stripes per unit of r·a ([`Shading::Zebra`]) that make a stripe about [`STRIPE_PIXELS`]
+/// wide on the curved faces of `faces` seen through `view`: the reflected ray turns twice as
+/// fast as the normal, so across a face of curvature κ a stripe of s stripes per unit is
+/// 1 / (2 κ s) long, 1 / (2 κ s · scale) pixels. κ is the 75th percentile of |H| over the
+/// curved samples (a plane reflects one direction and shows one shade at any density).
+pub fn zebra_stripes(faces: &[Face], view: &View) -> f64 {
+    let mut hs: Vec<f64> = faces
+        .iter()
+        .flat_map(|f| {
+            sample(f.surface, 24)
+                .into_iter()
+                .filter_map(|x| x.h.map(f64::abs))
+        })
+        .filter(|h| h.is_finite() && *h > 0.0)
+        .collect();
+    if hs.is_empty() {
+        return MIN_STRIPES;
+    }
+    hs.sort_by(f64::total_cmp);
+    let kappa = hs[(hs.len() * 3 / 4).min(hs.len() - 1)];
+    (1.0 / (2.0 * kappa * view.scale * STRIPE_PIXELS)).clamp(MIN_STRIPES, MAX_STRIPES)
+}
+
+/// Width of a zebra stripe on a typical curved face (pixels): wide enough to follow by eye at
+/// the pictures' size, narrow enough that a kink across a join bends several stripes.
+pub const STRIPE_PIXELS: f64 = 14.0;
+
+/// Fewest stripes per unit of r·a: two stripes across the whole reflected hemisphere would
+/// say nothing.
+pub const MIN_STRIPES: f64 = 4.0;
+
+/// Most stripes per unit of r·a: beyond this a nearly flat face turns to moiré at its edges.
+pub const MAX_STRIPES: f64 = 400.0;
 
 /// Colour of the patch boundaries drawn over every picture.
 pub const BOUNDARY_COLOUR: Rgb<u8> = Rgb([255, 140, 0]);
@@ -263,7 +344,6 @@ fn draw_boundary(img: &mut RgbImage, depth: &[f64], view: &View, s: &BSplineSurf
         2 => (at(k, u0, u1), v0),
         _ => (at(k, u0, u1), v1),
     };
-    let tolerance = BOUNDARY_DEPTH_PIXELS * view.scale;
     for side in 0..4 {
         let pts: Vec<(f64, f64, f64)> = (0..=n)
             .map(|k| {
@@ -271,28 +351,35 @@ fn draw_boundary(img: &mut RgbImage, depth: &[f64], view: &View, s: &BSplineSurf
                 view.project(&s.point(u, v))
             })
             .collect();
-        for pair in pts.windows(2) {
-            let (a, b) = (pair[0], pair[1]);
-            let steps = ((b.0 - a.0).abs().max((b.1 - a.1).abs()).ceil() as usize).max(1);
-            for k in 0..=steps {
-                let t = k as f64 / steps as f64;
-                let (x, y, z) = (
-                    a.0 + t * (b.0 - a.0),
-                    a.1 + t * (b.1 - a.1),
-                    a.2 + t * (b.2 - a.2),
-                );
-                let (px, py) = (x.floor(), y.floor());
-                if px < 0.0
-                    || py < 0.0
-                    || px >= f64::from(view.width)
-                    || py >= f64::from(view.height)
-                {
-                    continue;
-                }
-                let idx = py as usize * view.width as usize + px as usize;
-                if z <= depth[idx] + tolerance {
-                    img.put_pixel(px as u32, py as u32, BOUNDARY_COLOUR);
-                }
+        draw_polyline(img, depth, view, &pts);
+    }
+}
+
+/// Draws the projected polyline `pts` in [`BOUNDARY_COLOUR`] where it is in front (within
+/// [`BOUNDARY_DEPTH_PIXELS`] of the nearest surface at each pixel).
+fn draw_polyline(img: &mut RgbImage, depth: &[f64], view: &View, pts: &[(f64, f64, f64)]) {
+    let tolerance = BOUNDARY_DEPTH_PIXELS * view.scale;
+    for pair in pts.windows(2) {
+        let (a, b) = (pair[0], pair[1]);
+        let steps = ((b.0 - a.0).abs().max((b.1 - a.1).abs()).ceil() as usize).clamp(1, 100_000);
+        for k in 0..=steps {
+            let t = k as f64 / steps as f64;
+            let (x, y, z) = (
+                a.0 + t * (b.0 - a.0),
+                a.1 + t * (b.1 - a.1),
+                a.2 + t * (b.2 - a.2),
+            );
+            let (px, py) = (x.floor(), y.floor());
+            if !(px >= 0.0
+                && py >= 0.0
+                && px < f64::from(view.width)
+                && py < f64::from(view.height))
+            {
+                continue;
+            }
+            let idx = py as usize * view.width as usize + px as usize;
+            if z <= depth[idx] + tolerance {
+                img.put_pixel(px as u32, py as u32, BOUNDARY_COLOUR);
             }
         }
     }
@@ -306,15 +393,28 @@ pub const BOUNDARY_SAMPLES: usize = 200;
 /// few pixels separate a boundary in front from one hidden behind another sheet.
 pub const BOUNDARY_DEPTH_PIXELS: f64 = 3.0;
 
+/// Where [`raster`] draws: the image, its depth buffer, the view, and the face's trim mask
+/// (a pixel outside it is not drawn).
+struct Target<'a> {
+    img: &'a mut RgbImage,
+    depth: &'a mut [f64],
+    view: &'a View,
+    mask: Option<&'a crate::trim::ParameterMask>,
+}
+
 fn raster(
-    img: &mut RgbImage,
-    depth: &mut [f64],
-    view: &View,
+    target: Target,
     shading: Shading,
     samples: &[Sample],
     proj: &[(f64, f64, f64)],
     tri: [usize; 3],
 ) {
+    let Target {
+        img,
+        depth,
+        view,
+        mask,
+    } = target;
     let (w, h) = (view.width as i64, view.height as i64);
     let [p0, p1, p2] = tri.map(|k| proj[k]);
     let area = (p1.0 - p0.0) * (p2.1 - p0.1) - (p2.0 - p0.0) * (p1.1 - p0.1);
@@ -339,8 +439,17 @@ fn raster(
             if z >= depth[k] {
                 continue;
             }
-            depth[k] = z;
             let [s0, s1, s2] = tri.map(|k| samples[k]);
+            if let Some(m) = mask {
+                let uv = (
+                    l0 * s0.uv.0 + l1 * s1.uv.0 + l2 * s2.uv.0,
+                    l0 * s0.uv.1 + l1 * s1.uv.1 + l2 * s2.uv.1,
+                );
+                if !m.contains(uv) {
+                    continue;
+                }
+            }
+            depth[k] = z;
             let normal = match (s0.n, s1.n, s2.n) {
                 (Some(a), Some(b), Some(c)) => (a * l0 + b * l1 + c * l2).try_normalize(1e-12),
                 _ => None,
@@ -351,5 +460,120 @@ fn raster(
             };
             img.put_pixel(x as u32, y as u32, shade(view, shading, normal, hh));
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use nurbs_core::shapes;
+
+    fn plane() -> BSplineSurface {
+        shapes::plane_patch(
+            Point3::origin(),
+            Vector3::x(),
+            Vector3::y(),
+            (0.0, 4.0),
+            (0.0, 4.0),
+        )
+        .expect("plane")
+    }
+
+    fn is_background(img: &RgbImage, x: f64, y: f64) -> bool {
+        *img.get_pixel(x as u32, y as u32) == BACKGROUND
+    }
+
+    /// A plane trimmed to its middle square is drawn inside the square only: its corners stay
+    /// background, its middle is shaded, and the trim loop is drawn as its boundary.
+    #[test]
+    fn a_trimmed_face_is_drawn_within_its_trim() {
+        let s = plane();
+        let square = vec![
+            Point3::new(1.0, 1.0, 0.0),
+            Point3::new(3.0, 1.0, 0.0),
+            Point3::new(3.0, 3.0, 0.0),
+            Point3::new(1.0, 3.0, 0.0),
+        ];
+        let trim = [square];
+        let view = View::from_direction(
+            &sample_points(&[&s]),
+            Vector3::new(0.01, 0.02, -1.0),
+            200,
+            200,
+        );
+        let shading = Shading::MeanCurvature { range: 1.0 };
+        let whole = render_faces(
+            &[Face {
+                surface: &s,
+                trim: &[],
+            }],
+            &view,
+            shading,
+        );
+        let cut = render_faces(
+            &[Face {
+                surface: &s,
+                trim: &trim,
+            }],
+            &view,
+            shading,
+        );
+        let at = |x: f64, y: f64| view.project(&Point3::new(x, y, 0.0));
+        let (cx, cy, _) = at(0.3, 0.3);
+        assert!(
+            !is_background(&whole, cx, cy),
+            "the whole plane covers its corner"
+        );
+        assert!(
+            is_background(&cut, cx, cy),
+            "the trimmed plane leaves its corner out"
+        );
+        let (mx, my, _) = at(2.0, 2.0);
+        assert!(
+            !is_background(&cut, mx, my) && *cut.get_pixel(mx as u32, my as u32) != BOUNDARY_COLOUR
+        );
+        let (ex, ey, _) = at(1.0, 2.0);
+        let edge =
+            (-1..=1).any(|d| *cut.get_pixel((ex as i64 + d) as u32, ey as u32) == BOUNDARY_COLOUR);
+        assert!(edge, "the trim loop is drawn");
+    }
+
+    /// A cylinder of radius r seen square-on at `scale` units per pixel: a stripe is
+    /// [`STRIPE_PIXELS`] wide where its mean curvature 1/(2r) is the typical one, i.e.
+    /// stripes = r / (scale · STRIPE_PIXELS); a plane alone gets the fewest stripes.
+    #[test]
+    fn zebra_density_follows_curvature_and_zoom() {
+        let r = 3.0;
+        let cyl = shapes::cylinder(r, 10.0).expect("cylinder");
+        let faces = [Face {
+            surface: &cyl,
+            trim: &[],
+        }];
+        let view = View::from_direction(
+            &sample_points(&[&cyl]),
+            Vector3::new(-1.0, -1.0, -0.2),
+            400,
+            400,
+        );
+        let stripes = zebra_stripes(&faces, &view);
+        let want = r / (view.scale * STRIPE_PIXELS);
+        assert!(
+            (stripes - want.clamp(MIN_STRIPES, MAX_STRIPES)).abs() < 1e-6 * want,
+            "{stripes} vs {want}"
+        );
+        let mut zoomed = view;
+        zoomed.scale *= 0.25;
+        assert!((zebra_stripes(&faces, &zoomed) - 4.0 * stripes).abs() < 1e-6 * stripes);
+        let p = plane();
+        assert_eq!(
+            zebra_stripes(
+                &[Face {
+                    surface: &p,
+                    trim: &[]
+                }],
+                &view
+            ),
+            MIN_STRIPES
+        );
     }
 }

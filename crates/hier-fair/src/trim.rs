@@ -9,7 +9,7 @@
 //! thinning would keep every sample without being truer to the edge; at the G0 tolerance a
 //! lofted block's loops shrink from about 1,000 points to about 400.
 
-use nurbs_core::{BSplineSurface, Point3};
+use nurbs_core::{BSplineSurface, Point3, ProjectionParams, SurfaceProjector};
 
 use crate::error::{Error, Result};
 
@@ -151,6 +151,39 @@ pub(crate) fn checked_loops(
 mod tests {
     use super::*;
 
+    /// A square plate with a square hole: the mask holds the plate and not the hole (even–odd),
+    /// at any resolution, and the cells' centres decide.
+    #[test]
+    fn a_mask_holds_the_face_and_not_its_hole() {
+        let plane = nurbs_core::shapes::plane_patch(
+            Point3::origin(),
+            nurbs_core::Vector3::x(),
+            nurbs_core::Vector3::y(),
+            (0.0, 10.0),
+            (0.0, 10.0),
+        )
+        .expect("plane");
+        let square = |a: f64, b: f64| {
+            vec![
+                Point3::new(a, a, 0.0),
+                Point3::new(b, a, 0.0),
+                Point3::new(b, b, 0.0),
+                Point3::new(a, b, 0.0),
+            ]
+        };
+        let loops = [square(1.0, 9.0), square(4.0, 6.0)];
+        for res in [10, 37, 200] {
+            let m = ParameterMask::new(&plane, &loops, res).expect("mask");
+            assert!(m.contains((0.2, 0.5)) && m.contains((0.5, 0.85)));
+            assert!(!m.contains((0.5, 0.5)), "the hole, at {res}");
+            assert!(!m.contains((0.05, 0.5)) && !m.contains((0.5, 0.95)));
+            let inside = m.bits.iter().filter(|&&b| b).count() as f64 / (res * res) as f64;
+            // 0.8² − 0.2² = 0.6 of the square, up to a row of cells at each edge
+            assert!((inside - 0.6).abs() < 8.0 / res as f64, "{inside} at {res}");
+        }
+        assert_eq!(ParameterMask::new(&plane, &[], 10), None);
+    }
+
     /// A circle of radius 5 sampled by 1024 points, thinned to 1e-4: every dropped point within
     /// the tolerance of the kept polyline, and the count near what the sagitta needs
     /// (chord c with c²/(8R) = tol: 2πR/c ≈ 50).
@@ -202,4 +235,107 @@ mod tests {
         let thin = thin_loop(&pts, 1e-9);
         assert_eq!(thin.len(), 4, "{thin:?}");
     }
+}
+
+/// Two neighbouring points of a trim loop cross a seam when the surface point at the middle of
+/// their parameters lies farther from the middle of their chord than this many chord lengths
+/// (plus the projection tolerance): along the face, the parameter middle of a chord maps near
+/// the chord — within half its length even for a half circle through two points — while across
+/// a seam it maps to the far side of the surface. Such loops do not bound a region of the
+/// parameter square, and the face is drawn untrimmed (its loops over it) rather than cut wrongly.
+pub const SEAM_CHORDS: f64 = 1.0;
+
+/// The region a face's trim loops bound in its unit parameter square, as a `res` × `res` bitmap
+/// (u slowest): a cell is inside when its centre is, by the even–odd rule over all loops (outer
+/// and holes alike), filled row by row from the loops' crossings of the row's centre line.
+#[derive(Debug, Clone, PartialEq)]
+pub struct ParameterMask {
+    /// cells per direction
+    pub res: usize,
+    /// `res`² cells, u slowest
+    pub bits: Vec<bool>,
+}
+
+impl ParameterMask {
+    /// The mask of `surface`'s trim `loops`; `None` where they do not bound a region of the
+    /// parameter square cleanly ([`parameter_loops`]) or there are none.
+    pub fn new(surface: &BSplineSurface, loops: &[Vec<Point3>], res: usize) -> Option<Self> {
+        if loops.is_empty() || res == 0 {
+            return None;
+        }
+        let polys = parameter_loops(surface, loops)?;
+        let mut bits = vec![false; res * res];
+        let mut crossings = Vec::new();
+        for i in 0..res {
+            let x = (i as f64 + 0.5) / res as f64;
+            crossings.clear();
+            for poly in &polys {
+                for (a, b) in poly.iter().zip(poly.iter().cycle().skip(1)) {
+                    if (a.0 > x) != (b.0 > x) {
+                        crossings.push(a.1 + (x - a.0) * (b.1 - a.1) / (b.0 - a.0));
+                    }
+                }
+            }
+            crossings.sort_by(f64::total_cmp);
+            for pair in crossings.chunks_exact(2) {
+                // the cells whose centre (j + ½)/res lies in [pair[0], pair[1])
+                let from = (pair[0] * res as f64 - 0.5).ceil().max(0.0) as usize;
+                let to = ((pair[1] * res as f64 - 0.5).ceil().max(0.0) as usize).min(res);
+                for j in from..to {
+                    bits[i * res + j] = true;
+                }
+            }
+        }
+        Some(Self { res, bits })
+    }
+
+    /// Whether the point at shares `(s, t)` of the domain lies inside.
+    pub fn contains(&self, (s, t): (f64, f64)) -> bool {
+        let cell = |x: f64| ((x * self.res as f64).floor().max(0.0) as usize).min(self.res - 1);
+        self.bits[cell(s) * self.res + cell(t)]
+    }
+}
+
+/// The cells of an `n` × `n` grid over `surface`'s domain ((n − 1)², u slowest) whose centre
+/// lies inside the region `loops` bound ([`ParameterMask`] at the grid's resolution): what a
+/// tessellation of the trimmed face draws. `None` as [`ParameterMask::new`].
+pub fn cell_mask(surface: &BSplineSurface, loops: &[Vec<Point3>], n: usize) -> Option<Vec<bool>> {
+    (n >= 2)
+        .then(|| ParameterMask::new(surface, loops, n - 1))
+        .flatten()
+        .map(|m| m.bits)
+}
+
+/// The trim loops projected into the unit parameter square, `None` when a loop crosses a seam
+/// ([`SEAM_CHORDS`]) or a point does not project.
+pub fn parameter_loops(s: &BSplineSurface, loops: &[Vec<Point3>]) -> Option<Vec<Vec<(f64, f64)>>> {
+    let (u0, u1) = s.domain_u();
+    let (v0, v1) = s.domain_v();
+    let mut projector = SurfaceProjector::new(s, ProjectionParams::default());
+    let tol = 1e-3 * s.size();
+    let mut out = Vec::with_capacity(loops.len());
+    for l in loops {
+        let mut poly = Vec::with_capacity(l.len());
+        for p in l {
+            let f = projector.project(p);
+            if !(f.distance <= tol) {
+                return None;
+            }
+            poly.push(((f.u - u0) / (u1 - u0), (f.v - v0) / (v1 - v0)));
+        }
+        let at = |(a, b): (f64, f64)| s.point(u0 + a * (u1 - u0), v0 + b * (v1 - v0));
+        let seam = (0..poly.len()).any(|k| {
+            let (i, j) = (k, (k + 1) % poly.len());
+            let mid = ((poly[i].0 + poly[j].0) / 2.0, (poly[i].1 + poly[j].1) / 2.0);
+            let chord = (l[j] - l[i]).norm();
+            let off =
+                (at(mid) - nurbs_core::Point3::from((l[i].coords + l[j].coords) / 2.0)).norm();
+            off > SEAM_CHORDS * chord + tol
+        });
+        if seam {
+            return None;
+        }
+        out.push(poly);
+    }
+    Some(out)
 }

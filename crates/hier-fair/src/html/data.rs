@@ -10,7 +10,7 @@
 
 use base64::Engine as _;
 use g_continuity::{LinkMeasure, MeasureParams};
-use nurbs_core::{BSplineSurface, Point3, ProjectionParams, Side, SurfaceProjector, Vector3};
+use nurbs_core::{BSplineSurface, ProjectionParams, Side, SurfaceProjector, Vector3};
 use serde_json::{Value, json};
 
 use crate::model::{Model, ModelSurface};
@@ -32,11 +32,6 @@ pub const GRID_MAX: usize = 81;
 
 /// Samples of a link's curvature comb (as `check` measures a link).
 pub const COMB_SAMPLES: usize = 41;
-
-/// A trim loop whose projected parameters jump by more than this share of the domain between
-/// two neighbouring points crosses a seam: its parameter polygon does not bound the face, so
-/// the surface is shown untrimmed (and the loop drawn) rather than cut wrongly.
-pub const SEAM_JUMP: f64 = 0.5;
 
 /// `values` as base64 of little-endian `f32`.
 pub fn f32_base64(values: &[f64]) -> String {
@@ -195,8 +190,8 @@ pub fn state_json(s: &BSplineSurface, n: usize, reference: Option<&BSplineSurfac
 }
 
 /// A surface's trim: its loops as 3D polylines (`loops`, flat xyz, and `lengths`), and where its
-/// loops bound a region of the parameter square cleanly, the grid cells (`(n−1)²`, u slowest)
-/// whose centre lies inside that region (`cells`, one byte each, base64); `null` without trim.
+/// loops bound a region of the parameter square cleanly, the grid cells inside it
+/// ([`crate::trim::cell_mask`]; `cells`, one byte each, base64); `null` without trim.
 pub fn trim_json(m: &ModelSurface, n: usize) -> Value {
     if m.trim.is_empty() {
         return Value::Null;
@@ -209,61 +204,11 @@ pub fn trim_json(m: &ModelSurface, n: usize) -> Value {
         .collect();
     let lengths: Vec<usize> = m.trim.iter().map(Vec::len).collect();
     let mut out = json!({"loops": f32_base64(&pts), "lengths": lengths});
-    if let Some(polys) = parameter_loops(&m.surface, &m.trim) {
-        let cells: Vec<u8> = (0..(n - 1) * (n - 1))
-            .map(|k| {
-                let c = (
-                    ((k / (n - 1)) as f64 + 0.5) / (n - 1) as f64,
-                    ((k % (n - 1)) as f64 + 0.5) / (n - 1) as f64,
-                );
-                u8::from(inside(&polys, c))
-            })
-            .collect();
+    if let Some(cells) = crate::trim::cell_mask(&m.surface, &m.trim, n) {
+        let cells: Vec<u8> = cells.into_iter().map(u8::from).collect();
         out["cells"] = json!(base64::engine::general_purpose::STANDARD.encode(cells));
     }
     out
-}
-
-/// The trim loops projected into the unit parameter square, `None` when a loop crosses a seam
-/// ([`SEAM_JUMP`]) or a point does not project.
-fn parameter_loops(s: &BSplineSurface, loops: &[Vec<Point3>]) -> Option<Vec<Vec<(f64, f64)>>> {
-    let (u0, u1) = s.domain_u();
-    let (v0, v1) = s.domain_v();
-    let mut projector = SurfaceProjector::new(s, ProjectionParams::default());
-    let tol = 1e-3 * s.size();
-    let mut out = Vec::with_capacity(loops.len());
-    for l in loops {
-        let mut poly = Vec::with_capacity(l.len());
-        for p in l {
-            let f = projector.project(p);
-            if !(f.distance <= tol) {
-                return None;
-            }
-            poly.push(((f.u - u0) / (u1 - u0), (f.v - v0) / (v1 - v0)));
-        }
-        let jumps = poly
-            .iter()
-            .zip(poly.iter().cycle().skip(1))
-            .any(|(a, b)| (a.0 - b.0).abs() > SEAM_JUMP || (a.1 - b.1).abs() > SEAM_JUMP);
-        if jumps {
-            return None;
-        }
-        out.push(poly);
-    }
-    Some(out)
-}
-
-/// Even–odd rule over all loops (outer and holes alike).
-fn inside(polys: &[Vec<(f64, f64)>], (x, y): (f64, f64)) -> bool {
-    let mut odd = false;
-    for poly in polys {
-        for (a, b) in poly.iter().zip(poly.iter().cycle().skip(1)) {
-            if (a.1 > y) != (b.1 > y) && x < a.0 + (y - a.1) * (b.0 - a.0) / (b.1 - a.1) {
-                odd = !odd;
-            }
-        }
-    }
-    odd
 }
 
 /// The curvature comb of a link in one state: at each sample of the slave side its point,
@@ -312,7 +257,7 @@ pub fn link_measures(model: &Model) -> Vec<LinkMeasure> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nurbs_core::shapes;
+    use nurbs_core::{Point3, shapes};
 
     fn decode(v: &Value) -> Vec<f32> {
         let bytes = base64::engine::general_purpose::STANDARD
