@@ -338,14 +338,17 @@
 
   // the typical tooth (that of the 95th percentile of the curvatures shown) as a share of the
   // model's diagonal: long enough to read a wiggle, short enough not to hide the surfaces
-  var COMB_TOOTH = 0.04;
+  var COMB_TOOTH = 0.025;
   // ---- combs: a tooth from each sample p to p − scale·κ·n (on the convex side), and the
   // envelope through the tips
   // the comb scale comes from the surfaces' curvature (the 95th percentile of the normal
-  // curvatures along both iso-directions of every grid), not from the combs' own: across a G2
-  // join to a plane every comb is near zero and must stay drawn near zero
+  // curvatures along both iso-directions over the curved samples of every grid), not from the
+  // combs' own: across a G2 join to a plane every comb is near zero and must stay drawn near
+  // zero, and a part of many planes must not scale its fillets' combs by the planes' zeros
   function combScaleBase() {
-    var ks = fieldValues('k_u').concat(fieldValues('k_v')).map(Math.abs).sort(function (a, b) { return a - b; });
+    var flat = 1e-6 / diag;
+    var ks = fieldValues('k_u').concat(fieldValues('k_v')).map(Math.abs)
+      .filter(function (k) { return k > flat; }).sort(function (a, b) { return a - b; });
     return COMB_TOOTH * diag / (quantile(ks, 0.95) || 1 / diag);
   }
   var combBase = null;
@@ -371,8 +374,10 @@
     if (combBase === null) combBase = combScaleBase();
     var scale = combBase * Math.pow(2, ui.combScale);
     gl.disable(gl.DEPTH_TEST);
+    // a G0 link is a sharp edge: its curvatures across are not meant to agree, and it has none
     if (ui.combs) D.links.forEach(function (l, k) {
       if (ui.link >= 0 && k !== ui.link) return;
+      if (l.target === 'G0' && k !== ui.link) return;
       var c = l['comb_' + ui.state] || l.comb_before;
       if (!c) return;
       var p = floats(c.points), n = floats(c.normals);
