@@ -296,6 +296,69 @@ impl PyModel {
         ))
     }
 
+    /// html_report(faired=None, report=None, title="hierfair") → str
+    ///
+    /// The quality report page of `hier-fair fair --html` (with `faired` and the `report` dict
+    /// that `fair` returned: before / after, deviation, the report's tables) or of `hier-fair
+    /// check --html` (without: this model's links measured): one self-contained HTML file with
+    /// a 3D viewer, zebra and curvature shading, curvature combs and sortable tables. Write it
+    /// to a `.html` file and open it in a browser.
+    ///
+    /// >>> import hierfair
+    /// >>> m = hierfair.Model.load("fixtures/models/x_node.json")
+    /// >>> faired, report = m.fair()
+    /// >>> page = m.html_report(faired, report, title="the X-node")
+    /// >>> page.startswith("<!DOCTYPE html>"), "<title>the X-node</title>" in page
+    /// (True, True)
+    #[pyo3(signature = (faired=None, report=None, title="hierfair"))]
+    fn html_report(
+        &self,
+        py: Python<'_>,
+        faired: Option<PyRef<'_, PyModel>>,
+        report: Option<&Bound<'_, PyAny>>,
+        title: &str,
+    ) -> PyResult<String> {
+        let report: Option<serde_json::Value> = match report {
+            Some(r) => {
+                let text: String = py.import("json")?.call_method1("dumps", (r,))?.extract()?;
+                Some(serde_json::from_str(&text).map_err(|e| {
+                    HierFairError::new_err(format!("report: not the dict fair returned: {e}"))
+                })?)
+            }
+            None => None,
+        };
+        let model = &self.inner;
+        let faired = faired.as_ref().map(|f| &f.inner);
+        if let Some(f) = faired
+            && f.surfaces.len() != model.surfaces.len()
+        {
+            return Err(HierFairError::new_err(format!(
+                "faired: {} surfaces, this model {}: not its faired model",
+                f.surfaces.len(),
+                model.surfaces.len()
+            )));
+        }
+        py.detach(|| {
+            let checks = match faired {
+                Some(_) => None,
+                None => {
+                    let params = g_continuity::MeasureParams::default();
+                    let checks =
+                        hier_fair::measure_model(model, &params).map_err(|e| e.to_string())?;
+                    Some(hier_fair::check::checks_json(model, &checks, None))
+                }
+            };
+            Ok::<_, String>(hier_fair::html::html_report(&hier_fair::html::HtmlReport {
+                title,
+                model,
+                faired,
+                report: report.as_ref(),
+                checks: checks.as_ref(),
+            }))
+        })
+        .map_err(HierFairError::new_err)
+    }
+
     fn __repr__(&self) -> String {
         format!(
             "Model({} surfaces, {} links)",

@@ -219,6 +219,28 @@ def test_fair_gives_the_command_lines_model_and_report(tmp_path):
     assert [strip(s) for s in report["surfaces"]] == [strip(s) for s in want["surfaces"]]
 
 
+def _page_data(page):
+    """The data a report page embeds (its hf-data element)."""
+    start = page.index('id="hf-data">') + len('id="hf-data">')
+    return json.loads(page[start:page.index("</script>", start)].replace("<\\/", "</"))
+
+
+def test_the_report_page_is_the_command_lines(tmp_path):
+    path = FIXTURES / "models" / "x_node.json"
+    page_path, rep = tmp_path / "r.html", tmp_path / "r.json"
+    run("fair", path, "-o", tmp_path / "out.json", "--report", rep, "--html", page_path, "--quiet")
+    model = hierfair.Model.load(str(path))
+    faired, report = model.fair()
+    ours, theirs = _page_data(model.html_report(faired, report)), _page_data(page_path.read_text())
+    # the same geometry and links; the report's times differ from run to run
+    assert ours["surfaces"] == theirs["surfaces"] and ours["links"] == theirs["links"]
+    assert ours["report"]["links"] == json.loads(rep.read_text())["links"]
+    checked = _page_data(model.html_report())
+    assert checked["kind"] == "check" and checked["checks"]["links"] == model.check()
+    with pytest.raises(hierfair.HierFairError, match="faired"):
+        model.html_report(hierfair.Model.load(str(FIXTURES / "occt" / "occt_pipe_tee.json")))
+
+
 def test_fair_takes_tolerances_per_role_in_millimetres(tmp_path):
     path = FIXTURES / "occt" / "occt_pipe_tee.json"
     out = tmp_path / "out.json"

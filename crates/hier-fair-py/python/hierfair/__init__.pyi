@@ -80,6 +80,12 @@ class Model:
         verify: bool = True,
         keep_faired: bool = False,
     ) -> Tuple["Model", Dict[str, Any]]: ...
+    def html_report(
+        self,
+        faired: Optional["Model"] = None,
+        report: Optional[Dict[str, Any]] = None,
+        title: str = "hierfair",
+    ) -> str: ...
 
 def fair_surface(
     surface: Surface,
