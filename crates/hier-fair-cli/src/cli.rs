@@ -466,7 +466,6 @@ fn fair_command(args: FairArgs) -> Result<()> {
     }
     let model_options = [
         ("--images", images.is_some()),
-        ("--html", html.is_some()),
         ("--target", target.is_some()),
         ("--tolerance-role", role_tolerance != [None; 3]),
         ("--keep-faired", keep_faired),
@@ -479,30 +478,25 @@ fn fair_command(args: FairArgs) -> Result<()> {
         iterations,
         keep: keep.unwrap_or(nurbs_core::Continuity::G0),
     };
-    fair_surfaces(
-        &input,
-        &output,
-        report.as_deref(),
-        &options,
-        &model_options,
-        quiet,
-    )
+    let outputs = (report.as_deref(), html.as_deref());
+    fair_surfaces(&input, &output, outputs, &options, &model_options, quiet)
 }
 
-/// `fair` on a bare surface file: each surface faired alone, boundaries kept; the model options
+/// `fair` on a bare surface file (with its report and page, each where asked for): each surface
+/// faired alone, boundaries kept; the model options
 /// (`model_options`, each with whether it was given) do not apply and are refused; with `quiet`
 /// the verdict line alone is printed, as on a model.
 fn fair_surfaces(
     input: &std::path::Path,
     output: &std::path::Path,
-    report: Option<&std::path::Path>,
+    (report, html): (Option<&std::path::Path>, Option<&std::path::Path>),
     options: &crate::fair::FairOptions,
     model_options: &[(&str, bool)],
     quiet: bool,
 ) -> Result<()> {
     crate::kind::expect_extension("-o", output, crate::kind::JSON_OUTPUTS)?;
     crate::kind::refuse_model_options(input, model_options)?;
-    let text = crate::fair::run(input, output, report, options)?;
+    let text = crate::fair::run(input, output, report, html, options)?;
     match text.lines().last() {
         Some(verdict) if quiet => println!("{verdict}"),
         _ => print!("{text}"),

@@ -178,12 +178,13 @@ pub fn surfaces_json(surfaces: &[BSplineSurface]) -> Result<String> {
     )?)
 }
 
-/// The whole subcommand: read, fair, write the output (and report) atomically; returns the
-/// one-line-per-surface summary to print.
+/// The whole subcommand: read, fair, write the output (and report, and quality report page)
+/// atomically; returns the one-line-per-surface summary to print.
 pub fn run(
     input: &Path,
     output: &Path,
     report: Option<&Path>,
+    html: Option<&Path>,
     options: &FairOptions,
 ) -> Result<String> {
     files::refuse_overwrite(output, &[input])?;
@@ -202,6 +203,20 @@ pub fn run(
     files::write_atomic(output, surfaces_json(&faired)?.as_bytes())?;
     if let Some(r) = report {
         files::write_atomic(r, serde_json::to_string_pretty(&run)?.as_bytes())?;
+    }
+    if let Some(h) = html {
+        // the surfaces as a model of primaries without links, named as the report names them
+        let before = hier_fair::Model::from_primaries(surfaces.clone());
+        let after = hier_fair::Model::from_primaries(faired.clone());
+        let json = serde_json::to_value(&run)?;
+        let page = hier_fair::html::html_report(&hier_fair::html::HtmlReport {
+            title: &format!("hier-fair fair {}", input.display()),
+            model: &before,
+            faired: Some(&after),
+            report: Some(&json),
+            checks: None,
+        });
+        files::write_atomic(h, page.as_bytes())?;
     }
     Ok(surface_lines(&run, options.tolerance) + &verdict(&run, options.tolerance, output))
 }
@@ -381,7 +396,7 @@ mod tests {
                 iterations: None,
                 keep: Continuity::G1,
             };
-            let text = run(&input, &output, Some(&report), &options).expect("runs");
+            let text = run(&input, &output, Some(&report), None, &options).expect("runs");
             assert!(text.contains("wrote"));
             let faired = files::read_surfaces(&output).expect("output parses");
             let original = files::read_surfaces(&input).expect("input parses");
@@ -416,7 +431,7 @@ mod tests {
             keep: Continuity::G0,
         };
         let before = std::fs::read(&input).expect("read");
-        assert!(run(&input, &input, None, &options).is_err());
+        assert!(run(&input, &input, None, None, &options).is_err());
         assert_eq!(
             std::fs::read(&input).expect("read"),
             before,

@@ -122,6 +122,52 @@ fn check_report_page_holds_check_json() {
     assert!(!again.status.success());
 }
 
+#[test]
+fn a_bare_surface_file_gets_its_page() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let input = root("fixtures/surfaces/hood_panel.json");
+    let out = run_in(
+        dir.path(),
+        &[
+            "fair",
+            input.to_str().expect("utf-8"),
+            "-o",
+            "out.json",
+            "--report",
+            "r.json",
+            "--html",
+            "p.html",
+        ],
+    );
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let page = std::fs::read_to_string(dir.path().join("p.html")).expect("page");
+    assert_offline(&page);
+    let data = embedded(&page);
+    let report: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.path().join("r.json")).expect("report"))
+            .expect("parses");
+    assert_eq!(data["report"], report);
+    assert_eq!(data["surfaces"].as_array().map(Vec::len), Some(1));
+    assert!(data["surfaces"][0]["after"]["grid"]["deviation"].is_string());
+    // a page that is not .html is refused before anything is written
+    let wrong = run_in(
+        dir.path(),
+        &[
+            "fair",
+            input.to_str().expect("utf-8"),
+            "-o",
+            "o2.json",
+            "--html",
+            "p.json",
+        ],
+    );
+    assert!(!wrong.status.success() && !dir.path().join("o2.json").exists());
+}
+
 /// The browser on this machine, `None` where there is none.
 fn chromium() -> Option<PathBuf> {
     ["chromium", "chromium-browser", "google-chrome"]
@@ -136,7 +182,7 @@ fn chromium() -> Option<PathBuf> {
 }
 
 /// Chromium headless with software WebGL, a 1400 × 1000 window, 8 s of virtual time.
-fn browser(exe: &Path, extra: &[&str], page: &Path) -> std::process::Output {
+fn browser(exe: &Path, extra: &[&str], page: &str) -> std::process::Output {
     Command::new(exe)
         .args([
             "--headless",
@@ -148,15 +194,17 @@ fn browser(exe: &Path, extra: &[&str], page: &Path) -> std::process::Output {
             "--virtual-time-budget=8000",
         ])
         .args(extra)
-        .arg(format!("file://{}", page.display()))
+        .arg(format!("file://{page}"))
         .output()
         .expect("the browser runs")
 }
 
-/// Renders `page`: the page's own account (drawn pixels, errors) from its DOM, and a screenshot
-/// that is not blank.
-fn assert_renders(exe: &Path, page: &Path) {
-    let dom = browser(exe, &["--dump-dom"], page);
+/// Renders `page` (with `view`, the part after `#` that chooses a view: a picked link or
+/// surface, a shading): the page's own account (drawn pixels, errors) from its DOM, and a
+/// screenshot that is not blank.
+fn assert_renders(exe: &Path, page: &Path, view: &str) {
+    let url = format!("{}#{view}", page.display());
+    let dom = browser(exe, &["--dump-dom"], &url);
     let dom = String::from_utf8_lossy(&dom.stdout);
     let body = dom
         .split("<body")
@@ -188,7 +236,7 @@ fn assert_renders(exe: &Path, page: &Path) {
         page.display()
     );
     let shot = page.with_extension("png");
-    let out = browser(exe, &[&format!("--screenshot={}", shot.display())], page);
+    let out = browser(exe, &[&format!("--screenshot={}", shot.display())], &url);
     assert!(
         shot.is_file(),
         "no screenshot: {}",
@@ -221,7 +269,11 @@ fn report_pages_render_in_headless_chromium() {
     };
     let dir = tempfile::tempdir().expect("temp dir");
     faired_x_node(dir.path());
-    assert_renders(&exe, &dir.path().join("report.html"));
+    assert_renders(&exe, &dir.path().join("report.html"), "");
+    // a link picked, zoomed on, with knot lines, nets and an iso-line comb: select() and the
+    // focus run, and the curvature map with its colour bar
+    let view = "link=3&mode=mean&knots=1&net=1&iso=u";
+    assert_renders(&exe, &dir.path().join("report.html"), view);
     let model = root("fixtures/occt/occt_box12_r5.json");
     let out = run_in(
         dir.path(),
@@ -237,5 +289,9 @@ fn report_pages_render_in_headless_chromium() {
         "{}",
         String::from_utf8_lossy(&out.stderr)
     );
-    assert_renders(&exe, &dir.path().join("box.html"));
+    assert_renders(
+        &exe,
+        &dir.path().join("box.html"),
+        "surface=C25_sphere&mode=gauss",
+    );
 }

@@ -5,7 +5,7 @@ function hierFairTables(D, MM, fmt, select) {
   'use strict';
   var tol = D.tolerances;
   var fair = D.kind === 'fair';
-  var problems = fair && D.report ? D.report.problems : [];
+  var problems = (fair && D.report && D.report.problems) || [];
 
   // a link's verdict: met; a named conflict; worse than the input; or unmet
   function status(k, before, after, met) {

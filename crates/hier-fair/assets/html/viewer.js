@@ -167,9 +167,10 @@
       idx.push(a, b, a + 1, a + 1, b, b + 1);
     }
     var fields = { mean: floats(g.mean), gauss: floats(g.gauss), k_u: floats(g.k_u), k_v: floats(g.k_v) };
-    if (g.deviation) fields.deviation = floats(g.deviation);
+    // the input lies on itself: its deviation is zero everywhere (shown as such, not as another field)
+    fields.deviation = g.deviation ? floats(g.deviation) : new Float32Array(n * n);
     var out = {
-      pos: pos, count: idx.length, fields: fields, normals: floats(g.normals),
+      pos: pos, count: idx.length, fields: fields, normals: floats(g.normals), cells: cells,
       bPos: gl && buffer(pos), bNrm: gl && buffer(floats(g.normals)),
       bIdx: gl && buffer(new Uint16Array(idx), gl.ELEMENT_ARRAY_BUFFER), bVal: {}
     };
@@ -438,6 +439,7 @@
     D.surfaces.forEach(function (s, k) {
       var st = stateOf(s), p = st.pos, n = s.n;
       for (var i = 0; i + 1 < n; i++) for (var j = 0; j + 1 < n; j++) {
+        if (st.cells && !st.cells[i * (n - 1) + j]) continue;
         var a = i * n + j, q = [[a, a + n, a + 1], [a + 1, a + n, a + n + 1]];
         for (var h = 0; h < 2; h++) {
           var hit = ray(eye, d, p, q[h]);

@@ -2,7 +2,12 @@
 //! their deviation decides the highest level the tolerance allows, and the width of a G2
 //! lead-in is searched here ([`g_continuity::lead_in`]).
 
-use super::*;
+use g_continuity::{ConnectParams, LinkMeasure, SideLink, prepare_slave, set_step};
+use nurbs_core::energy::max_deviation;
+use nurbs_core::{BSplineSurface, Continuity};
+
+use super::masks::free_rows;
+use super::{DryRun, Job};
 
 /// Relative margin of the dry run's slack test: a variant's larger G2 move bound is skipped
 /// only when every weight the previous run rejected moved more than the bound by more than

@@ -7,7 +7,12 @@
 //! withdrawn — those masters keep their input section — and the run that misses fewer links
 //! is kept, its report naming each withdrawn section.
 
-use super::*;
+use std::sync::atomic::AtomicBool;
+
+use super::report::link_reports;
+use super::{FairModelReport, LinkFair, Plan, Problem, ProblemKind, Progress, measure_links};
+use crate::error::Result;
+use crate::model::Model;
 
 impl Plan<'_> {
     /// Runs the plan from `start` ([`Plan::run`]), and again with sections withdrawn where a

@@ -1,7 +1,10 @@
 //! The n-sided stage of a corner group (\[SV\] §3.4): the group's patches faired as one mesh and
 //! refitted, used only when fairer and within the group's share of the tolerance.
 
-use super::*;
+use nurbs_core::energy::{max_deviation, thin_plate_energy};
+
+use super::{FairModelReport, FairParams, Problem, ProblemKind};
+use crate::model::Model;
 
 pub(super) fn group_stage(
     model: &Model,

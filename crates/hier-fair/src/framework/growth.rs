@@ -2,7 +2,11 @@
 //! against the input ([`LinkGrowth`]: their order and report phrase), and the links a result
 //! leaves worse or loses.
 
-use super::*;
+use g_continuity::{LinkMeasure, SideLink, Tolerances};
+use nurbs_core::{BSplineSurface, Continuity};
+
+use super::Job;
+use super::report::{Problem, StageReport};
 
 /// How much worse a link leaves than it came: the factors by which its gap, normal angle and
 /// relative curvature difference exceed their input values (each against the larger of its
@@ -216,6 +220,45 @@ pub fn worse_than(
 }
 
 impl Job<'_> {
+    /// Continuity alone is worse somewhere too (`worse`): of the candidates, the one whose
+    /// links grow the least against the input — a gap before an angle before a curvature
+    /// ([`LinkGrowth`]'s order); on a tie the fairer one (listed first). The start may no longer fit
+    /// masters that were faired before it.
+    pub(super) fn least_grown(
+        &self,
+        labelled: &[(usize, SideLink<'_>)],
+        mut candidates: Vec<(&str, BSplineSurface, Vec<StageReport>)>,
+        worse: &str,
+        problems: &mut Vec<Problem>,
+    ) -> (BSplineSurface, Vec<StageReport>) {
+        let growth: Vec<LinkGrowth> = candidates
+            .iter()
+            .map(|(_, f, _)| self.worst_growth(labelled, f))
+            .collect();
+        let mut pick = 0;
+        for k in 1..candidates.len() {
+            if growth[k] < growth[pick] {
+                pick = k;
+            }
+        }
+        let figures: Vec<String> = candidates
+            .iter()
+            .zip(&growth)
+            .map(|((what, _, _), g)| format!("{what}: {g}"))
+            .collect();
+        self.limited(
+            problems,
+            format!(
+                "continuity alone: {worse}; kept {}, whose links grow the least against the input — {}",
+                candidates[pick].0,
+                figures.join("; ")
+            ),
+            Some(growth[pick].largest()),
+        );
+        let (_, kept, stages) = candidates.swap_remove(pick);
+        (kept, stages)
+    }
+
     /// The worst [`LinkGrowth`] of `result` over this surface's links against the input, kind
     /// by kind (every factor ≤ 1: no link worse).
     pub(super) fn worst_growth(

@@ -2,7 +2,17 @@
 //! of its stages, its energy, creases and the problems it met — and what a surface knows of its
 //! place in the model: its set-step settings, the sides its slaves hang on, its links.
 
-use super::*;
+use std::time::Instant;
+
+use g_continuity::{ConnectParams, SideLink};
+use nurbs_core::energy::{max_deviation, thin_plate_energy};
+use nurbs_core::{BSplineSurface, Continuity, Side};
+
+use super::{
+    GROUP_CHAIN_SHARE, Job, Outcome, Problem, ProblemKind, Run, Stage, StageReport, SurfaceFair,
+    lies_on_side, net_bound, report,
+};
+use crate::check::TOUCH_FACTOR;
 
 /// A result that lies within this fraction of the surface's size of its input everywhere is
 /// the input (knot insertion is exact up to round-off, about 1e-15 of the size; a fairing move

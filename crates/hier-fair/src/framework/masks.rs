@@ -1,7 +1,8 @@
 //! What a fairing stage keeps: the rows fixed per side and level, poles and degenerate corners,
 //! the columns of smooth C⁰ joins, and the knots that give a surface free rows.
 
-use super::*;
+use g_continuity::SideLink;
+use nurbs_core::{BSplineSurface, Continuity, ControlMask, Direction, Side};
 
 /// Knots of `after` that `before` lacks, both directions (with multiplicity).
 pub(super) fn knots_between(before: &BSplineSurface, after: &BSplineSurface) -> usize {

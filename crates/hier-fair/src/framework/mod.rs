@@ -45,18 +45,16 @@
 //! left as it was and named in the report's problems; its slaves still run against it. The run
 //! never stops half-way without a report.
 
-use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
-use g_continuity::{ConnectParams, LinkMeasure, SideLink, Tolerances, prepare_slave, set_step};
-use nurbs_core::energy::{max_deviation, thin_plate_energy};
-use nurbs_core::{BSplineSurface, Continuity, ControlMask, Direction, Side, SurfaceFairing};
+use g_continuity::{ConnectParams, LinkMeasure};
+use nurbs_core::{BSplineSurface, Continuity, SurfaceFairing};
 use rayon::prelude::*;
 
-use crate::check::TOUCH_FACTOR;
 use crate::error::Result;
 use crate::methods::Fairers;
-use crate::model::{Model, Role};
+use crate::model::Model;
 
 mod budget;
 mod dry_run;
@@ -81,11 +79,9 @@ pub use dry_run::{
     LEAD_IN_MARGIN, LEAD_IN_MAX_NARROWING, LEAD_IN_TRIALS, MIN_LEAD_IN, SLACK_ROUNDING,
 };
 pub use group::GroupFair;
-use group::group_stage;
 pub use growth::{LinkGrowth, NEGLIGIBLE_GROWTH, worse_than};
 pub use job::{JOIN_SAMPLES, UNCHANGED_RELATIVE};
 pub(crate) use masks::lies_on_side;
-use masks::{free_rows, knots_between, missing_knots};
 pub use masks::{smooth_join_points, stage_mask};
 pub use plan::waves;
 pub use report::{
@@ -93,8 +89,7 @@ pub use report::{
     SurfaceFair,
 };
 use report::{
-    edge_reports, found_edge_reports, link_reports, unmet_problems, worse_edge_problems,
-    worse_link_problems,
+    edge_reports, found_edge_reports, unmet_problems, worse_edge_problems, worse_link_problems,
 };
 pub use seams::LINKED_SEAM_FRACTION;
 pub use section::{MIN_FREE_RAMP, MIN_RAMP, SECTION_TRIALS};

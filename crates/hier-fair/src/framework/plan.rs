@@ -1,6 +1,14 @@
 //! The plan of a run: the waves of the hierarchy, masters before slaves (\[SV\] §1.1).
 
-use super::*;
+use std::sync::atomic::Ordering;
+
+use nurbs_core::BSplineSurface;
+use rayon::prelude::*;
+
+use super::group::group_stage;
+use super::{FairModelReport, Job, Outcome, Plan, Problem, ProblemKind, Progress};
+use crate::error::Result;
+use crate::model::Model;
 
 /// The waves of the hierarchy: wave 0 holds the surfaces without links, a slave is one wave
 /// after its latest master; within a wave, file order.
@@ -282,7 +290,7 @@ impl Plan<'_> {
 mod tests {
     use super::*;
     use crate::model::Link;
-    use nurbs_core::{Point3, Vector3, shapes::plane_patch};
+    use nurbs_core::{Continuity, Point3, Side, Vector3, shapes::plane_patch};
 
     /// Four unit squares: 0 and 1 primaries, 2 a fillet on both, 3 a corner on the fillet and
     /// on primary 0.

@@ -6,8 +6,12 @@
 //! stages' G2 set step as well met one more link of the six kernel models, at 2–4 s more on
 //! the lofted block and the variable-radius box: docs/benchmarks.md.)
 
+use g_continuity::{ConnectParams, LinkMeasure, SideLink};
+use nurbs_core::energy::max_deviation;
+use nurbs_core::{BSplineSurface, Continuity};
+
 use super::stages::StagePlan;
-use super::*;
+use super::{Job, Problem, StageReport};
 
 impl Job<'_> {
     /// `surface` polished by [`g_continuity::polish_joint`] with the settings `params`, where it
@@ -168,7 +172,7 @@ fn same_frames(a: &BSplineSurface, b: &BSplineSurface, links: &[SideLink<'_>]) -
 mod tests {
     use super::*;
     use nurbs_core::shapes::plane_patch;
-    use nurbs_core::{Point3, Vector3};
+    use nurbs_core::{Point3, Side, Vector3};
 
     /// A 6 × 6 bicubic patch of the unit square (knots inserted into the bilinear plane).
     fn patch() -> BSplineSurface {

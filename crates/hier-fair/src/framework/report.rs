@@ -1,6 +1,10 @@
 //! What the framework reports: stages, surfaces, links and problems.
 
-use super::*;
+use g_continuity::LinkMeasure;
+use nurbs_core::Continuity;
+
+use super::GroupFair;
+use crate::model::{Model, Role};
 
 /// A step of the per-surface alternation (\[SV\] §3.2).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]

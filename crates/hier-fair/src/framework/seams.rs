@@ -16,9 +16,11 @@
 //! as the free run left them (a ring of a metre part, r103ec: 20 of its 126 links were lost
 //! when every part of the ring ran again linked).
 
-use super::*;
+use nurbs_core::{BSplineSurface, Continuity};
+
+use super::{Outcome, Plan};
 use crate::edges::{EdgeMeasure, SharedEdge, is_seam, measure_edge};
-use crate::model::Link;
+use crate::model::{Link, Model};
 
 /// Surfaces run again, each with its outcome.
 type Outcomes = Vec<(usize, Outcome)>;

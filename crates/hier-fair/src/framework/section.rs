@@ -4,8 +4,13 @@
 //! deviation budget allows; the candidate is taken when it meets every link the lead-in trial
 //! met within that budget and is fairer by the figures of [`crate::fairness`].
 
+use g_continuity::{ConnectParams, SideLink, prepare_slave};
+use nurbs_core::energy::max_deviation;
+use nurbs_core::{BSplineSurface, Continuity, Direction, Side};
+
+use super::masks::free_rows;
 use super::stages::StagePlan;
-use super::*;
+use super::{DryRun, Job, LEAD_IN_MARGIN, MIN_LEAD_IN, Run, Stage};
 use crate::fairness::{FairnessVerdict, surface_fairness};
 
 /// Ramp trials: the first at [`g_continuity::MAX_RAMP`], each next one scaled by budget/d (the

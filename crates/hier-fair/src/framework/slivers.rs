@@ -7,7 +7,10 @@
 //! ([`BSplineSurface::merge_end_span`]) — where that moves the surface by at most
 //! [`SLIVER_MOVE_SHARE`] of the G0 tolerance; a span with a shape of its own moves more and stays.
 
-use super::*;
+use nurbs_core::{BSplineSurface, Direction};
+
+use super::{Problem, ProblemKind};
+use crate::model::Model;
 
 /// The largest move a merge may make, as a share of the G0 tolerance: a tenth, so that a link
 /// along the merged span keeps nine tenths of its gap tolerance for the continuity steps.

@@ -16,7 +16,9 @@
 //! stages miss with the spread (box12_variable's B-spline corner, though its dry run met them)
 //! runs again without (docs/benchmarks.md).
 
-use super::*;
+use nurbs_core::BSplineSurface;
+
+use super::{Job, Problem, StageReport};
 
 /// What [`Job::stages`] returns.
 type StagesResult = std::result::Result<(BSplineSurface, Vec<StageReport>), String>;

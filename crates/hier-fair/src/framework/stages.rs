@@ -2,7 +2,14 @@
 //! each fairing stage checked ([`nurbs_core::FairingProblem`]), and the fallback that keeps a
 //! surface never worse than the input.
 
-use super::*;
+use g_continuity::{SideLink, set_step};
+use nurbs_core::energy::{max_deviation, thin_plate_energy};
+use nurbs_core::{BSplineSurface, Continuity, Direction, Side};
+
+use super::masks::{knots_between, missing_knots, smooth_join_points, stage_mask};
+use super::report::{self, Problem, ProblemKind, Stage, StageReport};
+use super::{DeviationBudget, DryRun, Job, MASTER_FRAME, Run, UNCHANGED_RELATIVE};
+use crate::check::TOUCH_FACTOR;
 
 /// What the stages of one surface work from, after the dry run.
 pub(super) struct StagePlan<'a> {
@@ -437,7 +444,7 @@ impl Job<'_> {
             self.start.clone(),
             vec![run.stages[0].clone()],
         ));
-        self.least_grown(plan, candidates, &worse, problems)
+        self.least_grown(plan.labelled, candidates, &worse, problems)
     }
 
     /// The faired result `s` (no link worse, none lost, within the tolerance), or the
@@ -590,45 +597,6 @@ impl Job<'_> {
                 .lost_link(plan.labelled, &plan.connected, &faired)
                 .is_none())
         .then_some((faired, once.stages))
-    }
-
-    /// Continuity alone is worse somewhere too (`worse`): of the candidates, the one whose
-    /// links grow the least against the input — a gap before an angle before a curvature
-    /// ([`LinkGrowth`]'s order); on a tie the fairer one (listed first). The start may no longer fit
-    /// masters that were faired before it.
-    fn least_grown(
-        &self,
-        plan: &StagePlan<'_>,
-        mut candidates: Vec<(&str, BSplineSurface, Vec<StageReport>)>,
-        worse: &str,
-        problems: &mut Vec<Problem>,
-    ) -> (BSplineSurface, Vec<StageReport>) {
-        let growth: Vec<LinkGrowth> = candidates
-            .iter()
-            .map(|(_, f, _)| self.worst_growth(plan.labelled, f))
-            .collect();
-        let mut pick = 0;
-        for k in 1..candidates.len() {
-            if growth[k] < growth[pick] {
-                pick = k;
-            }
-        }
-        let figures: Vec<String> = candidates
-            .iter()
-            .zip(&growth)
-            .map(|((what, _, _), g)| format!("{what}: {g}"))
-            .collect();
-        self.limited(
-            problems,
-            format!(
-                "continuity alone: {worse}; kept {}, whose links grow the least against the input — {}",
-                candidates[pick].0,
-                figures.join("; ")
-            ),
-            Some(growth[pick].largest()),
-        );
-        let (_, kept, stages) = candidates.swap_remove(pick);
-        (kept, stages)
     }
 
     /// Whether this surface came in as a plane (thin-plate energy exactly 0: a kernel's

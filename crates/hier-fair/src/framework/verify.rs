@@ -13,7 +13,9 @@
 //! each unmet link is then named either with the deviations under which it was met (a conflict
 //! whose figure is verified) or as not reached by that much more deviation.
 
-use super::*;
+use super::{FairModelReport, FairParams, LinkFair, Problem, ProblemKind, fair_model_with, report};
+use crate::methods::Fairers;
+use crate::model::Model;
 
 /// How much more deviation the verification run gives each surface of an unmet link: twice its
 /// own tolerance. One run is a whole fairing of the model again, so there is exactly one; twice

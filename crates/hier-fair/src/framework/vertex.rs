@@ -5,7 +5,11 @@
 //! the zones; where the masters touch along a line through the corner, the direction the
 //! slave's boundary leaves it in.
 
-use super::*;
+use g_continuity::{LinkMeasure, SideLink};
+use nurbs_core::{BSplineSurface, Continuity, Direction, Side};
+
+use super::{Job, LinkFair, Problem, ProblemKind, report};
+use crate::model::Model;
 use crate::zones::{conflicted_ends, flat_curvature, masters_at_corner};
 
 impl Job<'_> {
