@@ -6,6 +6,7 @@ use g_continuity::{ConnectParams, LinkMeasure, SideLink, prepare_slave, set_step
 use nurbs_core::energy::max_deviation;
 use nurbs_core::{BSplineSurface, Continuity};
 
+use super::error::{StageError, StageResult};
 use super::masks::free_rows;
 use super::{DryRun, Job};
 
@@ -87,7 +88,7 @@ impl Job<'_> {
         prepared: &BSplineSurface,
         links: &[SideLink<'_>],
         spread: bool,
-    ) -> std::result::Result<DryRun, String> {
+    ) -> StageResult<DryRun> {
         let original = &self.model.surfaces[self.surface].surface;
         let mut steps = Vec::new();
         let mut params = self.set_params();
@@ -144,7 +145,7 @@ impl Job<'_> {
         step: Continuity,
         params: &ConnectParams,
         set: g_continuity::SetParams,
-    ) -> std::result::Result<StepResult, String> {
+    ) -> StageResult<StepResult> {
         let name = &self.model.surfaces[self.surface].name;
         let t = &params.tolerances;
         let meets = |after: &[g_continuity::LinkMeasure]| {
@@ -154,8 +155,13 @@ impl Job<'_> {
                 .all(|(l, m)| m.meets(l.target.min(step), t.g0, t.g1_deg, t.g2_rel))
         };
         let run = |set: g_continuity::SetParams| {
-            set_step(s, links, step, &ConnectParams { set, ..*params })
-                .map_err(|e| format!("setting {step:?} on {name}: {e}"))
+            set_step(s, links, step, &ConnectParams { set, ..*params }).map_err(|source| {
+                StageError::Set {
+                    level: step,
+                    surface: name.clone(),
+                    source,
+                }
+            })
         };
         let (next, report) = run(set)?;
         if meets(&report.after) {
@@ -200,7 +206,7 @@ impl Job<'_> {
         &self,
         links: &[SideLink<'_>],
         spread: bool,
-    ) -> std::result::Result<(DryRun, Option<f64>), String> {
+    ) -> StageResult<(DryRun, Option<f64>)> {
         let (mut pick, mut needed) = self.lead_in_search(links, spread)?;
         if spread && !pick.met {
             let (other, other_needed) = self.lead_in_search(links, false)?;
@@ -218,7 +224,7 @@ impl Job<'_> {
         &self,
         links: &[SideLink<'_>],
         spread: bool,
-    ) -> std::result::Result<(DryRun, Option<f64>), String> {
+    ) -> StageResult<(DryRun, Option<f64>)> {
         let name = &self.model.surfaces[self.surface].name;
         let g2 = links.iter().any(|l| {
             l.target >= Continuity::G2 && !g_continuity::measure::is_collapsed(self.start, l.side)
@@ -233,10 +239,19 @@ impl Job<'_> {
                 lead_in: width,
                 ..*self.connect
             };
-            let (prepared, _) = prepare_slave(self.start, links, &connect)
-                .map_err(|e| format!("preparing {name}: {e}"))?;
-            let (prepared, _) = free_rows(prepared, links, self.params.min_free_rows)
-                .map_err(|e| format!("inserting knots into {name}: {e}"))?;
+            let (prepared, _) = prepare_slave(self.start, links, &connect).map_err(|source| {
+                StageError::Prepare {
+                    surface: name.clone(),
+                    source,
+                }
+            })?;
+            let (prepared, _) =
+                free_rows(prepared, links, self.params.min_free_rows).map_err(|source| {
+                    StageError::Knots {
+                        surface: name.clone(),
+                        source,
+                    }
+                })?;
             let dry = self.dry_run(&prepared, links, spread)?;
             let (d, met) = (dry.deviation(), dry.met);
             // the C0 step's deviation: following the masters' sides, whatever the lead-in

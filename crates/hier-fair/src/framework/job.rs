@@ -73,12 +73,12 @@ impl Job<'_> {
         let mut missed = Vec::new();
         let (surface, stages, processed) = match self.stages(original, &mut problems, &mut missed) {
             Ok((s, stages)) => (s, stages, true),
-            Err(message) => {
+            Err(e) => {
                 problems.push(Problem {
                     kind: ProblemKind::Failed,
                     surface: entry.name.clone(),
                     link: None,
-                    message,
+                    message: e.to_string(),
                     amount: None,
                 });
                 (original.clone(), Vec::new(), false)

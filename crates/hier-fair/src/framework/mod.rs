@@ -58,6 +58,7 @@ use crate::model::Model;
 
 mod budget;
 mod dry_run;
+mod error;
 mod follow;
 mod group;
 mod growth;
@@ -78,6 +79,7 @@ pub use budget::{DEVIATION_SAFETY, DeviationBudget, GROUP_SHARE, LEAD_IN_SHARE, 
 pub use dry_run::{
     LEAD_IN_MARGIN, LEAD_IN_MAX_NARROWING, LEAD_IN_TRIALS, MIN_LEAD_IN, SLACK_ROUNDING,
 };
+pub use error::{StageError, StageResult};
 pub use group::GroupFair;
 pub use growth::{LinkGrowth, NEGLIGIBLE_GROWTH, worse_than};
 pub use job::{JOIN_SAMPLES, UNCHANGED_RELATIVE};

@@ -226,7 +226,7 @@ pub struct LinkFair {
     pub link: usize,
     /// "slave.side -> master"
     pub label: String,
-    /// the link's target (capped by [`FairParams::target`])
+    /// the link's target (capped by [`FairParams::target`](super::FairParams::target))
     pub target: Continuity,
     /// measured on the input (`None` when measuring failed)
     pub before: Option<LinkMeasure>,
@@ -236,7 +236,7 @@ pub struct LinkFair {
     pub met: bool,
 }
 
-/// What [`fair_model`] did.
+/// What [`fair_model`](super::fair_model) did.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct FairModelReport {
     /// wall-clock seconds

@@ -8,6 +8,7 @@ use g_continuity::{ConnectParams, SideLink, prepare_slave};
 use nurbs_core::energy::max_deviation;
 use nurbs_core::{BSplineSurface, Continuity, Direction, Side};
 
+use super::error::{StageError, StageResult};
 use super::masks::free_rows;
 use super::stages::StagePlan;
 use super::{DryRun, Job, LEAD_IN_MARGIN, MIN_LEAD_IN, Run, Stage};
@@ -86,7 +87,7 @@ impl Job<'_> {
         links: &[SideLink<'_>],
         budget: f64,
         regular: DryRun,
-    ) -> std::result::Result<DryRun, String> {
+    ) -> StageResult<DryRun> {
         let Some(_) = self.section_ends(links, g_continuity::MAX_RAMP) else {
             return Ok(regular);
         };
@@ -152,16 +153,24 @@ impl Job<'_> {
         links: &[SideLink<'_>],
         ramp: f64,
         spread: bool,
-    ) -> std::result::Result<DryRun, String> {
+    ) -> StageResult<DryRun> {
         let name = &self.model.surfaces[self.surface].name;
         let connect = ConnectParams {
             lead_in: None,
             ..*self.connect
         };
-        let (prepared, _) = prepare_slave(section, links, &connect)
-            .map_err(|e| format!("preparing {name}'s one-hump section: {e}"))?;
-        let (prepared, _) = free_rows(prepared, links, self.params.min_free_rows)
-            .map_err(|e| format!("inserting knots into {name}'s one-hump section: {e}"))?;
+        let (prepared, _) =
+            prepare_slave(section, links, &connect).map_err(|source| StageError::Prepare {
+                surface: format!("{name}'s one-hump section"),
+                source,
+            })?;
+        let (prepared, _) =
+            free_rows(prepared, links, self.params.min_free_rows).map_err(|source| {
+                StageError::Knots {
+                    surface: format!("{name}'s one-hump section"),
+                    source,
+                }
+            })?;
         let mut dry = self.dry_run(&prepared, links, spread)?;
         dry.section_ramp = Some(ramp);
         Ok(dry)

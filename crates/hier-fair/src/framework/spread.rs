@@ -18,10 +18,11 @@
 
 use nurbs_core::BSplineSurface;
 
+use super::error::StageResult;
 use super::{Job, Problem, StageReport};
 
 /// What [`Job::stages`] returns.
-type StagesResult = std::result::Result<(BSplineSurface, Vec<StageReport>), String>;
+type StagesResult = StageResult<(BSplineSurface, Vec<StageReport>)>;
 
 impl Job<'_> {
     /// The stages of this surface from `original` (\[SV\] §3.2): the dry run decides the highest

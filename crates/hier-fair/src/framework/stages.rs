@@ -6,6 +6,7 @@ use g_continuity::{SideLink, set_step};
 use nurbs_core::energy::{max_deviation, thin_plate_energy};
 use nurbs_core::{BSplineSurface, Continuity, Direction, Side};
 
+use super::error::{StageError, StageResult};
 use super::masks::{knots_between, missing_knots, smooth_join_points, stage_mask};
 use super::report::{self, Problem, ProblemKind, Stage, StageReport};
 use super::{DeviationBudget, DryRun, Job, MASTER_FRAME, Run, UNCHANGED_RELATIVE};
@@ -54,7 +55,7 @@ impl Job<'_> {
         problems: &mut Vec<Problem>,
         missed: &mut Vec<(usize, Problem)>,
         spread: bool,
-    ) -> std::result::Result<(BSplineSurface, Vec<StageReport>), String> {
+    ) -> StageResult<(BSplineSurface, Vec<StageReport>)> {
         let labelled = self.links();
         self.check_touch(&labelled)?;
         let links: Vec<SideLink> = labelled.iter().map(|(_, l)| *l).collect();
@@ -114,7 +115,7 @@ impl Job<'_> {
     /// against the masters as they came in — a master the framework moved (a fillet's one-hump
     /// section, [`super::section`]) has moved within its own tolerance, and the continuity
     /// steps fit this surface's rows to it.
-    fn check_touch(&self, labelled: &[(usize, SideLink<'_>)]) -> std::result::Result<(), String> {
+    fn check_touch(&self, labelled: &[(usize, SideLink<'_>)]) -> StageResult<()> {
         let limit = TOUCH_FACTOR * self.connect.tolerances.g0;
         for (k, l) in labelled {
             let input = SideLink {
@@ -123,15 +124,17 @@ impl Job<'_> {
             };
             let m = input
                 .measure(self.start, &self.connect.measure)
-                .map_err(|e| format!("link {}: {e}", self.model.link_label(*k)))?;
+                .map_err(|source| StageError::Measure {
+                    link: self.model.link_label(*k),
+                    source,
+                })?;
             if m.g0 > limit {
-                return Err(format!(
-                    "link {} does not touch its master: gap {:.3e} > {:.3e} ({} × the g0 tolerance)",
-                    self.model.link_label(*k),
-                    m.g0,
+                return Err(StageError::NotTouching {
+                    link: self.model.link_label(*k),
+                    gap: m.g0,
                     limit,
-                    TOUCH_FACTOR
-                ));
+                    factor: TOUCH_FACTOR,
+                });
             }
         }
         Ok(())
@@ -257,7 +260,7 @@ impl Job<'_> {
         connected: &BSplineSurface,
         highest: Option<Continuity>,
         run: &mut Run<'_>,
-    ) -> std::result::Result<BSplineSurface, String> {
+    ) -> StageResult<BSplineSurface> {
         if highest.is_none() {
             return Ok(prepared);
         }
@@ -269,7 +272,10 @@ impl Job<'_> {
         let refined = prepared
             .refine(Direction::U, &more_u)
             .and_then(|p| p.refine(Direction::V, &more_v))
-            .map_err(|e| format!("inserting knots into {name}: {e}"))?;
+            .map_err(|source| StageError::Knots {
+                surface: name.clone(),
+                source,
+            })?;
         if let Some(r) = run.stages.first_mut() {
             r.knots_inserted += more_u.len() + more_v.len();
         }
@@ -285,7 +291,7 @@ impl Job<'_> {
         (tangent_corners, spread): (bool, bool),
         run: &mut Run<'_>,
         problems: &mut Vec<Problem>,
-    ) -> std::result::Result<BSplineSurface, String> {
+    ) -> StageResult<BSplineSurface> {
         let name = &self.model.surfaces[self.surface].name;
         let mut set_params = self.set_params();
         set_params.set.tangent_corners = tangent_corners;
@@ -295,8 +301,14 @@ impl Job<'_> {
         let mut fair_left = levels.len();
         for level in levels {
             if plan.highest.is_some() {
-                let (next, step) = set_step(&s, plan.links, level, &set_params)
-                    .map_err(|e| format!("setting {level:?} on {name}: {e}"))?;
+                let (next, step) =
+                    set_step(&s, plan.links, level, &set_params).map_err(|source| {
+                        StageError::Set {
+                            level,
+                            surface: name.clone(),
+                            source,
+                        }
+                    })?;
                 run.record(Stage::set(level), &s, &next);
                 if let Some(r) = run.stages.last_mut() {
                     r.knots_inserted = step.knots_inserted;
@@ -620,7 +632,7 @@ impl Job<'_> {
         master_sides: &[Side],
         eps: f64,
         energy_of_s: Option<f64>,
-    ) -> std::result::Result<Option<(BSplineSurface, usize, f64)>, String> {
+    ) -> StageResult<Option<(BSplineSurface, usize, f64)>> {
         let mut mask = stage_mask(s, links, level);
         for &side in master_sides {
             mask.fix_frame(side, MASTER_FRAME);
@@ -651,13 +663,11 @@ impl Job<'_> {
         let out = nurbs_core::FairingProblem::new(s, &mask, eps)
             .keeping(level)
             .run(self.fairing)
-            .map_err(|e| e.to_string())?;
+            .map_err(StageError::Method)?;
         // a fairing stage ends fairer than it started, or is not used
         let after = thin_plate_energy(&out.surface);
         if after > before {
-            return Err(format!(
-                "it raised the thin-plate energy from {before:.4e} to {after:.4e}"
-            ));
+            return Err(StageError::RaisedEnergy { before, after });
         }
         Ok(Some((out.surface, out.iterations, after)))
     }

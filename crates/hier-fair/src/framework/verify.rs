@@ -20,7 +20,7 @@ use crate::model::Model;
 /// How much more deviation the verification run gives each surface of an unmet link: twice its
 /// own tolerance. One run is a whole fairing of the model again, so there is exactly one; twice
 /// is the smallest raise that is a different budget for every share the stages plan with
-/// ([`DeviationBudget`]) rather than a rounding of it, and the figure a run meets with is an
+/// ([`DeviationBudget`](super::DeviationBudget)) rather than a rounding of it, and the figure a run meets with is an
 /// upper bound of what the link needs, which the report states as such.
 pub const VERIFY_FACTOR: f64 = 2.0;
 
