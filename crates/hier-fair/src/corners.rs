@@ -80,6 +80,55 @@ fn near(p: &Point3, q: &Point3, tol: f64) -> bool {
     (p - q).norm() <= tol
 }
 
+/// Why a corner group could not be faired as one mesh (the framework then fairs its patches one
+/// by one and says so with this text).
+#[derive(Debug, thiserror::Error)]
+pub enum CornerGroupError {
+    /// fewer than three patches
+    #[error("corner group {group} has {patches} patches; an n-sided corner needs at least 3")]
+    TooFew {
+        /// the group's name
+        group: String,
+        /// its patches
+        patches: usize,
+    },
+    /// no corner point common to all patches
+    #[error("corner group {group}: the patches do not share a common centre point")]
+    NoCentre {
+        /// the group's name
+        group: String,
+    },
+    /// a patch has no corner at the centre
+    #[error("corner group {group}: patch {patch} misses the centre")]
+    MissesCentre {
+        /// the group's name
+        group: String,
+        /// the patch's place in the group
+        patch: usize,
+    },
+    /// a patch shares no internal curve with the next one
+    #[error("corner group {group}: patch {patch} shares no internal curve with patch {next}")]
+    NoInternalCurve {
+        /// the group's name
+        group: String,
+        /// the patch's place in the group
+        patch: usize,
+        /// the next patch's place
+        next: usize,
+    },
+    /// reversing or transposing a patch failed
+    #[error("{0}")]
+    Geometry(nurbs_core::Error),
+    /// the mesh fairing and refit failed
+    #[error("corner group {group}: {source}")]
+    Discrete {
+        /// the group's name
+        group: String,
+        /// why
+        source: nside_discrete::NsideError,
+    },
+}
+
 /// Fairs corner group `group` of `model` as one mesh and refits it; `current` holds the
 /// masters as faired so far. Returns the new quads (in the model's parametrization, in group
 /// order) and nside-discrete's report.
@@ -87,7 +136,7 @@ pub fn fair_group(
     model: &Model,
     current: &Model,
     group: &CornerGroup,
-) -> Result<(Vec<BSplineSurface>, NsidedReport), String> {
+) -> Result<(Vec<BSplineSurface>, NsidedReport), CornerGroupError> {
     let quads: Vec<&BSplineSurface> = group
         .patches
         .iter()
@@ -95,24 +144,21 @@ pub fn fair_group(
         .collect();
     let n = quads.len();
     if n < 3 {
-        return Err(format!(
-            "corner group {} has {n} patches; an n-sided corner needs at least 3",
-            group.name
-        ));
+        return Err(CornerGroupError::TooFew {
+            group: group.name.clone(),
+            patches: n,
+        });
     }
     let size = quads.iter().map(|q| q.size()).fold(0.0, f64::max);
     let tol = ON_SIDE * size;
-    let centre = common_centre(&quads, tol).ok_or_else(|| {
-        format!(
-            "corner group {}: the patches do not share a common centre point",
-            group.name
-        )
+    let centre = common_centre(&quads, tol).ok_or_else(|| CornerGroupError::NoCentre {
+        group: group.name.clone(),
     })?;
     let mut orients = Vec::with_capacity(n);
     let mut oriented = Vec::with_capacity(n);
     for (k, q) in quads.iter().enumerate() {
         let o = orient(&quads, k, &centre, tol, &group.name)?;
-        oriented.push(apply(q, o).map_err(|e| e.to_string())?);
+        oriented.push(apply(q, o).map_err(CornerGroupError::Geometry)?);
         orients.push(o);
     }
     let neighbours: Vec<Option<Neighbour>> = oriented
@@ -120,14 +166,19 @@ pub fn fair_group(
         .zip(&group.patches)
         .map(|(t, &slave)| outer_neighbour(model, current, group, slave, t, tol))
         .collect();
-    let (faired, report) = fair_corner(&oriented, &neighbours, &NsidedParams::default())
-        .map_err(|e| format!("corner group {}: {e}", group.name))?;
+    let (faired, report) =
+        fair_corner(&oriented, &neighbours, &NsidedParams::default()).map_err(|source| {
+            CornerGroupError::Discrete {
+                group: group.name.clone(),
+                source,
+            }
+        })?;
     let back = faired
         .iter()
         .zip(&orients)
         .map(|(s, &o)| undo(s, o))
         .collect::<nurbs_core::Result<Vec<_>>>()
-        .map_err(|e| e.to_string())?;
+        .map_err(CornerGroupError::Geometry)?;
     Ok((back, report))
 }
 
@@ -150,18 +201,21 @@ fn orient(
     centre: &Point3,
     tol: f64,
     name: &str,
-) -> Result<Orient, String> {
+) -> Result<Orient, CornerGroupError> {
     let (n, q) = (quads.len(), quads[k]);
     let (_, (at_u1, at_v1)) = corners(q)
         .into_iter()
         .find(|(c, _)| near(c, centre, tol))
-        .ok_or_else(|| format!("corner group {name}: patch {k} misses the centre"))?;
+        .ok_or_else(|| CornerGroupError::MissesCentre {
+            group: name.to_string(),
+            patch: k,
+        })?;
     let mut o = Orient {
         reverse_u: !at_u1,
         reverse_v: !at_v1,
         transpose: false,
     };
-    let t = apply(q, o).map_err(|e| e.to_string())?;
+    let t = apply(q, o).map_err(CornerGroupError::Geometry)?;
     let next = quads[(k + 1) % n];
     let shares = |side: Side| {
         let m = side_mid(&t, side);
@@ -171,10 +225,11 @@ fn orient(
     } else if shares(Side::V1) {
         o.transpose = true;
     } else {
-        return Err(format!(
-            "corner group {name}: patch {k} shares no internal curve with patch {}",
-            (k + 1) % n
-        ));
+        return Err(CornerGroupError::NoInternalCurve {
+            group: name.to_string(),
+            patch: k,
+            next: (k + 1) % n,
+        });
     }
     Ok(o)
 }

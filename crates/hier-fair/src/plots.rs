@@ -27,6 +27,36 @@ fn register() {
     });
 }
 
+/// What a plot could not draw.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PlotError {
+    /// plotters failed to draw part of a line plot (its error, generic over the backend, as
+    /// text)
+    #[error("plot {title}: {detail}")]
+    Draw {
+        /// the plot's title
+        title: String,
+        /// what plotters said
+        detail: String,
+    },
+    /// the map beside which a colour bar goes is too low to hold one
+    #[error("colour bar: the map is {height} pixels high, too low for a bar")]
+    TooLow {
+        /// the map's height (pixels)
+        height: u32,
+    },
+}
+
+impl PlotError {
+    /// plotters' error `detail` while drawing the plot `title`.
+    fn draw(title: &str, detail: &dyn std::fmt::Display) -> Self {
+        PlotError::Draw {
+            title: title.to_string(),
+            detail: detail.to_string(),
+        }
+    }
+}
+
 /// One curve of a line plot.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Series {
@@ -63,7 +93,7 @@ pub fn line_plot(
     series: &[Series],
     width: u32,
     height: u32,
-) -> Result<RgbImage, String> {
+) -> Result<RgbImage, PlotError> {
     register();
     let values = series.iter().flat_map(|s| s.points.iter().map(|p| p.1));
     let (mut lo, mut hi) = values.fold((0.0f64, 0.0f64), |(a, b), v| (a.min(v), b.max(v)));
@@ -75,7 +105,7 @@ pub fn line_plot(
     let (lo, hi) = (lo - pad, hi + pad);
     let plot_w = width.saturating_sub(LEGEND_WIDTH).max(100);
     let mut buffer = vec![255u8; width as usize * height as usize * 3];
-    let e = |x: &dyn std::fmt::Display| format!("plot {title}: {x}");
+    let e = |x: &dyn std::fmt::Display| PlotError::draw(title, x);
     let (xs, ys) = {
         let root = BitMapBackend::with_buffer(&mut buffer, (width, height)).into_drawing_area();
         root.fill(&WHITE).map_err(|x| e(&x))?;
@@ -231,16 +261,14 @@ pub fn with_colour_bar(
     range: f64,
     label: &str,
     colour: impl Fn(f64) -> Rgb<u8>,
-) -> Result<RgbImage, String> {
+) -> Result<RgbImage, PlotError> {
     let (w, h) = (map.width() + COLOUR_BAR_WIDTH, map.height());
     let mut out = RgbImage::from_pixel(w, h, Rgb([255, 255, 255]));
     image::imageops::replace(&mut out, map, 0, 0);
     let (x0, bar_w) = (map.width() + 16, 22u32);
     let (top, bottom) = (40u32, h.saturating_sub(30));
     if bottom <= top + 2 {
-        return Err(format!(
-            "colour bar: the map is {h} pixels high, too low for a bar"
-        ));
+        return Err(PlotError::TooLow { height: h });
     }
     let ink = Rgb([20, 20, 20]);
     for y in top..bottom {

@@ -91,7 +91,7 @@ impl DeviationBudget {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use super::{DEVIATION_SAFETY, DeviationBudget, GROUP_SHARE, LEAD_IN_SHARE, MASTER_SHARE};
 
     #[test]
     fn a_master_plans_with_its_share_and_the_others_with_the_safety_fraction() {

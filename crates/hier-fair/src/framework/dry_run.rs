@@ -373,7 +373,7 @@ fn step_variants(set: g_continuity::SetParams, step: Continuity) -> Vec<g_contin
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use super::{LEAD_IN_MARGIN, LEAD_IN_MAX_NARROWING, MIN_LEAD_IN, next_width};
 
     #[test]
     fn the_next_lead_in_follows_the_lead_ins_own_deviation() {

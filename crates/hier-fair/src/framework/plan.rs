@@ -288,9 +288,10 @@ impl Plan<'_> {
 
 #[cfg(test)]
 mod tests {
-    use super::*;
-    use crate::model::Link;
     use nurbs_core::{Continuity, Point3, Side, Vector3, shapes::plane_patch};
+
+    use super::{group_start, waves};
+    use crate::model::{Link, Model};
 
     /// Four unit squares: 0 and 1 primaries, 2 a fillet on both, 3 a corner on the fillet and
     /// on primary 0.

@@ -170,9 +170,11 @@ fn same_frames(a: &BSplineSurface, b: &BSplineSurface, links: &[SideLink<'_>]) -
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use g_continuity::SideLink;
     use nurbs_core::shapes::plane_patch;
-    use nurbs_core::{Point3, Side, Vector3};
+    use nurbs_core::{BSplineSurface, Continuity, Point3, Side, Vector3};
+
+    use super::same_frames;
 
     /// A 6 × 6 bicubic patch of the unit square (knots inserted into the bilinear plane).
     fn patch() -> BSplineSurface {

@@ -238,7 +238,7 @@ pub(super) fn seam_rings(model: &Model, edges: &[SharedEdge], parts: &[usize]) -
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use super::{on_opened_seams, ring_closure, seam_rings};
     use crate::edges::tests::{lifted, strip};
     use crate::edges::{EdgeMeasure, measure_edge};
     use crate::model::Role;

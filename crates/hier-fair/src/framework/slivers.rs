@@ -129,8 +129,11 @@ fn merged_end(
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use nurbs_core::Direction;
     use nurbs_core::testing::random_surface;
+
+    use super::{merge_slivers, merged_end};
+    use crate::model::Model;
 
     #[test]
     fn a_sliver_merges_and_a_shaped_span_stays() {

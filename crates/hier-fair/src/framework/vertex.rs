@@ -190,9 +190,11 @@ pub(super) fn incompatible_corner(
 
 #[cfg(test)]
 mod tests {
-    use super::*;
+    use g_continuity::SideLink;
     use nurbs_core::shapes::{arc, extrude_curve, plane_patch};
-    use nurbs_core::{Point3, Vector3};
+    use nurbs_core::{BSplineSurface, Continuity, Point3, Side, Vector3};
+
+    use super::incompatible_corner;
 
     /// The plane z = 0 over [−2, 2]².
     fn ground() -> BSplineSurface {
