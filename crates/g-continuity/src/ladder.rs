@@ -5,7 +5,8 @@ use nalgebra::DMatrix;
 use nurbs_core::BandedQr;
 
 use crate::lsq::{
-    SINGULAR_RELATIVE, banded_factor, banded_solve_with, solve_least_squares, solve_min_norm,
+    SINGULAR_RELATIVE, SolveError, banded_factor, banded_solve_with, solve_least_squares,
+    solve_min_norm,
 };
 
 /// Factors applied to [`SetParams::g2_tangential_weight`](crate::SetParams::g2_tangential_weight) after the first G2 solve, from the
@@ -59,7 +60,7 @@ pub(crate) fn solve_g2_ladder(
     b: &DMatrix<f64>,
     rows: usize,
     move_factor: f64,
-) -> std::result::Result<(DMatrix<f64>, f64), String> {
+) -> std::result::Result<(DMatrix<f64>, f64), SolveError> {
     let n = a.ncols();
     let tangential = a.rows(rows, a.nrows() - rows);
     let scalar = a.rows(0, rows);
@@ -75,15 +76,14 @@ pub(crate) fn solve_g2_ladder(
             let mut scaled = vec![0.0; width];
             for (i, row, rhs) in f1.rows() {
                 let len = row.len().min(n - i);
-                qr.add_row(i, &row[..len], rhs).map_err(|e| e.to_string())?;
+                qr.add_row(i, &row[..len], rhs)?;
             }
             for (i, row, _) in f2.rows() {
                 let len = row.len().min(n - i);
                 for (s, r) in scaled.iter_mut().zip(&row[..len]) {
                     *s = w * r;
                 }
-                qr.add_row(i, &scaled[..len], &[0.0])
-                    .map_err(|e| e.to_string())?;
+                qr.add_row(i, &scaled[..len], &[0.0])?;
             }
             // [R1; w R2] has full rank for w > 0 (R2 does): only round-off pivots are refused
             match banded_solve_with(&qr, SINGULAR_RELATIVE) {
@@ -109,8 +109,8 @@ pub(crate) fn solve_g2_ladder(
 /// the solution, the smallest move ratio of a rejected weight ([`RowMove::g2_slack`]).
 fn ladder(
     move_factor: f64,
-    mut solve: impl FnMut(f64) -> std::result::Result<DMatrix<f64>, String>,
-) -> std::result::Result<(DMatrix<f64>, f64), String> {
+    mut solve: impl FnMut(f64) -> std::result::Result<DMatrix<f64>, SolveError>,
+) -> std::result::Result<(DMatrix<f64>, f64), SolveError> {
     let first = solve(1.0)?;
     let reference = largest_point_move(&first);
     let limit = move_factor * reference;
@@ -134,7 +134,9 @@ mod tests {
     use super::*;
 
     /// A stand-in solve: weight w gives one point moved by `moves(w)` along x.
-    fn solve_with(moves: impl Fn(f64) -> f64) -> impl FnMut(f64) -> Result<DMatrix<f64>, String> {
+    fn solve_with(
+        moves: impl Fn(f64) -> f64,
+    ) -> impl FnMut(f64) -> Result<DMatrix<f64>, SolveError> {
         move |w| Ok(DMatrix::from_column_slice(3, 1, &[moves(w), 0.0, 0.0]))
     }
 

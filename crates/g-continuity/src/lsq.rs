@@ -22,10 +22,37 @@ use nurbs_core::BandedQr;
 /// noise of the sampled coefficients, well below any real direction of the system.
 pub const SINGULAR_RELATIVE: f64 = 1e-12;
 
+/// Why a least-squares solve of this module failed.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum SolveError {
+    /// The system matrix is zero or not finite: nothing constrains the unknowns.
+    #[error(
+        "the system matrix is zero or not finite (no sample constrains the free control points; largest {measure} {largest})"
+    )]
+    ZeroSystem {
+        /// what was measured: "pivot" (the QR's) or "singular value" (the SVD's)
+        measure: &'static str,
+        /// the largest pivot or singular value found
+        largest: f64,
+    },
+    /// The triangular factor of the complete orthogonal decomposition could not be inverted.
+    #[error("singular triangular factor")]
+    SingularTriangular,
+    /// The SVD refused the solve (the reference solve the tests compare against).
+    #[error("{detail}")]
+    Svd {
+        /// the SVD's reason
+        detail: &'static str,
+    },
+    /// An error of the kernel's banded QR (a row that does not fit its band).
+    #[error(transparent)]
+    Core(#[from] nurbs_core::Error),
+}
+
 /// Minimum-norm least-squares solution of A X = B by a complete orthogonal decomposition. A tall
 /// A is first reduced by QR (A = QR, so min |AX − B| and min |RX − QᵀB| have the same
 /// solutions, and the same minimum-norm one): the decomposition then works on the small square R.
-pub fn solve_min_norm(a: DMatrix<f64>, b: &DMatrix<f64>) -> Result<DMatrix<f64>, String> {
+pub fn solve_min_norm(a: DMatrix<f64>, b: &DMatrix<f64>) -> Result<DMatrix<f64>, SolveError> {
     let (m, n) = a.shape();
     if m > n && n > 0 {
         let qr = a.qr();
@@ -40,7 +67,7 @@ pub fn solve_min_norm(a: DMatrix<f64>, b: &DMatrix<f64>) -> Result<DMatrix<f64>,
 /// decomposition: column-pivoted QR, A P = Q [R₁; 0] with R₁ the r rows of the numerical rank
 /// (|R_ii| above [`SINGULAR_RELATIVE`] × |R_00|), then R₁ᵀ = Z T, so that X = P Z T⁻ᵀ (QᵀB)₁…ᵣ.
 /// The same solution as the SVD's where both find the same rank, for a fraction of its work.
-fn cod_solve(a: DMatrix<f64>, b: &DMatrix<f64>) -> Result<DMatrix<f64>, String> {
+fn cod_solve(a: DMatrix<f64>, b: &DMatrix<f64>) -> Result<DMatrix<f64>, SolveError> {
     let n = a.ncols();
     let qr = a.col_piv_qr();
     let r = qr.r();
@@ -51,9 +78,10 @@ fn cod_solve(a: DMatrix<f64>, b: &DMatrix<f64>) -> Result<DMatrix<f64>, String> 
         0.0
     };
     if !(largest > 0.0) {
-        return Err(format!(
-            "the system matrix is zero or not finite (no sample constrains the free control points; largest pivot {largest})"
-        ));
+        return Err(SolveError::ZeroSystem {
+            measure: "pivot",
+            largest,
+        });
     }
     let rank = (0..r.nrows().min(n))
         .take_while(|&i| r[(i, i)].abs() > largest * SINGULAR_RELATIVE)
@@ -67,7 +95,7 @@ fn cod_solve(a: DMatrix<f64>, b: &DMatrix<f64>) -> Result<DMatrix<f64>, String> 
     let w = t
         .transpose()
         .solve_lower_triangular(&c)
-        .ok_or_else(|| "singular triangular factor".to_string())?;
+        .ok_or(SolveError::SingularTriangular)?;
     let mut y = lq.q() * w;
     qr.p().inv_permute_rows(&mut y);
     Ok(y)
@@ -75,16 +103,17 @@ fn cod_solve(a: DMatrix<f64>, b: &DMatrix<f64>) -> Result<DMatrix<f64>, String> 
 
 /// The minimum-norm solution by the SVD (the reference [`cod_solve`] is tested against).
 #[cfg(test)]
-fn svd_solve(a: DMatrix<f64>, b: &DMatrix<f64>) -> Result<DMatrix<f64>, String> {
+fn svd_solve(a: DMatrix<f64>, b: &DMatrix<f64>) -> Result<DMatrix<f64>, SolveError> {
     let svd = a.svd(true, true);
     let largest = svd.singular_values.iter().copied().fold(0.0, f64::max);
     if !(largest > 0.0) {
-        return Err(format!(
-            "the system matrix is zero or not finite (no sample constrains the free control points; largest singular value {largest})"
-        ));
+        return Err(SolveError::ZeroSystem {
+            measure: "singular value",
+            largest,
+        });
     }
     svd.solve(b, largest * SINGULAR_RELATIVE)
-        .map_err(|e| e.to_string())
+        .map_err(|detail| SolveError::Svd { detail })
 }
 
 /// The row systems are banded (a sample touches the q + 1 control points of its span): below
@@ -166,7 +195,7 @@ pub(crate) fn dense_qtb(f: &BandedQr) -> DMatrix<f64> {
 
 /// Least-squares solution of A X = B: QR when A has full column rank (banded Givens QR when A
 /// is banded, else dense Householder), else the SVD minimum-norm solution.
-pub fn solve_least_squares(a: DMatrix<f64>, b: &DMatrix<f64>) -> Result<DMatrix<f64>, String> {
+pub fn solve_least_squares(a: DMatrix<f64>, b: &DMatrix<f64>) -> Result<DMatrix<f64>, SolveError> {
     if let Some(f) = banded_factor(&a.as_view(), &b.as_view()) {
         if let Some(x) = banded_solve(&f) {
             return Ok(x);

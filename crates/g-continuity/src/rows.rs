@@ -305,7 +305,7 @@ impl Once<'_> {
                 .map_err(|reason| Error::SingularSystem {
                     side,
                     target: step,
-                    reason,
+                    reason: reason.to_string(),
                 })?;
         let displacements = point_moves(&x, step, unknowns, &row, &indices, &directions);
         if displacements

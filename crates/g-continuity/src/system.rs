@@ -7,7 +7,7 @@ use nalgebra::DMatrix;
 use nurbs_core::{BSplineSurface, Continuity, Point3, Side, SurfaceDerivatives, Vector3};
 
 use crate::ladder::solve_g2_ladder;
-use crate::lsq::solve_least_squares;
+use crate::lsq::{SolveError, solve_least_squares};
 use crate::measure::cross_derivative;
 use crate::params::{G2Method, SetParams};
 use crate::sampling::SideBasis;
@@ -322,7 +322,7 @@ impl RowSystem {
     pub(crate) fn solve(
         self,
         g2_move_factor: f64,
-    ) -> std::result::Result<(DMatrix<f64>, f64), String> {
+    ) -> std::result::Result<(DMatrix<f64>, f64), SolveError> {
         if self.g2_tangential {
             solve_g2_ladder(self.a, &self.b, self.rows, g2_move_factor)
         } else {

@@ -3,7 +3,7 @@
 
 /// A length of `--tolerance`, in millimetres ([`nurbs_io::units::parse_length_mm`]).
 pub fn parse_length(s: &str) -> Result<f64, String> {
-    nurbs_io::units::parse_length_mm(s)
+    nurbs_io::units::parse_length_mm(s).map_err(|e| e.to_string())
 }
 
 /// `ROLE=LENGTH` of `--tolerance-role`, the length in millimetres.
@@ -13,7 +13,7 @@ pub fn parse_role_tolerance(s: &str) -> Result<(hier_fair::Role, f64), String> {
         .ok_or_else(|| format!("expected ROLE=LENGTH (e.g. connecting=0.5), got {s:?}"))?;
     let role = hier_fair::Role::parse(role.trim())
         .ok_or_else(|| format!("unknown role {role:?}: expected primary, connecting or corner"))?;
-    let mm = nurbs_io::units::parse_length_mm(mm)?;
+    let mm = nurbs_io::units::parse_length_mm(mm).map_err(|e| e.to_string())?;
     if !(mm.is_finite() && mm > 0.0) {
         return Err(format!(
             "the tolerance of {} must be a finite length > 0, got {mm}",

@@ -338,17 +338,16 @@ impl PyModel {
                 model.surfaces.len()
             )));
         }
-        py.detach(|| {
+        py.detach(|| -> hier_fair::Result<String> {
             let checks = match faired {
                 Some(_) => None,
                 None => {
                     let params = g_continuity::MeasureParams::default();
-                    let checks =
-                        hier_fair::measure_model(model, &params).map_err(|e| e.to_string())?;
+                    let checks = hier_fair::measure_model(model, &params)?;
                     Some(hier_fair::check::checks_json(model, &checks, None))
                 }
             };
-            Ok::<_, String>(hier_fair::html::html_report(&hier_fair::html::HtmlReport {
+            Ok(hier_fair::html::html_report(&hier_fair::html::HtmlReport {
                 title,
                 model,
                 faired,
@@ -356,7 +355,7 @@ impl PyModel {
                 checks: checks.as_ref(),
             }))
         })
-        .map_err(HierFairError::new_err)
+        .map_err(model_err)
     }
 
     fn __repr__(&self) -> String {

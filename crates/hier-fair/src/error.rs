@@ -148,5 +148,22 @@ pub enum Error {
     Core(#[from] nurbs_core::Error),
 }
 
+/// Why a model's `tolerances.deviation` is not read: neither a length nor an object of the
+/// three roles (serde's untagged enums only say that no variant matched).
+#[derive(Debug, Error)]
+pub(crate) enum DeviationError {
+    /// A number that is no length.
+    #[error("{0} is not a length")]
+    NotALength(serde_json::Number),
+    /// An object of the roles that does not read.
+    #[error(transparent)]
+    Roles(#[from] serde_json::Error),
+    /// Neither a number nor an object.
+    #[error(
+        "expected a length or {{\"primary\": mm, \"connecting\": mm, \"corner\": mm}}, got {0}"
+    )]
+    Other(serde_json::Value),
+}
+
 /// Result alias of the crate.
 pub type Result<T, E = Error> = std::result::Result<T, E>;

@@ -14,7 +14,7 @@ use nurbs_core::io::SurfaceRecord;
 use nurbs_core::{BSplineSurface, Continuity, Point3, Side};
 use serde::{Deserialize, Serialize};
 
-use crate::error::{Error, Result};
+use crate::error::{DeviationError, Error, Result};
 
 /// The place of a surface in the hierarchy.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
@@ -185,22 +185,20 @@ enum DeviationRecord {
 }
 
 impl TryFrom<serde_json::Value> for DeviationRecord {
-    type Error = String;
+    type Error = DeviationError;
 
     /// A number, or an object of the three roles, with an error that says which was expected
     /// (serde's untagged enums only say that no variant matched).
-    fn try_from(v: serde_json::Value) -> std::result::Result<Self, String> {
+    fn try_from(v: serde_json::Value) -> std::result::Result<Self, DeviationError> {
         match v {
             serde_json::Value::Number(n) => n
                 .as_f64()
                 .map(DeviationRecord::All)
-                .ok_or_else(|| format!("{n} is not a length")),
+                .ok_or(DeviationError::NotALength(n)),
             serde_json::Value::Object(_) => serde_json::from_value(v)
                 .map(DeviationRecord::Roles)
-                .map_err(|e| e.to_string()),
-            other => Err(format!(
-                "expected a length or {{\"primary\": mm, \"connecting\": mm, \"corner\": mm}}, got {other}"
-            )),
+                .map_err(DeviationError::Roles),
+            other => Err(DeviationError::Other(other)),
         }
     }
 }

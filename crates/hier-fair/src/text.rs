@@ -6,7 +6,7 @@
 //! The font is the embedded DejaVu Sans Mono of [`crate::plots`] (Bitstream Vera licence,
 //! `assets/DejaVu-LICENSE.txt`).
 
-use ab_glyph::{Font, FontRef, PxScale, ScaleFont, point};
+use ab_glyph::{Font, FontRef, GlyphId, PxScale, ScaleFont, point};
 use image::{Rgb, RgbImage};
 
 /// The embedded font (the same file plotters registers for the plots' axes).
@@ -26,21 +26,26 @@ pub enum Anchor {
     Right,
 }
 
-/// Width of `text` at `size` pixels (its pen advance, kerning included).
-pub fn width(text: &str, size: f32) -> f32 {
-    let f = font();
-    let scaled = f.as_scaled(PxScale::from(size));
-    let mut x = 0.0;
-    let mut prev = None;
+/// The glyphs of `text` at `size` pixels with their pen positions from 0 (kerning included),
+/// and the pen's end: the text's advance.
+fn layout(font: &FontRef, text: &str, size: f32) -> (Vec<(GlyphId, f32)>, f32) {
+    let scaled = font.as_scaled(PxScale::from(size));
+    let (mut pen, mut prev, mut glyphs) = (0.0, None, Vec::new());
     for c in text.chars() {
         let id = scaled.glyph_id(c);
         if let Some(p) = prev {
-            x += scaled.kern(p, id);
+            pen += scaled.kern(p, id);
         }
-        x += scaled.h_advance(id);
+        glyphs.push((id, pen));
+        pen += scaled.h_advance(id);
         prev = Some(id);
     }
-    x
+    (glyphs, pen)
+}
+
+/// Width of `text` at `size` pixels (its pen advance, kerning included).
+pub fn width(text: &str, size: f32) -> f32 {
+    layout(&font(), text, size).1
 }
 
 /// Draws `text` at `size` pixels in `colour` into `img`, `anchor` at `(x, y)` (y the middle of
@@ -55,7 +60,7 @@ pub fn draw(
 ) {
     let f = font();
     let scaled = f.as_scaled(PxScale::from(size));
-    let w = width(text, size);
+    let (glyphs, w) = layout(&f, text, size);
     let left = match anchor {
         Anchor::Left => x,
         Anchor::Centre => x - 0.5 * w,
@@ -63,34 +68,30 @@ pub fn draw(
     };
     // the baseline such that the text's cap height is centred on y
     let baseline = y + 0.5 * (scaled.ascent() + scaled.descent());
-    let mut pen = left;
-    let mut prev = None;
-    for c in text.chars() {
-        let id = scaled.glyph_id(c);
-        if let Some(p) = prev {
-            pen += scaled.kern(p, id);
-        }
-        let glyph = id.with_scale_and_position(PxScale::from(size), point(pen, baseline));
+    for (id, pen) in glyphs {
+        let glyph = id.with_scale_and_position(PxScale::from(size), point(left + pen, baseline));
         if let Some(outline) = f.outline_glyph(glyph) {
             let b = outline.px_bounds();
             outline.draw(|gx, gy, coverage| {
-                let (px, py) = (
-                    b.min.x as i64 + i64::from(gx),
-                    b.min.y as i64 + i64::from(gy),
-                );
-                if px >= 0 && py >= 0 && (px as u32) < img.width() && (py as u32) < img.height() {
-                    let under = img.get_pixel(px as u32, py as u32).0;
-                    let a = coverage.clamp(0.0, 1.0);
-                    let mix = |k: usize| {
-                        (f32::from(under[k]) * (1.0 - a) + f32::from(colour.0[k]) * a).round() as u8
-                    };
-                    img.put_pixel(px as u32, py as u32, Rgb([mix(0), mix(1), mix(2)]));
-                }
+                let px = b.min.x as i64 + i64::from(gx);
+                let py = b.min.y as i64 + i64::from(gy);
+                blend(img, (px, py), colour, coverage);
             });
         }
-        pen += scaled.h_advance(id);
-        prev = Some(id);
     }
+}
+
+/// Mixes `colour` with coverage `a` (0 to 1) into pixel `(px, py)` of `img`, where it lies
+/// inside.
+fn blend(img: &mut RgbImage, (px, py): (i64, i64), colour: Rgb<u8>, a: f32) {
+    if px < 0 || py < 0 || px >= i64::from(img.width()) || py >= i64::from(img.height()) {
+        return;
+    }
+    let a = a.clamp(0.0, 1.0);
+    let under = img.get_pixel(px as u32, py as u32).0;
+    let mix =
+        |k: usize| (f32::from(under[k]) * (1.0 - a) + f32::from(colour.0[k]) * a).round() as u8;
+    img.put_pixel(px as u32, py as u32, Rgb([mix(0), mix(1), mix(2)]));
 }
 
 /// Draws `text` turned a quarter turn counter-clockwise (read from bottom to top, as a y axis's
@@ -125,13 +126,7 @@ pub fn draw_vertical(
             continue;
         }
         let (px, py) = ((x0 + tx as f32) as i64, (y0 + ty as f32) as i64);
-        if px >= 0 && py >= 0 && (px as u32) < img.width() && (py as u32) < img.height() {
-            let under = img.get_pixel(px as u32, py as u32).0;
-            let mix = |k: usize| {
-                (f32::from(under[k]) * (1.0 - a) + f32::from(colour.0[k]) * a).round() as u8
-            };
-            img.put_pixel(px as u32, py as u32, Rgb([mix(0), mix(1), mix(2)]));
-        }
+        blend(img, (px, py), colour, a);
     }
 }
 

@@ -13,12 +13,38 @@ pub const OFFSET_TOLERANCE_RELATIVE: f64 = 1e-6;
 /// Largest control net per direction of an approximated offset surface.
 pub const OFFSET_MAX_NET: usize = 128;
 
+/// Why an offset surface is not approximated ([`approximate_offset`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum OffsetError {
+    /// The fit stays farther from the exact offset than the tolerance at the largest net.
+    #[error(
+        "the offset surface is approximated only to {worst:.3e} (tolerance {tol:.3e}) within {OFFSET_MAX_NET} control points per direction"
+    )]
+    NotWithinTolerance {
+        /// largest distance of the last fit from the exact offset
+        worst: f64,
+        /// the tolerance ([`OFFSET_TOLERANCE_RELATIVE`] of the base's size)
+        tol: f64,
+    },
+    /// The base surface's normal is undefined at a point the fit needs.
+    #[error("the base surface has no normal at ({u}, {v})")]
+    NoNormal {
+        /// parameter u of the point
+        u: f64,
+        /// parameter v of the point
+        v: f64,
+    },
+    /// The kernel refused the fit's knots, template or least-squares fit.
+    #[error(transparent)]
+    Core(#[from] nurbs_core::Error),
+}
+
 /// The offset of `base` by `d` along its unit normal: a polynomial B-spline of degree
 /// max(3, the base's) on the base's breakpoints, every span halved until the fit lies within
 /// [`OFFSET_TOLERANCE_RELATIVE`] of the base's size at points between the fitted ones (up to
 /// [`OFFSET_MAX_NET`] control points per direction); otherwise, or where the base's normal is
 /// undefined, why not.
-pub fn approximate_offset(base: &BSplineSurface, d: f64) -> Result<BSplineSurface, String> {
+pub fn approximate_offset(base: &BSplineSurface, d: f64) -> Result<BSplineSurface, OffsetError> {
     let tol = OFFSET_TOLERANCE_RELATIVE * base.size();
     let degrees = (base.degree_u().max(3), base.degree_v().max(3));
     let (du, dv) = (base.domain_u(), base.domain_v());
@@ -30,9 +56,7 @@ pub fn approximate_offset(base: &BSplineSurface, d: f64) -> Result<BSplineSurfac
             return Ok(fit);
         }
         if 2 * fit.num_u() > OFFSET_MAX_NET || 2 * fit.num_v() > OFFSET_MAX_NET {
-            return Err(format!(
-                "the offset surface is approximated only to {worst:.3e} (tolerance {tol:.3e}) within {OFFSET_MAX_NET} control points per direction"
-            ));
+            return Err(OffsetError::NotWithinTolerance { worst, tol });
         }
         bu = halved(&bu);
         bv = halved(&bv);
@@ -40,11 +64,9 @@ pub fn approximate_offset(base: &BSplineSurface, d: f64) -> Result<BSplineSurfac
 }
 
 /// The exact offset point at (u, v).
-fn exact(base: &BSplineSurface, d: f64, u: f64, v: f64) -> Result<Point3, String> {
+fn exact(base: &BSplineSurface, d: f64, u: f64, v: f64) -> Result<Point3, OffsetError> {
     let s = base.derivatives(u, v);
-    let n = s
-        .normal()
-        .ok_or_else(|| format!("the base surface has no normal at ({u}, {v})"))?;
+    let n = s.normal().ok_or(OffsetError::NoNormal { u, v })?;
     Ok(s.point + n * d)
 }
 
@@ -55,9 +77,9 @@ fn fit_once(
     bu: &[f64],
     bv: &[f64],
     (p, q): (usize, usize),
-) -> Result<(BSplineSurface, f64), String> {
-    let ku = KnotVector::new(p, clamped(bu, p)).map_err(|e| e.to_string())?;
-    let kv = KnotVector::new(q, clamped(bv, q)).map_err(|e| e.to_string())?;
+) -> Result<(BSplineSurface, f64), OffsetError> {
+    let ku = KnotVector::new(p, clamped(bu, p))?;
+    let kv = KnotVector::new(q, clamped(bv, q))?;
     let (nu, nv) = (ku.num_basis(), kv.num_basis());
     // twice as many points per span as the degree needs, then checked halfway between them
     let (us, vs) = (ku.span_samples(2 * (p + 1)), kv.span_samples(2 * (q + 1)));
@@ -69,12 +91,10 @@ fn fit_once(
             points.push(exact(base, d, u, v)?);
         }
     }
-    let template = BSplineSurface::new(ku, kv, vec![Point3::origin(); nu * nv], None)
-        .map_err(|e| e.to_string())?;
+    let template = BSplineSurface::new(ku, kv, vec![Point3::origin(); nu * nv], None)?;
     let mask = nurbs_core::ControlMask::all_free(nu, nv);
     let fit = nurbs_core::fit::FitParams::default();
-    let (fit, _) = nurbs_core::fit::fit_surface(&template, &mask, &params, &points, &fit)
-        .map_err(|e| e.to_string())?;
+    let (fit, _) = nurbs_core::fit::fit_surface(&template, &mask, &params, &points, &fit)?;
     let mut worst: f64 = 0.0;
     for &u in &halfway(&us) {
         for &v in &halfway(&vs) {

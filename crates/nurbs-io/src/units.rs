@@ -111,9 +111,28 @@ pub fn iges_flag(units: &str) -> Option<(i64, String)> {
         .map(|&(f, u)| (f, u.to_uppercase()))
 }
 
+/// Why a length a user wrote ([`parse_length_mm`]) is not read.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum LengthError {
+    /// No number before the unit (or no unit at all).
+    #[error("{text:?} is not a length (a number of millimetres, or with a unit: 0.002in)")]
+    NotALength {
+        /// the text as given
+        text: String,
+    },
+    /// A number with a unit suffix that is not in [`UNITS`] (nor one of its aliases).
+    #[error("{text:?}: unknown unit {unit:?} (known: {})", UNITS.map(|(n, _)| n).join(", "))]
+    UnknownUnit {
+        /// the text as given
+        text: String,
+        /// the unit suffix, trimmed
+        unit: String,
+    },
+}
+
 /// A length a user writes, in millimetres: a number (millimetres) or a number with a unit
 /// suffix (`0.002in`, `0.05 mm`, `1e-4m`).
-pub fn parse_length_mm(text: &str) -> Result<f64, String> {
+pub fn parse_length_mm(text: &str) -> Result<f64, LengthError> {
     let t = text.trim();
     let split = t
         .char_indices()
@@ -122,18 +141,15 @@ pub fn parse_length_mm(text: &str) -> Result<f64, String> {
         })
         .map_or(t.len(), |(i, _)| i);
     let (number, unit) = t.split_at(split);
-    let value: f64 = number.trim().parse().map_err(|_| {
-        format!("{text:?} is not a length (a number of millimetres, or with a unit: 0.002in)")
+    let value: f64 = number.trim().parse().map_err(|_| LengthError::NotALength {
+        text: text.to_string(),
     })?;
     let scale = if unit.trim().is_empty() {
         1.0
     } else {
-        mm_per_unit(unit).ok_or_else(|| {
-            format!(
-                "{text:?}: unknown unit {:?} (known: {})",
-                unit.trim(),
-                UNITS.map(|(n, _)| n).join(", ")
-            )
+        mm_per_unit(unit).ok_or_else(|| LengthError::UnknownUnit {
+            text: text.to_string(),
+            unit: unit.trim().to_string(),
         })?
     };
     Ok(value * scale)
@@ -196,6 +212,7 @@ mod tests {
         assert!(
             parse_length_mm("0.1 parsec")
                 .unwrap_err()
+                .to_string()
                 .contains("unknown unit")
         );
         assert!(parse_length_mm("in").is_err());

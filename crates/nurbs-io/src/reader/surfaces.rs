@@ -239,7 +239,8 @@ impl Reader<'_> {
         {
             d = -d;
         }
-        let surface = crate::offset::approximate_offset(&base, d).map_err(err)?;
+        let surface =
+            crate::offset::approximate_offset(&base, d).map_err(|e| err(e.to_string()))?;
         Ok(Self::untrimmed(e, surface, [du.0, du.1, dv.0, dv.1]))
     }
 }

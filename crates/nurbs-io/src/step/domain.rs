@@ -164,13 +164,27 @@ struct Oriented {
     outer: bool,
 }
 
+/// Why a face has no parameter box ([`face_box`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub(super) enum BoxError {
+    /// No edge loop, and the surface has no natural box.
+    #[error("the face has no edge loop and its surface is unbounded")]
+    Unbounded,
+    /// The bounds span no range in one direction.
+    #[error("the face's bounds span no range in {direction}")]
+    NoRange {
+        /// "u" or "v"
+        direction: &'static str,
+    },
+}
+
 /// The parameter box of a face with `bounds` on `surface` (`same_sense`: the face's normal is
 /// the surface's), or why there is none.
 pub(super) fn face_box(
     surface: &Surface,
     bounds: &[BoundLoop],
     same_sense: bool,
-) -> Result<ParamBox, String> {
+) -> Result<ParamBox, BoxError> {
     let c = surface.carrier();
     let loops: Vec<Oriented> = bounds
         .iter()
@@ -181,7 +195,7 @@ pub(super) fn face_box(
         // no edge loop: the whole surface
         return match c.natural {
             [Some(u), Some(v)] => Ok((u, v)),
-            _ => Err("the face has no edge loop and its surface is unbounded".into()),
+            _ => Err(BoxError::Unbounded),
         };
     }
     let outer = loops.iter().position(|l| l.outer).unwrap_or_else(|| {
@@ -203,10 +217,9 @@ pub(super) fn face_box(
             None => linear_range(&c, &loops, &all, d),
         };
         if !(r.1 > r.0) {
-            return Err(format!(
-                "the face's bounds span no range in {}",
-                ["u", "v"][d]
-            ));
+            return Err(BoxError::NoRange {
+                direction: ["u", "v"][d],
+            });
         }
     }
     Ok((range[0], range[1]))

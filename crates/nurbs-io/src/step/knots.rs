@@ -48,16 +48,37 @@ pub(super) fn is_spline(inst: &Instance, surface: bool) -> bool {
     inst.parts.iter().any(|(n, _)| n == knots) || implied_form(inst, surface).is_some()
 }
 
+/// Why the knots of an implied-knot form cannot be made ([`implied_knots`]).
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub(super) enum KnotsError {
+    /// No more control points than the degree (or degree 0).
+    #[error("{count} control points of degree {degree}: a B-spline needs more than its degree")]
+    TooFewPoints {
+        /// control points given
+        count: usize,
+        /// the degree
+        degree: usize,
+    },
+    /// A Bézier form whose control points are not a multiple of its degree plus one.
+    #[error(
+        "a Bézier form of degree {degree} needs a multiple of {degree} plus one control points, not {count}"
+    )]
+    BezierCount {
+        /// the degree
+        degree: usize,
+        /// control points given
+        count: usize,
+    },
+}
+
 /// The full knot vector of `form` for `count` control points of `degree`, or what is wrong.
 pub(super) fn implied_knots(
     form: ImpliedKnots,
     degree: usize,
     count: usize,
-) -> Result<Vec<f64>, String> {
+) -> Result<Vec<f64>, KnotsError> {
     if degree == 0 || count <= degree {
-        return Err(format!(
-            "{count} control points of degree {degree}: a B-spline needs more than its degree"
-        ));
+        return Err(KnotsError::TooFewPoints { count, degree });
     }
     let n = count - 1;
     Ok(match form {
@@ -73,9 +94,7 @@ pub(super) fn implied_knots(
         }
         ImpliedKnots::Bezier => {
             if !n.is_multiple_of(degree) {
-                return Err(format!(
-                    "a Bézier form of degree {degree} needs a multiple of {degree} plus one control points, not {count}"
-                ));
+                return Err(KnotsError::BezierCount { degree, count });
             }
             let segments = n / degree;
             let mut k = vec![0.0];

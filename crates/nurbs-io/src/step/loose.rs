@@ -13,7 +13,7 @@ use super::entities::{Model, R};
 use super::faces::{BoundLoop, Inverter};
 use super::lexer::Value;
 use super::surfaces::{Surface, surface};
-use super::{StepError, StepFace, StepFile};
+use super::{StepError, StepFace, StepFile, UnreadSurface};
 
 /// Reads into `file` the surfaces of the file that no face lies on (module doc); what cannot be
 /// read is named in its warnings, the first such error kept in `first_error`.
@@ -63,7 +63,7 @@ pub(super) fn read_loose(
         }
         match loose_surface(m, id, angle, &used, &mut file.warnings) {
             Ok(Some(Ok(face))) => file.faces.push(face),
-            Ok(Some(Err(kind))) => *file.skipped.entry(kind).or_default() += 1,
+            Ok(Some(Err(unread))) => *file.skipped.entry(unread.kind).or_default() += 1,
             Ok(None) => {}
             Err(e) => {
                 let kind = m.kind(id).unwrap_or("?");
@@ -75,7 +75,7 @@ pub(super) fn read_loose(
 }
 
 /// Set element `id` as a face over its box: `None` when it is no surface (a curve, a point) or
-/// lies under a face, `Some(Err(kind))` for a surface type that is not read; a boundary that is
+/// lies under a face, `Some(Err(unread))` for a surface type that is not read; a boundary that is
 /// not read is said in `warnings`.
 fn loose_surface(
     m: &Model,
@@ -83,7 +83,7 @@ fn loose_surface(
     angle: f64,
     used: &BTreeSet<u64>,
     warnings: &mut Vec<String>,
-) -> R<Option<Result<StepFace, String>>> {
+) -> R<Option<Result<StepFace, UnreadSurface>>> {
     let inst = m.get(id)?;
     let kind = m.kind(id)?.to_string();
     let named = inst
@@ -118,7 +118,11 @@ fn loose_surface(
         let bkind = m.kind(basis)?;
         let is_surface =
             bkind.ends_with("SURFACE") || inst.parts.iter().any(|(k, _)| k == "SURFACE");
-        return Ok(is_surface.then(|| Err(bkind.to_string())));
+        return Ok(is_surface.then(|| {
+            Err(UnreadSurface {
+                kind: bkind.to_string(),
+            })
+        }));
     };
     let ((u, v), trim) = bounded_box(m, id, &kind, bounds, &s, angle, warnings)?;
     let built = s
@@ -147,14 +151,14 @@ fn bounded_box(
 ) -> R<(ParamBox, Vec<Vec<nurbs_core::Point3>>)> {
     Ok(match bounds {
         Bounds::Natural => (
-            face_box(s, &[], true).map_err(|e| m.bad(id, e))?,
+            face_box(s, &[], true).map_err(|e| m.bad(id, e.to_string()))?,
             Vec::new(),
         ),
         Bounds::Box(u, v) => (rectangular_box(s, u, v, angle), Vec::new()),
         Bounds::Curves(curves, implicit) => match boundary_loops(m, id, &curves, s, angle) {
             Ok(loops) => {
                 let outer: &[BoundLoop] = if implicit { &[] } else { &loops };
-                let uv = face_box(s, outer, true).map_err(|e| m.bad(id, e))?;
+                let uv = face_box(s, outer, true).map_err(|e| m.bad(id, e.to_string()))?;
                 let trim = loops
                     .into_iter()
                     .map(|l| l.points)

@@ -106,6 +106,15 @@ pub enum StepError {
     },
 }
 
+/// A face or set element whose surface type is not read: counted by type in
+/// [`StepFile::skipped`], not an error of the file.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+#[error("{kind}")]
+struct UnreadSurface {
+    /// the entity type of the surface
+    kind: String,
+}
+
 /// A face read from a STEP file.
 #[derive(Debug, Clone, PartialEq)]
 pub struct StepFace {
@@ -159,7 +168,7 @@ pub fn read_step(text: &str) -> Result<StepFile, StepError> {
         }
         match read_face(&m, id, kind) {
             Ok(Ok(face)) => file.faces.push(face),
-            Ok(Err(skind)) => *file.skipped.entry(skind).or_default() += 1,
+            Ok(Err(unread)) => *file.skipped.entry(unread.kind).or_default() += 1,
             Err(e) => {
                 file.warnings.push(format!("{kind} #{id} not read: {e}"));
                 first_error.get_or_insert(e);
@@ -199,7 +208,7 @@ fn drop_aspect_faces(m: &Model, ids: &[u64], file: &mut StepFile) {
 
 /// Face `id` (an ADVANCED_FACE or FACE_SURFACE, `kind`) over its parameter box, or the type of
 /// its surface where that is not read.
-fn read_face(m: &Model, id: u64, kind: &str) -> Result<Result<StepFace, String>, StepError> {
+fn read_face(m: &Model, id: u64, kind: &str) -> Result<Result<StepFace, UnreadSurface>, StepError> {
     let p = m.part(id, kind)?;
     let name = match p.first() {
         Some(Value::Text(t)) if !t.is_empty() => t.clone(),
@@ -208,7 +217,7 @@ fn read_face(m: &Model, id: u64, kind: &str) -> Result<Result<StepFace, String>,
     let sid = m.reference(id, p.get(2))?;
     let skind = m.kind(sid)?.to_string();
     let Some(surface) = surface(m, sid)? else {
-        return Ok(Err(skind));
+        return Ok(Err(UnreadSurface { kind: skind }));
     };
     let bounds = bound_loops(m, id, p.get(1), &surface)?;
     let same_sense = !matches!(p.get(3), Some(Value::Enum(e)) if e == "F");

@@ -379,7 +379,9 @@ pub(super) fn spline_curve(m: &Model, cid: u64) -> R<BSplineCurve> {
             &m.numbers(cid, k.first())?,
             &m.numbers(cid, k.get(1))?,
         )?,
-        (None, Some(form)) => implied_knots(form, d, points.len()).map_err(|e| m.bad(cid, e))?,
+        (None, Some(form)) => {
+            implied_knots(form, d, points.len()).map_err(|e| m.bad(cid, e.to_string()))?
+        }
         (None, None) => return Err(m.bad(cid, "expected B_SPLINE_CURVE_WITH_KNOTS")),
     };
     let weights = match inst
