@@ -65,18 +65,28 @@ fn escape(text: &str) -> String {
         .replace('"', "&quot;")
 }
 
-/// The data of the page ([`data`] for the geometry; the tables' values as given).
+/// The data of the page ([`data`] for the geometry; the tables' values as given). The faired
+/// model's surfaces and links are matched to the input's by name (a run that merged slivers
+/// holds fewer surfaces than its input: those have no "after").
 pub fn payload(r: &HtmlReport) -> Value {
     let model = r.model;
     let n = data::grid_size(model.surfaces.len());
     let fair_before = crate::fairness::model_fairness(model);
     let fair_after = r.faired.map(crate::fairness::model_fairness);
+    // the faired surface of input surface k
+    let after_index = |k: usize| {
+        let name = &model.surfaces[k].name;
+        r.faired
+            .and_then(|f| f.surfaces.iter().position(|s| &s.name == name))
+    };
     let surfaces: Vec<Value> = model
         .surfaces
         .iter()
         .enumerate()
         .map(|(k, s)| {
-            let after = r.faired.and_then(|f| f.surfaces.get(k)).map(|s| &s.surface);
+            let a = after_index(k);
+            let after = a.and_then(|i| r.faired.map(|f| &f.surfaces[i].surface));
+            let fairness = a.and_then(|i| fair_after.as_ref().map(|f| &f[i]));
             json!({
                 "name": s.name,
                 "role": s.role.name(),
@@ -85,7 +95,7 @@ pub fn payload(r: &HtmlReport) -> Value {
                 "before": data::state_json(&s.surface, n, None),
                 "after": after.map(|a| data::state_json(a, n, Some(&s.surface))),
                 "fairness_before": crate::report::fairness_json(&fair_before[k]),
-                "fairness_after": fair_after.as_ref().map(|f| crate::report::fairness_json(&f[k])),
+                "fairness_after": fairness.map(crate::report::fairness_json),
             })
         })
         .collect();
@@ -94,25 +104,39 @@ pub fn payload(r: &HtmlReport) -> Value {
         (measures.len() == m.links.len()).then_some(measures)
     };
     let (combs_before, combs_after) = (combs(model), r.faired.and_then(combs));
+    let label = |m: &Model, l: &crate::model::Link| {
+        (
+            m.surfaces[l.slave].name.clone(),
+            l.side,
+            m.surfaces[l.master].name.clone(),
+        )
+    };
     let links: Vec<Value> = model
         .links
         .iter()
         .enumerate()
         .map(|(k, l)| {
-            let comb = |state: Option<&Model>, measures: &Option<Vec<_>>| match (state, measures) {
-                (Some(m), Some(ms)) => {
-                    data::comb_json(&m.surfaces[l.slave].surface, l.side, &ms[k])
-                }
-                _ => Value::Null,
-            };
+            let before = combs_before
+                .as_ref()
+                .map(|ms| data::comb_json(&model.surfaces[l.slave].surface, l.side, &ms[k]));
+            let after = r.faired.zip(combs_after.as_ref()).and_then(|(f, ms)| {
+                let want = label(model, l);
+                let j = f.links.iter().position(|fl| label(f, fl) == want)?;
+                let fl = &f.links[j];
+                Some(data::comb_json(
+                    &f.surfaces[fl.slave].surface,
+                    fl.side,
+                    &ms[j],
+                ))
+            });
             json!({
                 "label": model.link_label(k),
                 "slave": l.slave,
                 "master": l.master,
                 "side": l.side.name(),
                 "target": crate::check::continuity_name(l.continuity),
-                "comb_before": comb(Some(model), &combs_before),
-                "comb_after": comb(r.faired, &combs_after),
+                "comb_before": before,
+                "comb_after": after,
             })
         })
         .collect();
@@ -178,6 +202,25 @@ mod tests {
             "{} bytes: the grids are missing",
             page.len()
         );
+    }
+
+    /// A faired model that holds fewer surfaces than its input (slivers merged) is matched by
+    /// name: the surface it lost has no "after", the others theirs.
+    #[test]
+    fn faired_surfaces_are_matched_by_name() {
+        let model = Model::from_primaries(vec![patch(0.0, 0.0, 4), patch(1.0, 0.0, 4)]);
+        let mut faired = model.clone();
+        faired.surfaces.remove(0);
+        let data = payload(&HtmlReport {
+            title: "merged",
+            model: &model,
+            faired: Some(&faired),
+            report: None,
+            checks: None,
+        });
+        assert_eq!(data["surfaces"][0]["after"], Value::Null);
+        assert!(data["surfaces"][1]["after"]["grid"].is_object());
+        assert!(data["surfaces"][1]["fairness_after"].is_object());
     }
 
     /// The page embeds the tables' JSON unchanged, escapes what would end its script element,
