@@ -240,6 +240,7 @@
     if (p[0] === 'mode' && MODES_LIST.indexOf(v) >= 0) ui.mode = v;
     if (p[0] === 'state' && (v === 'before' || (v === 'after' && hasAfter))) ui.state = v;
     if (p[0] === 'clamp' && isFinite(Number(v))) ui.clamp = Number(v);
+    if (p[0] === 'stripes' && Number(v) > 0) ui.stripes = Number(v);
     if (p[0] === 'net') ui.net = v !== '0';
     if (p[0] === 'knots') ui.knots = v !== '0';
     if (p[0] === 'combs') ui.combs = v !== '0';
@@ -247,6 +248,26 @@
     if (p[0] === 'surface') D.surfaces.forEach(function (s, k) { if (s.name === v) ui.focusSurface = k; });
     if (p[0] === 'link' && D.links[Number(v)]) ui.focusLink = Number(v);
   });
+  // the default stripe count: about 16 stripes across a view of `length` on a face of the
+  // typical curvature κ (the 75th percentile of |H| over the curved samples of `surfaces`) —
+  // the reflected ray turns by 2κ per unit length, and a stripe is 1/stripes of its half turn
+  // (π). Set for the whole model at first, for a surface when the view focuses on it, until the
+  // reader moves the slider.
+  function autoStripes(surfaces, length) {
+    if (ui.stripesSet) return;
+    var flat = 1e-6 / diag, hs = [];
+    surfaces.forEach(function (s) {
+      var f = stateOf(s).fields.mean;
+      for (var i = 0; i < f.length; i++) if (isFinite(f[i]) && Math.abs(f[i]) > flat) hs.push(Math.abs(f[i]));
+    });
+    if (!hs.length) return;
+    hs.sort(function (a, b) { return a - b; });
+    ui.stripes = Math.round(Math.max(4, Math.min(200, 8 * Math.PI / (quantile(hs, 0.75) * length))));
+    var slider = document.getElementById('hf-stripes');
+    if (slider) slider.value = ui.stripes;
+  }
+  ui.stripesSet = location.hash.indexOf('stripes=') >= 0;
+  autoStripes(D.surfaces, diag);
   var cam = { target: [0, 0, 0], dist: 1.6 * diag, yaw: -0.9, pitch: 0.55, fov: 30 * Math.PI / 180 };
   function stateOf(s) { return s.gl[ui.state] || s.gl.before; }
 
@@ -479,6 +500,11 @@
     var r = Math.max(0.5 * Math.sqrt(dot(sub(b, a), sub(b, a))), diag * 0.01);
     cam.dist = 1.15 * r / Math.sin(cam.fov / 2);
   }
+  // the stripes for a view focused on surface k (its box's diagonal), by the curvature of `ks`
+  function zoomStripes(ks, k) {
+    var b = D.surfaces[k].box, d = sub(b[1], b[0]);
+    autoStripes(ks.map(function (i) { return D.surfaces[i]; }), Math.sqrt(dot(d, d)) || diag);
+  }
   function union(a, b) {
     return [[0, 1, 2].map(function (k) { return Math.min(a[0][k], b[0][k]); }),
       [0, 1, 2].map(function (k) { return Math.max(a[1][k], b[1][k]); })];
@@ -557,10 +583,11 @@
     if (link >= 0) {
       var l = D.links[link];
       box = union(D.surfaces[l.slave].box, D.surfaces[l.master].box);
-      if (zoom) { lookFrom(l.slave); focus(D.surfaces[l.slave].box); }
+      if (zoom) { lookFrom(l.slave); focus(D.surfaces[l.slave].box); zoomStripes([l.slave, l.master], l.slave); }
     } else if (surface >= 0 && zoom) {
       lookFrom(surface);
       focus(D.surfaces[surface].box);
+      zoomStripes([surface], surface);
     }
     var text = '';
     if (surface >= 0) {
@@ -594,7 +621,7 @@
   });
   if (!hasAfter) document.querySelector('#hf-mode option[value=deviation]').disabled = true;
   bind('hf-mode', 'change', function (t) { ui.mode = t.value; });
-  bind('hf-stripes', 'input', function (t) { ui.stripes = Number(t.value); });
+  bind('hf-stripes', 'input', function (t) { ui.stripes = Number(t.value); ui.stripesSet = true; });
   bind('hf-angle', 'input', function (t) { ui.angle = Number(t.value) * Math.PI / 180; });
   bind('hf-clamp', 'input', function (t) { ui.clamp = Number(t.value); clampText(); });
   bind('hf-net', 'change', function (t) { ui.net = t.checked; });
@@ -606,6 +633,7 @@
   bind('hf-comb-scale', 'input', function (t) { ui.combScale = Number(t.value); });
   document.getElementById('hf-mode').value = ui.mode;
   document.getElementById('hf-clamp').value = ui.clamp;
+  document.getElementById('hf-stripes').value = ui.stripes;
   document.getElementById('hf-net').checked = ui.net;
   document.getElementById('hf-knots').checked = ui.knots;
   document.getElementById('hf-combs').checked = ui.combs;

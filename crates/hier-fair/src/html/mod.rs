@@ -70,6 +70,26 @@ fn escape(text: &str) -> String {
 /// holds fewer surfaces than its input: those have no "after").
 pub fn payload(r: &HtmlReport) -> Value {
     let model = r.model;
+    let surfaces = surfaces_json(r);
+    let links = links_json(r);
+    let t = &model.tolerances;
+    json!({
+        "title": r.title,
+        "generator": concat!("hier-fair ", env!("CARGO_PKG_VERSION")),
+        "kind": if r.faired.is_some() { "fair" } else { "check" },
+        "unit": model.units.clone().unwrap_or_else(|| "mm".into()),
+        "mm_per_unit": model.mm_per_unit(),
+        "tolerances": {"g0": t.g0, "g1_deg": t.g1_deg, "g2_rel": t.g2_rel, "deviation": t.deviation},
+        "surfaces": surfaces,
+        "links": links,
+        "report": r.report,
+        "checks": r.checks,
+    })
+}
+
+/// Every input surface with its states, trim and fairness figures ([`payload`]'s `surfaces`).
+fn surfaces_json(r: &HtmlReport) -> Vec<Value> {
+    let model = r.model;
     let n = data::grid_size(model.surfaces.len());
     let fair_before = crate::fairness::model_fairness(model);
     let fair_after = r.faired.map(crate::fairness::model_fairness);
@@ -79,7 +99,7 @@ pub fn payload(r: &HtmlReport) -> Value {
         r.faired
             .and_then(|f| f.surfaces.iter().position(|s| &s.name == name))
     };
-    let surfaces: Vec<Value> = model
+    model
         .surfaces
         .iter()
         .enumerate()
@@ -98,7 +118,12 @@ pub fn payload(r: &HtmlReport) -> Value {
                 "fairness_after": fairness.map(crate::report::fairness_json),
             })
         })
-        .collect();
+        .collect()
+}
+
+/// Every input link with its combs before and after ([`payload`]'s `links`).
+fn links_json(r: &HtmlReport) -> Vec<Value> {
+    let model = r.model;
     let combs = |m: &Model| {
         let measures = data::link_measures(m);
         (measures.len() == m.links.len()).then_some(measures)
@@ -111,7 +136,7 @@ pub fn payload(r: &HtmlReport) -> Value {
             m.surfaces[l.master].name.clone(),
         )
     };
-    let links: Vec<Value> = model
+    model
         .links
         .iter()
         .enumerate()
@@ -139,20 +164,7 @@ pub fn payload(r: &HtmlReport) -> Value {
                 "comb_after": after,
             })
         })
-        .collect();
-    let t = &model.tolerances;
-    json!({
-        "title": r.title,
-        "generator": concat!("hier-fair ", env!("CARGO_PKG_VERSION")),
-        "kind": if r.faired.is_some() { "fair" } else { "check" },
-        "unit": model.units.clone().unwrap_or_else(|| "mm".into()),
-        "mm_per_unit": model.mm_per_unit(),
-        "tolerances": {"g0": t.g0, "g1_deg": t.g1_deg, "g2_rel": t.g2_rel, "deviation": t.deviation},
-        "surfaces": surfaces,
-        "links": links,
-        "report": r.report,
-        "checks": r.checks,
-    })
+        .collect()
 }
 
 #[cfg(test)]
