@@ -244,9 +244,10 @@ pub fn render(surfaces: &[&BSplineSurface], view: &View, shading: Shading) -> Rg
     render_faces(&faces, view, shading)
 }
 
-/// Renders `faces` with `shading` from `view`: a trimmed face by the grid cells inside its trim
-/// ([`crate::trim::cell_mask`]) and bounded by its trim loops, so that a cap plane does not
-/// hide the body it bounds; a face whose loops cross a seam is drawn whole, its loops over it.
+/// Renders `faces` with `shading` from `view`: a trimmed face pixel by pixel inside its trim
+/// ([`crate::trim::ParameterMask`] at [`TRIM_MASK_RES`]) and bounded by its trim loops, so that
+/// a cap plane does not hide the body it bounds; a face whose loops cross a seam is drawn whole,
+/// its loops over it.
 pub fn render_faces(faces: &[Face], view: &View, shading: Shading) -> RgbImage {
     let (w, h) = (view.width as usize, view.height as usize);
     let mut img = RgbImage::from_pixel(view.width, view.height, BACKGROUND);
@@ -296,7 +297,9 @@ pub fn render_faces(faces: &[Face], view: &View, shading: Shading) -> RgbImage {
 /// wide on the curved faces of `faces` seen through `view`: the reflected ray turns twice as
 /// fast as the normal, so across a face of curvature κ a stripe of s stripes per unit is
 /// 1 / (2 κ s) long, 1 / (2 κ s · scale) pixels. κ is the 75th percentile of |H| over the
-/// curved samples (a plane reflects one direction and shows one shade at any density).
+/// curved samples (a plane reflects one direction and shows one shade at any density; a
+/// curvature under 10⁻⁹ per pixel — a normal that turns less than 10⁻⁶ rad across a thousand
+/// pixels — is a plane's rounding, not a curve).
 pub fn zebra_stripes(faces: &[Face], view: &View) -> f64 {
     let mut hs: Vec<f64> = faces
         .iter()
@@ -305,7 +308,7 @@ pub fn zebra_stripes(faces: &[Face], view: &View) -> f64 {
                 .into_iter()
                 .filter_map(|x| x.h.map(f64::abs))
         })
-        .filter(|h| h.is_finite() && *h > 0.0)
+        .filter(|h| h.is_finite() && *h > 1e-9 / view.scale)
         .collect();
     if hs.is_empty() {
         return MIN_STRIPES;
