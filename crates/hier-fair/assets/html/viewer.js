@@ -402,8 +402,10 @@
       if (l.target === 'G0' && k !== ui.link) return;
       var c = l['comb_' + ui.state] || l.comb_before;
       if (!c) return;
-      var p = floats(c.points), n = floats(c.normals);
-      var sl = comb(p, n, floats(c.slave), 1, scale), ma = comb(p, n, floats(c.master), 1, scale);
+      // decoded once, not on every frame a drag draws
+      if (!c.decoded) c.decoded = [floats(c.points), floats(c.normals), floats(c.slave), floats(c.master)];
+      var p = c.decoded[0], n = c.decoded[1];
+      var sl = comb(p, n, c.decoded[2], 1, scale), ma = comb(p, n, c.decoded[3], 1, scale);
       drawLines(sl.teeth, null, [0.84, 0.15, 0.16, 0.55], m);
       drawLines(sl.env, null, [0.84, 0.15, 0.16, 1], m);
       drawLines(ma.env, null, [0.12, 0.47, 0.71, 1], m);

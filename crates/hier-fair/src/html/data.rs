@@ -49,13 +49,6 @@ pub fn grid_size(count: usize) -> usize {
     ((per as f64).sqrt().floor() as usize).clamp(GRID_MIN, GRID_MAX)
 }
 
-/// `n` parameters from `a` to `b`, both included.
-fn params(a: f64, b: f64, n: usize) -> Vec<f64> {
-    (0..n)
-        .map(|k| a + (b - a) * k as f64 / (n - 1) as f64)
-        .collect()
-}
-
 /// Normal curvatures along S_u and S_v (L/E, N/G; 1/unit), `None` at a singular point.
 fn iso_curvatures(d: &nurbs_core::SurfaceDerivatives) -> Option<(f64, f64)> {
     let ff = d.fundamental_forms()?;
@@ -67,9 +60,7 @@ fn iso_curvatures(d: &nurbs_core::SurfaceDerivatives) -> Option<(f64, f64)> {
 /// pole) are NaN; a normal undefined there is the mean of its neighbours' (so that shading
 /// stays smooth into a pole).
 pub fn grid_json(s: &BSplineSurface, n: usize, reference: Option<&BSplineSurface>) -> Value {
-    let (u0, u1) = s.domain_u();
-    let (v0, v1) = s.domain_v();
-    let (us, vs) = (params(u0, u1, n), params(v0, v1, n));
+    let (us, vs) = (s.knots_u().uniform_params(n), s.knots_v().uniform_params(n));
     let ders = s.eval_grid_derivatives(&us, &vs);
     let mut normals: Vec<Option<Vector3>> = Vec::with_capacity(n * n);
     let (mut pts, mut mean, mut gauss, mut ku, mut kv) =
