@@ -127,7 +127,7 @@ fn pole_hint(report: &FairModelReport, model: &Model) -> Option<String> {
     let spiked: Vec<&str> = report
         .surfaces
         .iter()
-        .filter(|x| x.fairness_verdict().peak_ratio > hier_fair::fairness::PEAK_FACTOR)
+        .filter(|x| x.fairness_verdict().spike() > hier_fair::fairness::PEAK_FACTOR)
         .filter(|x| {
             model
                 .find(&x.name)

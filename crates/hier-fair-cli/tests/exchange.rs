@@ -550,8 +550,10 @@ fn step_round_trip(name: &str) {
             ])
             .output()
             .unwrap();
+        // 1 where a link is left unmet (the three-radii corner by default): the result is
+        // written all the same (cli-contract.md), and its round trip is what is tested here
         assert!(
-            o.status.success(),
+            matches!(o.status.code(), Some(0 | 1)),
             "{name}: {}",
             String::from_utf8_lossy(&o.stderr)
         );

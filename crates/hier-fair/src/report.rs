@@ -161,6 +161,7 @@ fn verdict_json(v: &FairnessVerdict) -> Value {
     json!({
         "fair": v.fair(),
         "peak_ratio": if v.peak_ratio.is_finite() { json!(v.peak_ratio) } else { Value::Null },
+        "comb_ratio": if v.comb_ratio.is_finite() { json!(v.comb_ratio) } else { Value::Null },
         "energy_ratio": if v.energy_ratio.is_finite() { json!(v.energy_ratio) } else { Value::Null },
         "extrema_gained": v.extrema_gained,
         "net_within": v.net_within,

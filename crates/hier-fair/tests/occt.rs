@@ -154,19 +154,41 @@ fn rolling_ball_fillets_reach_g2_on_their_planes() {
     }
 }
 
-/// By default (0.05 mm everywhere) the three-radii corner's freeform blend meets G2 on all four
-/// sides too: its G2 step's refinement keeps the round that joins the sides everywhere but at
-/// the corner samples over the coarser one that misses them as far (11 of 12 links without).
+/// By default (0.05 mm everywhere) the three-radii corner's freeform blend is not given G2 with
+/// a crease: the joint polish met its four links only with a comb peaking at 466× its input's
+/// curvature (76 /mm beside a side, thin-plate energy 977×), which the framework no longer
+/// takes. The blend stays fair (peak and comb within PEAK_FACTOR, energy within ENERGY_FACTOR),
+/// each of its links it leaves unmet is named with the spike it would have cost, and every
+/// fillet's link is met.
 #[test]
-fn the_three_radii_corner_meets_every_link_by_default() {
+fn the_three_radii_corner_is_not_given_g2_with_a_crease_by_default() {
     let (_, report) = faired("occt_corner3_radii");
-    let unmet: Vec<_> = report
-        .links
+    let blend = report
+        .surfaces
         .iter()
-        .filter(|l| !l.met)
-        .map(|l| &l.label)
-        .collect();
-    assert!(unmet.is_empty(), "{unmet:?}");
+        .find(|s| s.name == "C07_bspline")
+        .unwrap();
+    let v = blend.fairness_verdict();
+    assert!(v.spike() <= hier_fair::fairness::PEAK_FACTOR, "{v:?}");
+    assert!(
+        v.energy_ratio <= hier_fair::fairness::ENERGY_FACTOR,
+        "{v:?}"
+    );
+    for l in &report.links {
+        if l.label.starts_with("C07_bspline.") {
+            assert!(
+                l.met
+                    || report.problems.iter().any(
+                        |p| p.surface == "C07_bspline" && p.message.contains("curvature spike")
+                    ),
+                "{}: {:?}",
+                l.label,
+                report.problems
+            );
+        } else {
+            assert!(l.met, "{}", l.label);
+        }
+    }
 }
 
 /// Per-role deviation (\[SV\] §1.1): primaries 0.05, connecting surfaces 0.5. The fillets use

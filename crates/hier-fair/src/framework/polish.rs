@@ -12,21 +12,24 @@ use nurbs_core::{BSplineSurface, Continuity};
 
 use super::stages::StagePlan;
 use super::{Job, Problem, StageReport};
+use crate::fairness::PEAK_FACTOR;
 
 impl Job<'_> {
     /// `surface` polished by [`g_continuity::polish_joint`] with the settings `params`, where it
     /// misses a G2 link of `links`: `Some` only when the polish meets more links (by the
     /// tolerances of `params`), every link met before stays met, no link's gap or angle grows
-    /// beyond its tolerance, and the result deviates from the input at most `budget`.
+    /// beyond its tolerance, the result deviates from the input at most `budget`, and its
+    /// curvature spikes no higher than [`PEAK_FACTOR`] × the input's or the surface's own
+    /// ([`crate::fairness::FairnessVerdict::spike`], within the relative G2 tolerance).
     pub(super) fn polished(
         &self,
         surface: &BSplineSurface,
         links: &[SideLink<'_>],
         params: &ConnectParams,
         budget: f64,
-    ) -> Option<BSplineSurface> {
+    ) -> Polished {
         if !links.iter().any(|l| l.target >= Continuity::G2) {
-            return None;
+            return Polished::Not;
         }
         let t = params.tolerances;
         let measure = |s: &BSplineSurface| -> Option<Vec<LinkMeasure>> {
@@ -37,9 +40,11 @@ impl Job<'_> {
         };
         let meets = |l: &SideLink, m: &LinkMeasure| m.meets(l.target, t.g0, t.g1_deg, t.g2_rel);
         let met = |ms: &[LinkMeasure]| links.iter().zip(ms).filter(|(l, m)| meets(l, m)).count();
-        let before = measure(surface)?;
+        let Some(before) = measure(surface) else {
+            return Polished::Not;
+        };
         if met(&before) == links.len() {
-            return None;
+            return Polished::Not;
         }
         // no move bound: the result's own deviation is checked below. (A bound on the control
         // moves — the budget less the deviation so far, or the whole budget — rejects the
@@ -48,9 +53,13 @@ impl Job<'_> {
         // G2 on two sides whose unbounded polish deviates within the budget.)
         let original = &self.model.surfaces[self.surface].surface;
         let grid = self.params.deviation_grid;
-        let (polished, _) =
-            g_continuity::polish_joint(surface, links, params, f64::INFINITY).ok()?;
-        let after = measure(&polished)?;
+        let Ok((polished, _)) = g_continuity::polish_joint(surface, links, params, f64::INFINITY)
+        else {
+            return Polished::Not;
+        };
+        let Some(after) = measure(&polished) else {
+            return Polished::Not;
+        };
         let kept = links
             .iter()
             .zip(before.iter().zip(&after))
@@ -60,8 +69,26 @@ impl Job<'_> {
                     && a.g0 <= b.g0.max(t.g0)
                     && angle(a) <= angle(b).max(t.g1_deg)
             });
-        (met(&after) > met(&before) && kept && max_deviation(original, &polished, grid) <= budget)
-            .then_some(polished)
+        if met(&after) <= met(&before) || !kept || max_deviation(original, &polished, grid) > budget
+        {
+            return Polished::Not;
+        }
+        // G2 is not bought with a curvature spike (\[SV\] §1.2: the constraints "may crease the
+        // surface near the sides"): a polish that raises the peak beyond PEAK_FACTOR and beyond
+        // what the surface had (by more than the relative G2 tolerance, the model's "same
+        // curvature") is no candidate — on a three-radii corner by default it met four links
+        // with a crease of 76 /mm beside a side against the input's 0.16
+        let (now, then) = (
+            self.verdict_of(surface).spike(),
+            self.verdict_of(&polished).spike(),
+        );
+        if then > PEAK_FACTOR && then > now * (1.0 + t.g2_rel) {
+            return Polished::Spiked {
+                met: met(&after) - met(&before),
+                spike: then,
+            };
+        }
+        Polished::Kept(polished)
     }
 
     /// The stages' result `surface`, polished where [`Self::polished`] keeps it (the links
@@ -69,7 +96,11 @@ impl Job<'_> {
     /// with, [`DeviationBudget::fairing`]: a master's half, so its slaves keep theirs).
     /// Never worse than the input either ([`Job::worse_link`], which judges every figure of
     /// each link against the input's, not only against the stages' result).
-    pub(super) fn joint_polish(&self, surface: BSplineSurface) -> BSplineSurface {
+    pub(super) fn joint_polish(
+        &self,
+        surface: BSplineSurface,
+        problems: &mut Vec<Problem>,
+    ) -> BSplineSurface {
         let labelled = self.links();
         let links: Vec<SideLink> = labelled.iter().map(|(_, l)| *l).collect();
         let params = ConnectParams {
@@ -78,7 +109,18 @@ impl Job<'_> {
         };
         let budget = self.params.budget.fairing(self.tolerance, self.is_master());
         match self.polished(&surface, &links, &params, budget) {
-            Some(p) if self.worse_link(&labelled, &p).is_none() => p,
+            Polished::Kept(p) if self.worse_link(&labelled, &p).is_none() => p,
+            Polished::Spiked { met, spike } => {
+                let note = format!(
+                    "the joint polish would meet {met} more link(s) only with a curvature spike of {spike:.2}× its input's (at most {PEAK_FACTOR}): not taken, the links stay as the stages left them"
+                );
+                if !problems.iter().any(|p| {
+                    p.message == note && p.surface == self.model.surfaces[self.surface].name
+                }) {
+                    self.limited(problems, note, Some(spike));
+                }
+                surface
+            }
             _ => surface,
         }
     }
@@ -116,12 +158,12 @@ impl Job<'_> {
         // polished the same way again. The two differ inside only, where the polish's deviation
         // check could still judge them apart; it did on none of the 18 kernel models measured.
         let same_frames = same_frames(&s, &plan.connected, plan.links);
-        let s = self.joint_polish(s);
+        let s = self.joint_polish(s, problems);
         let met = self.met_links(plan.links, &s);
         if plan.highest != Some(Continuity::G2) || met == plan.links.len() || same_frames {
             return (s, stages);
         }
-        let polished = self.joint_polish(plan.connected.clone());
+        let polished = self.joint_polish(plan.connected.clone(), problems);
         if self.met_links(plan.links, &polished) <= met {
             return (s, stages);
         }
@@ -149,6 +191,17 @@ impl Job<'_> {
         );
         (faired, once)
     }
+}
+
+/// What [`Job::polished`] made of a surface.
+pub(super) enum Polished {
+    /// no polish, or one that is not better (or deviates too much)
+    Not,
+    /// a polish that meets more links within every bound
+    Kept(BSplineSurface),
+    /// a polish that would meet `met` more links with its curvature spiking `spike` × the
+    /// input's ([`crate::fairness::FairnessVerdict::spike`])
+    Spiked { met: usize, spike: f64 },
 }
 
 /// Whether `a` and `b` have the same knots and weights and the same control points in rows

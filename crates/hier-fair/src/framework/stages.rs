@@ -81,7 +81,7 @@ impl Job<'_> {
         if top.is_some() && highest.is_none() {
             // not even C0 fits within the tolerance: keep the input (polished where that is
             // better, [`Job::joint_polish`])
-            return Ok((self.joint_polish(self.start.clone()), run.stages));
+            return Ok((self.joint_polish(self.start.clone(), problems), run.stages));
         }
         let prepared = self.with_dry_run_knots(prepared, &connected, highest, &mut run)?;
         let plan = StagePlan {
@@ -525,7 +525,7 @@ impl Job<'_> {
         let judged_fair = if plan.section {
             faired.fair()
         } else {
-            faired.peak_ratio <= crate::fairness::PEAK_FACTOR
+            faired.spike() <= crate::fairness::PEAK_FACTOR
         };
         if judged_fair {
             return None;
@@ -536,9 +536,9 @@ impl Job<'_> {
             .then(|| {
                 format!(
                     "fairing dropped, continuity setting kept: it is fairer (peak curvature {:.2}× the input's, {} curvature extrema gained across the boundary; the faired result {:.2}×, {})",
-                    setting.peak_ratio,
+                    setting.spike(),
                     setting.extrema_gained,
-                    faired.peak_ratio,
+                    faired.spike(),
                     faired.extrema_gained
                 )
             })
