@@ -602,8 +602,8 @@ struct FairArgs {
     #[arg(long)]
     no_verify: bool,
     /// models: keep the fairing method's result of every surface that meets its links, even
-    /// where the continuity setting alone is fairer (by default a surface that is no master and
-    /// whose faired peak curvature is beyond 1.6× its input's keeps the fairer setting)
+    /// where the continuity setting alone is fairer (by default a surface whose faired peak
+    /// curvature is beyond 1.6× its input's keeps the fairer setting)
     #[arg(long)]
     keep_faired: bool,
     /// models: split every corner patch with a pole (a side collapsed to a point, e.g. a sphere

@@ -347,7 +347,10 @@ fn an_unmet_links_named_deviation_meets_it() {
 
 /// The synthetic grid of filleted blocks (3×3 blocks: 9 primaries, 12 fillets, 4 corner patches
 /// with G2 on all four sides): every link G2 within the Class-A limits, every surface within the
-/// tolerance, no slave's energy above its start.
+/// tolerance. A slave's energy rises above its start only where the report names the rise, and
+/// then it stays fair: a fillet keeps its one-hump section where the faired result lost the hump
+/// ("fairing dropped, continuity setting kept: it is fairer"; f4_3, 5 % above its start), and the
+/// corners set against it follow (c3_3, 0.4 %).
 #[test]
 fn block_grid_reaches_g2_everywhere() {
     let model = hier_fair::synthetic::block_grid(3, 3).unwrap();
@@ -371,13 +374,32 @@ fn block_grid_reaches_g2_everywhere() {
     }
     for s in &report.surfaces {
         assert!(s.max_deviation <= report.tolerance, "{}", s.name);
-        assert!(
-            s.energy_after <= s.energy_before,
-            "{}: {} -> {}",
-            s.name,
-            s.energy_before,
-            s.energy_after
-        );
+        // a rise is named with its cause and stays fair: peak and comb within PEAK_FACTOR,
+        // energy within ENERGY_FACTOR of the start
+        if s.energy_after > s.energy_before {
+            let v = s.fairness_verdict();
+            assert!(
+                report
+                    .problems
+                    .iter()
+                    .any(|p| p.surface == s.name
+                        && p.message.starts_with("its thin-plate energy rose")),
+                "{}: {} -> {}",
+                s.name,
+                s.energy_before,
+                s.energy_after
+            );
+            assert!(
+                v.spike() <= hier_fair::fairness::PEAK_FACTOR,
+                "{}: {v:?}",
+                s.name
+            );
+            assert!(
+                v.energy_ratio <= hier_fair::fairness::ENERGY_FACTOR,
+                "{}: {v:?}",
+                s.name
+            );
+        }
     }
 }
 

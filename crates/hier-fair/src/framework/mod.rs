@@ -166,8 +166,9 @@ pub struct FairParams {
     /// their deviation, and name each unmet link with the figure that run met it at (default
     /// true; costs one more run, only where a link is left unmet).
     pub verify_unmet: bool,
-    /// Keep the continuity setting alone instead of the faired result of a surface that is no
-    /// other surface's master where the faired result's peak curvature is beyond
+    /// Keep the continuity setting alone instead of the faired result of a surface (a master
+    /// too: its slaves are then set against the setting) where the faired result's peak
+    /// curvature is beyond
     /// [`crate::fairness::PEAK_FACTOR`] of its input's (after a one-hump section: where it is
     /// not fair by any figure of [`crate::fairness`]), the setting meets every link and is fairer (default true; false keeps every method's result
     /// where it meets the links, for a researcher who wants to see what the method does:
