@@ -186,9 +186,9 @@ impl FairnessVerdict {
 
     /// Whether this verdict is strictly fairer than `other`'s: fewer faults; else, where both
     /// peak beyond [`PEAK_FACTOR`], the lower peak ([`Self::spike`]: the grid's or the comb's);
-    /// else fewer curvature extrema gained; else a peak lower by more than `same` (relative; the framework passes the model's
-    /// relative G2 tolerance: curvatures that close are "the same curvature" at a join, and so
-    /// are two peaks). A spike is the worse fault: a surface that peaks at 9× its input's with
+    /// else fewer curvature extrema gained; else a peak lower by more than `same` (relative; the
+    /// framework passes the model's relative G2 tolerance: curvatures that close are "the same
+    /// curvature" at a join, and so are two peaks). A spike is the worse fault: a surface that peaks at 9× its input's with
     /// two fewer wiggles in its comb is not the fairer one (a sphere corner's setting against
     /// its faired result, box12_r5 by default).
     pub fn fairer_than(&self, other: &Self, same: f64) -> bool {

@@ -168,11 +168,10 @@ pub struct FairParams {
     pub verify_unmet: bool,
     /// Keep the continuity setting alone instead of the faired result of a surface (a master
     /// too: its slaves are then set against the setting) where the faired result's peak
-    /// curvature is beyond
-    /// [`crate::fairness::PEAK_FACTOR`] of its input's (after a one-hump section: where it is
-    /// not fair by any figure of [`crate::fairness`]), the setting meets every link and is fairer (default true; false keeps every method's result
-    /// where it meets the links, for a researcher who wants to see what the method does:
-    /// `--keep-faired`).
+    /// curvature is beyond [`crate::fairness::PEAK_FACTOR`] of its input's (after a one-hump
+    /// section: where it is not fair by any figure of [`crate::fairness`]), the setting meets
+    /// every link and is fairer (default true; false keeps every method's result where it meets
+    /// the links, for a researcher who wants to see what the method does: `--keep-faired`).
     pub prefer_fairer: bool,
 }
 

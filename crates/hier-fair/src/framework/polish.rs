@@ -16,11 +16,12 @@ use crate::fairness::PEAK_FACTOR;
 
 impl Job<'_> {
     /// `surface` polished by [`g_continuity::polish_joint`] with the settings `params`, where it
-    /// misses a G2 link of `links`: `Some` only when the polish meets more links (by the
-    /// tolerances of `params`), every link met before stays met, no link's gap or angle grows
-    /// beyond its tolerance, the result deviates from the input at most `budget`, and its
+    /// misses a G2 link of `links`: [`Polished::Kept`] only when the polish meets more links (by
+    /// the tolerances of `params`), every link met before stays met, no link's gap or angle
+    /// grows beyond its tolerance, the result deviates from the input at most `budget`, and its
     /// curvature spikes no higher than [`PEAK_FACTOR`] × the input's or the surface's own
-    /// ([`crate::fairness::FairnessVerdict::spike`], within the relative G2 tolerance).
+    /// ([`crate::fairness::FairnessVerdict::spike`], within the relative G2 tolerance);
+    /// [`Polished::Spiked`] where only that last condition fails.
     pub(super) fn polished(
         &self,
         surface: &BSplineSurface,

@@ -483,9 +483,9 @@ impl Job<'_> {
 
     /// Why the continuity setting alone (`plan.connected`) replaces the faired result `s`, or
     /// `None` to keep `s`. It replaces it only with [`FairParams::prefer_fairer`], where the
-    /// faired result's peak curvature is beyond [`crate::fairness::PEAK_FACTOR`] of its input's (a one-hump section's result: where it
-    /// is not fair by any figure of [`crate::fairness`]), the setting meets every link and is
-    /// fairer ([`crate::fairness::FairnessVerdict::fairer_than`]): a fairing stage minimizes
+    /// faired result's peak curvature is beyond [`crate::fairness::PEAK_FACTOR`] of its
+    /// input's (a one-hump section's result: where it is not fair by any figure of
+    /// [`crate::fairness`]), the setting meets every link and is fairer ([`crate::fairness::FairnessVerdict::fairer_than`]): a fairing stage minimizes
     /// its method's functional, which on a strongly curved connecting surface need not lower
     /// its curvature peaks (with 0.5 mm of deviation the thin-plate energy of plate_boss's
     /// torus fillet drops 4 % while its peak curvature grows 2.6×; box12_r5's sphere corners
@@ -506,8 +506,8 @@ impl Job<'_> {
         // state of the framework, before the slaves' C0 move was spread, made a vertex blend
         // between four lofted fillets kept at their settings miss G2 on all four sides.)
         // The setting replaces the faired result only where it meets every link: a polish
-        // follows either ([`Job::polished_stages`]), and on corner3_radii by default the faired
-        // blend's polish met all four links where the setting's met none
+        // follows either ([`Job::polished_stages`]), and where the setting misses links the
+        // faired result's polish may meet them (unless it spikes, [`Job::polished`])
         if !self.params.prefer_fairer
             || plan.highest.is_none()
             || self.worse_link(plan.labelled, &plan.connected).is_some()
