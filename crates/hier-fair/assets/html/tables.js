@@ -1,5 +1,6 @@
 // hier-fair's report tables: the links (G0, G1, G2 along, across and at the vertices, before and
-// after, target, verdict) and the surfaces (deviation, energy, peak curvature, curvature extrema,
+// after, target, verdict) and the surfaces (deviation, energy, peak curvature, the comb's peak across
+// the linked sides, curvature extrema, the fairness verdict,
 // net, time), sortable; a click selects in the 3D view. Licence: that of hier-fair.
 function hierFairTables(D, MM, fmt, select) {
   'use strict';
@@ -56,16 +57,19 @@ function hierFairTables(D, MM, fmt, select) {
     if (fair) cells.push(r ? r.method : null, r ? r.max_deviation * MM : null, r ? r.tolerance * MM : null);
     function both(f) { cells.push(f(fb)); if (fair) cells.push(fa ? f(fa) : null); }
     both(function (x) { return x.peak_curvature / MM; });
+    both(function (x) { return x.cross_peak === null ? null : x.cross_peak / MM; });
     both(function (x) { return x.cross_extrema; });
     both(function (x) { return x.energy; });
     both(function (x) { return x.net.join(' × '); });
     cells.push(fb.degree.join(' × '));
     if (fair) cells.push(r ? r.seconds : null);
+    // the verdict against the input (report.json's `fairness`): "fair", or what fails
+    if (fair) cells.push(r && r.fairness ? (r.fairness.fair ? 'fair' : r.fairness.faults.join('; ')) : null);
     return { index: k, cells: cells };
   });
   var surfaceHeads = ['surface', 'role'].concat(fair ? ['method', 'deviation (mm)', 'tolerance (mm)'] : [],
-    heads('peak curvature (1/mm)'), heads('extrema'), heads('energy'), heads('net'), ['degree'],
-    fair ? ['time (s)'] : []);
+    heads('peak curvature (1/mm)'), heads('comb peak (1/mm)'), heads('extrema'), heads('energy'),
+    heads('net'), ['degree'], fair ? ['time (s)', 'fairness'] : []);
   table('hf-surfaces', surfaceHeads, surfaceRows, function (row) { select(row.index, -1, true); });
 
   var summary = document.getElementById('hf-summary');
