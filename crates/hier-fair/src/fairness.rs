@@ -319,4 +319,35 @@ mod tests {
         assert!(!grown.net_within);
         assert_eq!(grown.faults().len(), 1);
     }
+
+    /// A crease beside a side: the grid's quantile within the bound, the comb's maximum far
+    /// beyond it (the three-radii corner polished by default: 0.25 against 76 /mm).
+    #[test]
+    fn a_crease_shows_in_the_comb() {
+        let combed = |peak: f64, comb: f64| Fairness {
+            cross_peak: Some(comb),
+            ..figures(peak, 10.0, Some(1), (4, 4))
+        };
+        let before = combed(0.18, 0.164);
+        let crease = FairnessVerdict::new(&before, &combed(0.22, 76.6), 0.2);
+        // the comb's reference is the larger of the input's comb and the joint curvature
+        assert!((crease.comb_ratio - 76.6 / 0.2).abs() < 1e-9, "{crease:?}");
+        assert!(crease.peak_ratio <= PEAK_FACTOR);
+        assert_eq!(crease.spike(), crease.comb_ratio);
+        assert!(!crease.fair());
+        assert_eq!(crease.faults().len(), 1);
+        assert!(crease.faults()[0].starts_with("curvature comb across its boundary peaks"));
+        let smooth = FairnessVerdict::new(&before, &combed(0.22, 0.25), 0.2);
+        assert!(smooth.fair(), "{smooth:?}");
+        assert!(smooth.fairer_than(&crease, 0.005));
+        assert!(!crease.fairer_than(&smooth, 0.005));
+        // no linked side (no comb): the comb does not judge
+        let unlinked = FairnessVerdict::new(
+            &figures(0.18, 10.0, None, (4, 4)),
+            &figures(0.2, 10.0, None, (4, 4)),
+            0.0,
+        );
+        assert_eq!(unlinked.comb_ratio, 1.0);
+        assert!(unlinked.fair());
+    }
 }
