@@ -473,14 +473,10 @@ pub fn run_fair(
         .filter(|p| p.kind == hier_fair::ProblemKind::Failed)
         .map(|p| format!("{}: {}", p.surface, p.message))
         .collect();
-    let mut unmet: Vec<String> = report
-        .problems
-        .iter()
-        .filter(|p| p.kind == hier_fair::ProblemKind::Unmet)
-        .filter_map(|p| p.link.clone())
-        .collect();
+    // left unmet with no named conflict (a conflict verified by the second run is no failure)
+    let (_, unmet) = report.unmet_links();
+    let mut unmet: Vec<String> = unmet.iter().map(|l| l.label.clone()).collect();
     unmet.sort_unstable();
-    unmet.dedup();
     let mut text = crate::verdict::summary(
         &report,
         &model,

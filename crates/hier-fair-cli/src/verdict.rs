@@ -219,24 +219,8 @@ pub fn verdict_line(report: &FairModelReport, model: &Model) -> String {
                 .is_some_and(|m| m.vertex_zones.iter().any(|&z| z > 0.0))
         })
         .count();
-    let met_labels: Vec<String> = report
-        .links
-        .iter()
-        .filter(|l| l.met)
-        .map(|l| model.link_label(l.link))
-        .collect();
-    let count = |kind: hier_fair::ProblemKind| {
-        let mut links: Vec<&str> = report
-            .problems
-            .iter()
-            .filter(|p| p.kind == kind)
-            .filter_map(|p| p.link.as_deref())
-            .filter(|l| !met_labels.iter().any(|m| m == l))
-            .collect();
-        links.sort_unstable();
-        links.dedup();
-        links.len()
-    };
+    // the links left unmet: named conflicts, and the others (cli-contract.md's exit 1)
+    let (conflicts, unmet) = report.unmet_links();
     let within = report
         .surfaces
         .iter()
@@ -260,8 +244,8 @@ pub fn verdict_line(report: &FairModelReport, model: &Model) -> String {
         } else {
             String::new()
         },
-        count(hier_fair::ProblemKind::Conflict),
-        count(hier_fair::ProblemKind::Unmet),
+        conflicts.len(),
+        unmet.len(),
         report.surfaces.len(),
         report.surfaces.len(),
     )

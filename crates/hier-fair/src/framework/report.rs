@@ -263,6 +263,18 @@ impl FairModelReport {
     pub fn has_failures(&self) -> bool {
         self.problems.iter().any(|p| p.kind == ProblemKind::Failed)
     }
+
+    /// The links the result leaves unmet, in the model's order: those a `conflict` problem
+    /// names (the deviation it needs, verified by a second run, or a vertex zone), and the
+    /// others — left unmet with no named conflict, which `fair` exits 1 for (cli-contract.md).
+    /// A link is in one of the two, never both: met + conflicts + unmet = every link.
+    pub fn unmet_links(&self) -> (Vec<&LinkFair>, Vec<&LinkFair>) {
+        self.links.iter().filter(|l| !l.met).partition(|l| {
+            self.problems
+                .iter()
+                .any(|p| p.kind == ProblemKind::Conflict && p.link.as_deref() == Some(&l.label))
+        })
+    }
 }
 
 /// Progress of a run: `done` of `total` surfaces, the last one finished named.
@@ -499,5 +511,59 @@ pub(super) fn length(x: f64) -> String {
         format!("{x:.4}")
     } else {
         format!("{x:.3e}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use nurbs_core::Continuity;
+
+    use super::{FairModelReport, LinkFair, Problem, ProblemKind};
+
+    fn link(k: usize, met: bool) -> LinkFair {
+        LinkFair {
+            link: k,
+            label: format!("s{k}.u0 -> m"),
+            target: Continuity::G2,
+            before: None,
+            after: None,
+            met,
+        }
+    }
+
+    fn problem(kind: ProblemKind, k: usize) -> Problem {
+        Problem {
+            kind,
+            surface: format!("s{k}"),
+            link: Some(format!("s{k}.u0 -> m")),
+            message: String::new(),
+            amount: None,
+        }
+    }
+
+    /// A link missed and then verified as a conflict carries both an `unmet` and a `conflict`
+    /// problem: it counts once, as a conflict; a met link named by a zone's conflict is met.
+    #[test]
+    fn every_link_is_met_a_conflict_or_unmet_once() {
+        let report = FairModelReport {
+            links: vec![
+                link(0, true),
+                link(1, false),
+                link(2, false),
+                link(3, false),
+            ],
+            problems: vec![
+                problem(ProblemKind::Conflict, 0),
+                problem(ProblemKind::Unmet, 1),
+                problem(ProblemKind::Conflict, 1),
+                problem(ProblemKind::Unmet, 2),
+                problem(ProblemKind::Limited, 3),
+            ],
+            ..FairModelReport::default()
+        };
+        let (conflicts, unmet) = report.unmet_links();
+        let labels = |ls: &[&LinkFair]| ls.iter().map(|l| l.link).collect::<Vec<_>>();
+        assert_eq!(labels(&conflicts), [1]);
+        assert_eq!(labels(&unmet), [2, 3]);
     }
 }
