@@ -14,6 +14,15 @@ use super::stages::StagePlan;
 use super::{Job, Problem, StageReport};
 use crate::fairness::PEAK_FACTOR;
 
+/// How the problem that names a polish refused for a curvature spike begins
+/// ([`Job::joint_polish`]).
+pub(super) const SPIKE_REFUSAL: &str = "the joint polish would meet";
+
+/// Whether `p` names a polish refused for a curvature spike on its surface.
+pub(super) fn is_spike_refusal(p: &Problem) -> bool {
+    p.kind == super::ProblemKind::Limited && p.message.starts_with(SPIKE_REFUSAL)
+}
+
 impl Job<'_> {
     /// `surface` polished by [`g_continuity::polish_joint`] with the settings `params`, where it
     /// misses a G2 link of `links`: [`Polished::Kept`] only when the polish meets more links (by
@@ -113,7 +122,7 @@ impl Job<'_> {
             Polished::Kept(p) if self.worse_link(&labelled, &p).is_none() => p,
             Polished::Spiked { met, spike } => {
                 let note = format!(
-                    "the joint polish would meet {met} more link(s) only with a curvature spike of {spike:.2}× its input's (at most {PEAK_FACTOR}): not taken, the links stay as the stages left them"
+                    "{SPIKE_REFUSAL} {met} more link(s) only with a curvature spike of {spike:.2}× its input's (at most {PEAK_FACTOR}): not taken, the links stay as the stages left them"
                 );
                 if !problems.iter().any(|p| {
                     p.message == note && p.surface == self.model.surfaces[self.surface].name
