@@ -22,7 +22,9 @@
 //! [`TRANSFER_SAMPLES`] samples locate the master knots along the side; each is then found to
 //! [`TRANSFER_PARAMETER_RELATIVE`] of the master domain by safeguarded secant steps. Master
 //! knots within [`TRANSFER_MERGE_RELATIVE`] of the join's ends are not carried over, and a mapped
-//! knot within [`TRANSFER_MERGE_SPAN`] of its span from a slave knot counts as that knot.
+//! knot within [`TRANSFER_MERGE_SPAN`] of its span from an interior slave knot counts as that
+//! knot (the domain's ends are no breakpoint inside the join: a master's ramp knots next to
+//! them all arrive).
 
 use nurbs_core::{BSplineSurface, Direction, ProjectionParams};
 
@@ -97,13 +99,16 @@ pub fn with_master_knots(
             Direction::U => single_piece[0],
             Direction::V => single_piece[1],
         };
+        if std::env::var("HF_DBG").is_ok() { eprintln!("transfer side {:?} piece {} collapsed {}", link.side, piece, is_collapsed(&s, link.side)); }
         if !piece || is_collapsed(&s, link.side) {
             continue;
         }
         let mut tracker = MasterTracker::new(link.master, projection);
         let Some(along) = master_along(&s, link, &mut tracker) else {
+            if std::env::var("HF_DBG").is_ok() { eprintln!("  no master along"); }
             continue;
         };
+        if std::env::var("HF_DBG").is_ok() { eprintln!("  master knots {:?}", along.knots); }
         let dir = link.side.along_direction();
         let degree = match dir {
             Direction::U => s.degree_u(),
@@ -127,6 +132,7 @@ pub fn with_master_knots(
             Direction::U => s.num_u(),
             Direction::V => s.num_v(),
         };
+        if std::env::var("HF_DBG").is_ok() { eprintln!("  slave knots {:?} new {:?} count {} max {}", kv.knots(), xs, count, max_control_points); }
         if xs.is_empty() || count + xs.len() > max_control_points {
             continue;
         }
@@ -136,9 +142,15 @@ pub fn with_master_knots(
     Ok((s, report))
 }
 
-/// The values of `xs` (ascending) that are farther than [`TRANSFER_MERGE_SPAN`] of their span
-/// from every knot of `knots` and from the value kept before them.
+/// The values of `xs` (ascending, distinct master knots mapped onto the side) that are farther
+/// than [`TRANSFER_MERGE_SPAN`] of their span from every *interior* knot of `knots`. The domain's
+/// ends are no breakpoints inside the join, so a master's ramp knots next to an end all count
+/// (their own spacing is the master's; [`new_knots`] drops what lies on an end within the knot
+/// tolerance); only a slave breakpoint that is nearly one of them stands for it.
 fn spread(knots: &[f64], xs: &[f64]) -> Vec<f64> {
+    let (Some(&first), Some(&last)) = (knots.first(), knots.last()) else {
+        return Vec::new();
+    };
     let mut kept: Vec<f64> = Vec::new();
     for &x in xs {
         let hi = knots.partition_point(|&k| k <= x);
@@ -147,8 +159,9 @@ fn spread(knots: &[f64], xs: &[f64]) -> Vec<f64> {
         }
         let (a, b) = (knots[hi - 1], knots[hi]);
         let near = TRANSFER_MERGE_SPAN * (b - a);
-        let prev = kept.last().copied().unwrap_or(f64::NEG_INFINITY);
-        if x - a > near && b - x > near && x - prev > near {
+        let clear_a = a == first || x - a > near;
+        let clear_b = b == last || b - x > near;
+        if clear_a && clear_b {
             kept.push(x);
         }
     }
@@ -424,5 +437,44 @@ mod tests {
             with_master_knots(&shifted, &links, [true; 2], 5, ProjectionParams::default()).unwrap();
         assert_eq!(report.knots_inserted, 0);
         assert_eq!(s.num_u(), 4);
+    }
+
+    #[test]
+    fn ramp_knots_next_to_the_join_s_ends_all_arrive() {
+        // a master with three ramp knots within 1.2 % of each end of the join (a fillet's
+        // one-hump section) and one in the middle; the slave is one quadratic span: every
+        // knot is a breakpoint it lacks, however close to an end of its domain
+        let ramp = [0.004, 0.008, 0.012, 0.5, 0.988, 0.992, 0.996];
+        let mut knots = vec![0.0; 4];
+        knots.extend(ramp);
+        knots.extend([1.0; 4]);
+        let master = strip(knots, 3);
+        let slave = quadratic_strip([0.0, 0.5, 1.0]);
+        let links = [SideLink {
+            side: Side::V0,
+            master: &master,
+            target: Continuity::G2,
+            range: None,
+            g2_zones: [0.0; 2],
+        }];
+        let (s, report) =
+            with_master_knots(&slave, &links, [true; 2], 1024, ProjectionParams::default())
+                .unwrap();
+        assert_eq!(report.knots_inserted, ramp.len());
+        let inner: Vec<f64> = s.knots_u().interior_knots().iter().map(|k| k.0).collect();
+        for (got, want) in inner.iter().zip(ramp) {
+            assert!((got - want).abs() < 1e-10, "{inner:?}");
+        }
+    }
+
+    #[test]
+    fn a_mapped_knot_next_to_an_interior_slave_knot_is_that_knot() {
+        // span (0.3, 1): a knot within a tenth of it from 0.3 is 0.3; the domain's ends are no
+        // such knot
+        let knots = [0.0, 0.0, 0.0, 0.3, 1.0, 1.0, 1.0];
+        assert_eq!(
+            spread(&knots, &[0.005, 0.01, 0.301, 0.6, 0.999]),
+            vec![0.005, 0.01, 0.6, 0.999]
+        );
     }
 }
