@@ -99,16 +99,13 @@ pub fn with_master_knots(
             Direction::U => single_piece[0],
             Direction::V => single_piece[1],
         };
-        if std::env::var("HF_DBG").is_ok() { eprintln!("transfer side {:?} piece {} collapsed {}", link.side, piece, is_collapsed(&s, link.side)); }
         if !piece || is_collapsed(&s, link.side) {
             continue;
         }
         let mut tracker = MasterTracker::new(link.master, projection);
         let Some(along) = master_along(&s, link, &mut tracker) else {
-            if std::env::var("HF_DBG").is_ok() { eprintln!("  no master along"); }
             continue;
         };
-        if std::env::var("HF_DBG").is_ok() { eprintln!("  master knots {:?}", along.knots); }
         let dir = link.side.along_direction();
         let degree = match dir {
             Direction::U => s.degree_u(),
@@ -132,7 +129,6 @@ pub fn with_master_knots(
             Direction::U => s.num_u(),
             Direction::V => s.num_v(),
         };
-        if std::env::var("HF_DBG").is_ok() { eprintln!("  slave knots {:?} new {:?} count {} max {}", kv.knots(), xs, count, max_control_points); }
         if xs.is_empty() || count + xs.len() > max_control_points {
             continue;
         }
