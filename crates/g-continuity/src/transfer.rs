@@ -22,11 +22,11 @@
 //! [`TRANSFER_SAMPLES`] samples locate the master knots along the side; each is then found to
 //! [`TRANSFER_PARAMETER_RELATIVE`] of the master domain by safeguarded secant steps. Master
 //! knots within [`TRANSFER_MERGE_RELATIVE`] of the join's ends are not carried over, and a mapped
-//! knot within [`TRANSFER_MERGE_SPAN`] of its span from an interior slave knot counts as that
-//! knot (the domain's ends are no breakpoint inside the join: a master's ramp knots next to
-//! them all arrive).
+//! knot within [`TRANSFER_MERGE_SPAN`] of its span from a slave knot counts as that knot —
+//! except next to an end of the side whose neighbour carries no frame (a pole, an unlinked
+//! side), where a master's ramp knots all arrive (`spread`).
 
-use nurbs_core::{BSplineSurface, Direction, ProjectionParams};
+use nurbs_core::{BSplineSurface, Continuity, Direction, ProjectionParams, Side};
 
 use crate::error::Result;
 use crate::lead_in::LEAD_IN_DEGREE;
@@ -124,7 +124,11 @@ pub fn with_master_knots(
             Direction::U => s.knots_u(),
             Direction::V => s.knots_v(),
         };
-        let xs = new_knots(&s, dir, &spread(kv.knots(), &xs));
+        let xs = new_knots(
+            &s,
+            dir,
+            &spread(kv.knots(), &xs, free_ends(&s, link, links)),
+        );
         let count = match dir {
             Direction::U => s.num_u(),
             Direction::V => s.num_v(),
@@ -138,30 +142,57 @@ pub fn with_master_knots(
     Ok((s, report))
 }
 
-/// The values of `xs` (ascending, distinct master knots mapped onto the side) that are farther
-/// than [`TRANSFER_MERGE_SPAN`] of their span from every *interior* knot of `knots`. The domain's
-/// ends are no breakpoints inside the join, so a master's ramp knots next to an end all count
-/// (their own spacing is the master's; [`new_knots`] drops what lies on an end within the knot
-/// tolerance); only a slave breakpoint that is nearly one of them stands for it.
-fn spread(knots: &[f64], xs: &[f64]) -> Vec<f64> {
+/// The values of `xs` (ascending, master knots mapped onto the side) that are farther than
+/// [`TRANSFER_MERGE_SPAN`] of their span from every knot of `knots` and from the value kept
+/// before them — except in the first or last span where that end of the side is `free` (its
+/// neighbouring side carries no frame: collapsed to a pole, or unlinked): there the domain's
+/// end is no breakpoint to merge with, and every value a tenth of the master's own spacing
+/// (the distance to the nearest other value of `xs`) away from the span's inner knot stays.
+/// Next to a linked neighbour they would crowd that side's first cross spans, where its G1 and
+/// G2 rows lie, into a few thousandths of the side; with them (and without the merge with the
+/// value kept before) a metre part lost six G2 links (docs/benchmarks.md), so there they merge
+/// as elsewhere.
+fn spread(knots: &[f64], xs: &[f64], free: [bool; 2]) -> Vec<f64> {
     let (Some(&first), Some(&last)) = (knots.first(), knots.last()) else {
         return Vec::new();
     };
     let mut kept: Vec<f64> = Vec::new();
-    for &x in xs {
+    for (i, &x) in xs.iter().enumerate() {
         let hi = knots.partition_point(|&k| k <= x);
         if hi == 0 || hi == knots.len() {
             continue;
         }
         let (a, b) = (knots[hi - 1], knots[hi]);
-        let near = TRANSFER_MERGE_SPAN * (b - a);
-        let clear_a = a == first || x - a > near;
-        let clear_b = b == last || b - x > near;
-        if clear_a && clear_b {
+        let at_free_start = a == first && free[0];
+        let at_free_end = b == last && free[1];
+        let keep = if at_free_start || at_free_end {
+            let before = i.checked_sub(1).map_or(f64::INFINITY, |j| x - xs[j]);
+            let after = xs.get(i + 1).map_or(f64::INFINITY, |&y| y - x);
+            let near = TRANSFER_MERGE_SPAN * (b - a).min(before).min(after);
+            (at_free_start || x - a > near) && (at_free_end || b - x > near)
+        } else {
+            let near = TRANSFER_MERGE_SPAN * (b - a);
+            let prev = kept.last().copied().unwrap_or(f64::NEG_INFINITY);
+            x - a > near && b - x > near && x - prev > near
+        };
+        if keep {
             kept.push(x);
         }
     }
     kept
+}
+
+/// Whether the start and the end of `link`'s side are free for [`spread`]: the neighbouring
+/// side there is collapsed in `s` or has no link of at least G1 in `links`.
+fn free_ends(s: &BSplineSurface, link: &SideLink, links: &[SideLink]) -> [bool; 2] {
+    let (start, end) = link.side.neighbours();
+    let free = |side: Side| {
+        is_collapsed(s, side)
+            || !links
+                .iter()
+                .any(|l| l.side == side && l.target >= Continuity::G1)
+    };
+    [free(start), free(end)]
 }
 
 /// The master's knots along one join.
@@ -320,7 +351,7 @@ fn slave_params(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use nurbs_core::{Continuity, KnotVector, Point3, Side};
+    use nurbs_core::{KnotVector, Point3};
 
     /// A flat strip (z = 0) of degree `degree_u` in u and 1 in v, x = u (control points at the
     /// Greville abscissae), y ∈ [y0, y0 + 1].
@@ -436,10 +467,10 @@ mod tests {
     }
 
     #[test]
-    fn ramp_knots_next_to_the_join_s_ends_all_arrive() {
+    fn ramp_knots_next_to_free_ends_all_arrive() {
         // a master with three ramp knots within 1.2 % of each end of the join (a fillet's
-        // one-hump section) and one in the middle; the slave is one quadratic span: every
-        // knot is a breakpoint it lacks, however close to an end of its domain
+        // one-hump section) and one in the middle; the slave is one quadratic span whose other
+        // sides carry no link: every knot is a breakpoint it lacks, however close to an end
         let ramp = [0.004, 0.008, 0.012, 0.5, 0.988, 0.992, 0.996];
         let mut knots = vec![0.0; 4];
         knots.extend(ramp);
@@ -464,13 +495,41 @@ mod tests {
     }
 
     #[test]
-    fn a_mapped_knot_next_to_an_interior_slave_knot_is_that_knot() {
-        // span (0.3, 1): a knot within a tenth of it from 0.3 is 0.3; the domain's ends are no
-        // such knot
+    fn ramp_knots_merge_next_to_a_linked_neighbour_and_arrive_next_to_a_free_one() {
+        // span (0.3, 1): an isolated knot within a tenth of it from 0.3 is 0.3; next to the end
+        // 0, a ramp 0.005 apart merges with the end and with each other where that end's
+        // neighbour is linked, and arrives whole where it is free
         let knots = [0.0, 0.0, 0.0, 0.3, 1.0, 1.0, 1.0];
+        let xs = [0.005, 0.01, 0.015, 0.301, 0.6];
+        assert_eq!(spread(&knots, &xs, [false; 2]), vec![0.6]);
         assert_eq!(
-            spread(&knots, &[0.005, 0.01, 0.301, 0.6, 0.999]),
-            vec![0.005, 0.01, 0.6, 0.999]
+            spread(&knots, &xs, [true, false]),
+            vec![0.005, 0.01, 0.015, 0.6]
         );
+        // the last span, free at the end
+        assert_eq!(
+            spread(&knots, &[0.7, 0.99, 0.995], [false, true]),
+            vec![0.7, 0.99, 0.995]
+        );
+    }
+
+    #[test]
+    fn a_free_end_is_a_collapsed_or_unlinked_neighbour() {
+        let master = strip(vec![0.0, 0.0, 1.0, 1.0], 1);
+        let slave = quadratic_strip([0.0, 0.5, 1.0]);
+        let link = |side, target| SideLink {
+            side,
+            master: &master,
+            target,
+            range: None,
+            g2_zones: [0.0; 2],
+        };
+        let links = [
+            link(Side::V0, Continuity::G2),
+            link(Side::U0, Continuity::G2),
+            link(Side::U1, Continuity::G0),
+        ];
+        // V0 runs along u: its start meets U0 (linked G2), its end U1 (only G0: no frame)
+        assert_eq!(free_ends(&slave, &links[0], &links), [false, true]);
     }
 }
