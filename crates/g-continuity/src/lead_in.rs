@@ -22,8 +22,9 @@
 use nurbs_core::{BSplineSurface, Continuity, Direction, Side};
 
 use crate::error::Result;
+use crate::knots::new_knots;
+use crate::link::SideLink;
 use crate::measure::is_collapsed;
-use crate::slave::{SideLink, new_knots};
 
 /// Least degree across a G2 side. Quintic: inside a span the curvature of a degree-p curve is
 /// a rational function whose numerator has degree 2p − 3 at most, and at a simple knot the
@@ -107,7 +108,7 @@ pub fn with_lead_in(
             Direction::U => s.knots_u(),
             Direction::V => s.knots_v(),
         };
-        let close = crate::slave::KNOT_MERGE_RELATIVE * (b - a);
+        let close = nurbs_core::knots::KNOT_MERGE_RELATIVE * (b - a);
         xs.retain(|&x| kv.knots().iter().all(|&k| (k - x).abs() > close));
         let xs = new_knots(&s, dir, &xs);
         if !xs.is_empty() {

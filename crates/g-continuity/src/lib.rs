@@ -78,8 +78,10 @@
 
 pub mod error;
 pub mod joint;
+mod knots;
 mod ladder;
 pub mod lead_in;
+mod link;
 pub mod lsq;
 pub mod measure;
 mod memo;
@@ -93,13 +95,14 @@ pub mod transfer;
 
 pub use error::{Error, Result};
 pub use joint::{JointReport, polish_joint};
+pub use knots::{new_breakpoints, new_knots};
 pub use lead_in::{LEAD_IN_DEGREE, LeadInReport, MAX_LEAD_IN, with_lead_in};
+pub use link::SideLink;
 pub use measure::{LinkMeasure, MeasureParams, SampleMeasure, measure_link};
 pub use params::{ConnectParams, G2Method, SetParams, Tolerances};
 pub use section::{MAX_RAMP, one_hump_section, one_hump_section_by_sections};
 pub use slave::{
-    C0_FOR_G1_SHARE, ConnectReport, SideLink, SideReport, StepReport, connect_slave,
-    degenerate_corner_blocks, new_breakpoints, new_knots, prepare_slave, set_g0, set_g1, set_g2,
-    set_rows, set_step,
+    C0_FOR_G1_SHARE, ConnectReport, SideReport, StepReport, connect_slave,
+    degenerate_corner_blocks, prepare_slave, set_g0, set_g1, set_g2, set_rows, set_step,
 };
 pub use transfer::{TransferReport, with_master_knots};

@@ -32,30 +32,28 @@
 //!   with this master's (two fillets of different radii at a corner blend) so that no surface
 //!   can be G2 to both there; a checker reports an edge's end points apart from its interior.
 //!
-//! Why both: the parametric figure ([`LinkMeasure::g2_rel`], d = S_u or S_v, every sample) is
-//! the one the framework's row systems set (the G2 row of a sample prescribes the slave's
-//! curvature row along its cross derivative) and the one every decision is taken on
-//! ([`LinkMeasure::meets`], [`LinkMeasure::excess`]: refinement, the joint polish, which links
-//! are met). Along a G1 join the two directions agree wherever S_u is perpendicular to the
-//! boundary, and an exactly G2 join reads ≈ 0 both ways (linkage curve theorem); they differ
-//! where the parametrization is skewed — next to a corner whose sides meet at a small angle,
-//! S_u runs almost along the boundary, and the curvature along it is nearly the boundary's
-//! own, which both surfaces share by G1 whatever their curvature across (a jump across shows in
-//! κ(S_u) only by sin² of the angle between S_u and T) — and where the master is nearly
-//! straight across the boundary, so that a small absolute difference is a large relative one.
-//! Measured on the kernel's lofted block (fixtures/occt/occt_loft_block.json, faired by
-//! default, K = 101, g2 tolerance 0.005): all 25 G2 links meet the parametric figure, while 13
-//! read above 0.005 across, every one of them a side of the four corner patches (C11, C12,
-//! C16, C17), whose cross derivatives run 3–20° off the perpendicular to the side and whose
-//! masters are nearly straight across (curvature radii of thousands of units on patches of
-//! size 6–7.5, the flatness cut-off a radius of 1000 sizes): C11.v0 → F14 reads 0.0012
-//! parametric and 1.50 across (κ across −1.5e-4 against 3.1e-4, of opposite sign, while along
-//! S_u both read −2.31e-3, the shared along-boundary part), C12.v1 → F15 0.0039 against 1.44,
-//! C16.v0 → F18 0.0050 against 1.03, and C11.u0 → P13 (a plane) 0 against 1 (the slave's
-//! curvature along S_u 2e-7, below the cut-off, across 3.5e-4, above it). The vertex figures
-//! of the same corners reach 0.86 (C11.v0) and 1.8 (C12.u1 → F04). The variable-radius box
-//! shows three such links (one corner patch), the three-radii corner one; the other kernel
-//! models none.
+//! Why both: the parametric figure ([`LinkMeasure::g2_rel`], d = S_u or S_v, every sample) is the
+//! one the framework's row systems set (the G2 row of a sample prescribes the slave's curvature row
+//! along its cross derivative) and the one every decision is taken on ([`LinkMeasure::meets`],
+//! [`LinkMeasure::excess`]: refinement, the joint polish, which links are met). Along a G1 join the
+//! two directions agree wherever S_u is perpendicular to the boundary, and an exactly G2 join reads
+//! ≈ 0 both ways (linkage curve theorem); they differ where the parametrization is skewed — next to
+//! a corner whose sides meet at a small angle, S_u runs almost along the boundary, and the
+//! curvature along it is nearly the boundary's own, which both surfaces share by G1 whatever their
+//! curvature across (a jump across shows in κ(S_u) only by sin² of the angle between S_u and T) —
+//! and where the master is nearly straight across the boundary, so that a small absolute difference
+//! is a large relative one. Measured on a kernel's lofted block (faired by default, K = 101, g2
+//! tolerance 0.005): all 25 G2 links meet the parametric figure, while 13 read above 0.005 across,
+//! every one of them a side of the four corner patches (C11, C12, C16, C17), whose cross
+//! derivatives run 3–20° off the perpendicular to the side and whose masters are nearly straight
+//! across (curvature radii of thousands of units on patches of size 6–7.5, the flatness cut-off a
+//! radius of 1000 sizes): C11.v0 → F14 reads 0.0012 parametric and 1.50 across (κ across −1.5e-4
+//! against 3.1e-4, of opposite sign, while along S_u both read −2.31e-3, the shared along-boundary
+//! part), C12.v1 → F15 0.0039 against 1.44, C16.v0 → F18 0.0050 against 1.03, and C11.u0 → P13 (a
+//! plane) 0 against 1 (the slave's curvature along S_u 2e-7, below the cut-off, across 3.5e-4,
+//! above it). The vertex figures of the same corners reach 0.86 (C11.v0) and 1.8 (C12.u1 → F04).
+//! The variable-radius box shows three such links (one corner patch), the three-radii corner one;
+//! the other kernel models none.
 //!
 //! Samples where a normal is undefined (poles, degenerate points) are counted, not measured; a
 //! side whose boundary is a single point is reported as collapsed with no G1/G2 value.
@@ -323,7 +321,7 @@ pub fn measure_link_zoned(
     } else {
         relative_orientation(&pairs)
     };
-    let zoned = |t: f64| crate::slave::in_zones(t, domain, zones);
+    let zoned = |t: f64| crate::sampling::in_zones(t, domain, zones);
     measure_normals(&mut m, &pairs, orientation, flat, &zoned);
     m.vertex_zones = zone_lengths(slave, side, domain, zones, &ts);
     Ok(m)

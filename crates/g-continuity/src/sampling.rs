@@ -370,6 +370,12 @@ impl<'m> MasterTracker<'m> {
     }
 }
 
+/// Whether `t` lies within `zones[0]` of `a` or `zones[1]` of `b` (strictly inside a zone of
+/// positive length; a zone of length 0 holds no parameter).
+pub fn in_zones(t: f64, (a, b): (f64, f64), zones: [f64; 2]) -> bool {
+    (zones[0] > 0.0 && t < a + zones[0]) || (zones[1] > 0.0 && t > b - zones[1])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

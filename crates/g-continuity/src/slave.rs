@@ -30,8 +30,9 @@
 //! of the refinement rounds) and `connect` ([`connect_slave`]).
 //!
 //! # Tolerance
-//! [`C0_CONVERGED`]: the C0 passes stop when no row point moves by more than this times the
-//! slave size; [`C0_EXACT`]: a row already this close to its master is not refitted.
+//! [`C0_CONVERGED`]: the C0 passes stop when no row point moves by more than this times the slave
+//! size; [`C0_EXACT`](crate::rows::C0_EXACT): a row already this close to its master is not
+//! refitted.
 //!
 //! [`SetParams::move_unlinked_boundaries`]: crate::SetParams::move_unlinked_boundaries
 //! [`ConnectParams::max_refinements`]: crate::ConnectParams::max_refinements
@@ -39,6 +40,7 @@
 use nurbs_core::{BSplineSurface, Continuity, Side};
 
 use crate::error::{Error, Result};
+pub(crate) use crate::link::SideLink;
 use crate::measure::{LinkMeasure, MeasureParams};
 /// The default net bound lives with [`ConnectParams`](crate::ConnectParams) (params.rs),
 /// re-exported here.
@@ -57,18 +59,12 @@ pub use connect::connect_slave;
 pub use prepare::{ZONE_KNOTS, prepare_slave};
 pub use refine::{
     KNOT_MERGE_RELATIVE, REFINE_KNOTS_FACTOR, REFINE_MIN_GAIN, REFINE_MIN_KNOTS, REFINE_PATIENCE,
-    new_breakpoints, new_knots,
 };
 pub use set::{C0_FOR_G1_SHARE, StepReport, set_g0, set_g1, set_g2, set_rows, set_step};
 pub use status::degenerate_corner_blocks;
 
 /// C0 passes stop when the largest row movement is below this fraction of the slave size.
 pub const C0_CONVERGED: f64 = 1e-12;
-
-/// A row whose samples all lie within this fraction of the slave size from the master is left
-/// alone in the C0 step (bit-identical): gaps of this size are rounding from knot insertion or
-/// extraction (~1e4 units of 1e-16), not geometry.
-pub const C0_EXACT: f64 = 1e-11;
 
 /// The end point of a row k ≥ 1 on an unlinked neighbouring side stays fixed (the free boundary
 /// bit-identical) when the correction its corner sample alone asks for is below this fraction of
@@ -86,63 +82,6 @@ pub const END_CONTINUOUS: f64 = 1e-9;
 /// 3e-2; 1 % lies in that gap (6.7 times the largest tail, a third of the smallest span),
 /// chosen from the gap, not fitted to a result.
 pub const PART_SHARE: f64 = 1e-2;
-
-/// One linked side of a slave: which side, onto which master, with what target.
-#[derive(Debug, Clone, Copy)]
-pub struct SideLink<'a> {
-    /// the slave's side
-    pub side: Side,
-    /// the master surface (never modified)
-    pub master: &'a BSplineSurface,
-    /// the continuity to reach
-    pub target: Continuity,
-    /// the part of the side the link holds on, as an interval of the along-side parameter
-    /// (`None`: the whole side). A trimmed face's side lies on the surface it meets only up to
-    /// the trim; the row equations, measures and refinement then use samples of that part only,
-    /// and the control points whose along-side support misses it do not move.
-    pub range: Option<(f64, f64)>,
-    /// Vertex zones: the lengths, in the along-side parameter, of the stretches at the start
-    /// and at the end of the link's part within which its G2 is relaxed (`[0.0; 2]`: none). At
-    /// a corner where the neighbouring side's master disagrees in curvature with this one, no
-    /// surface is G2 to both at that point (\[SV\] §3.3); the G2 rows of the samples inside a
-    /// zone are not set and the G2 figures the decisions take leave them out — they are
-    /// reported apart as the vertex figures ([`LinkMeasure::vertex_g2_rel`]). G0 and G1 hold
-    /// everywhere.
-    pub g2_zones: [f64; 2],
-}
-
-impl SideLink<'_> {
-    /// The along-side parameter interval the link holds on: its [`SideLink::range`] clipped to
-    /// the side's domain, or the whole domain.
-    pub fn domain(&self, slave: &BSplineSurface) -> (f64, f64) {
-        crate::sampling::side_part(slave, self.side, self.range)
-    }
-
-    /// Measures the link on `slave` (over its range).
-    pub fn measure(&self, slave: &BSplineSurface, params: &MeasureParams) -> Result<LinkMeasure> {
-        crate::measure::measure_link_zoned(
-            self.master,
-            slave,
-            self.side,
-            self.range,
-            self.g2_zones,
-            params,
-        )
-    }
-
-    /// Whether the along-side parameter `t` lies in one of the link's vertex zones
-    /// ([`SideLink::g2_zones`]) on `slave`.
-    pub fn in_zone(&self, slave: &BSplineSurface, t: f64) -> bool {
-        let (a, b) = self.domain(slave);
-        in_zones(t, (a, b), self.g2_zones)
-    }
-}
-
-/// Whether `t` lies within `zones[0]` of `a` or `zones[1]` of `b` (strictly inside a zone of
-/// positive length; a zone of length 0 holds no parameter).
-pub fn in_zones(t: f64, (a, b): (f64, f64), zones: [f64; 2]) -> bool {
-    (zones[0] > 0.0 && t < a + zones[0]) || (zones[1] > 0.0 && t > b - zones[1])
-}
 
 /// Before/after of one linked side.
 #[derive(Debug, Clone, PartialEq)]

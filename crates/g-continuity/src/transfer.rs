@@ -29,10 +29,11 @@
 use nurbs_core::{BSplineSurface, Continuity, Direction, ProjectionParams, Side};
 
 use crate::error::Result;
+use crate::knots::new_knots;
 use crate::lead_in::LEAD_IN_DEGREE;
+use crate::link::SideLink;
 use crate::measure::is_collapsed;
 use crate::sampling::MasterTracker;
-use crate::slave::{SideLink, new_knots};
 
 /// Samples along a side used to bracket the master knots (a bracket per 1/64 of the side: the
 /// foot parameter is monotone along a join, so any bracket count works; more only saves secant

@@ -5,7 +5,7 @@
 
 use hier_fair::{Model, ModelSurface, Role};
 
-use crate::pipeline::ModelOptions;
+use crate::options::ModelOptions;
 
 /// The warnings (without `warning: `) for the options of `options` that apply to nothing in
 /// `model`, read from `source` (the input's name); empty where every given option applies.

@@ -441,7 +441,7 @@ fn fair_command(args: FairArgs) -> Result<()> {
     };
     if iges || crate::pipeline::is_model(&text) {
         crate::kind::expect_model_run(&input, &output, iges, keep.is_some())?;
-        let options = crate::pipeline::ModelOptions {
+        let options = crate::options::ModelOptions {
             method,
             tolerance,
             role_tolerance,

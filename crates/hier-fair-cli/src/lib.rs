@@ -32,6 +32,7 @@ pub mod files;
 pub mod kind;
 pub mod label;
 pub mod mesh;
+pub mod options;
 pub mod pipeline;
 pub mod summary;
 pub mod values;

@@ -8,40 +8,14 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use hier_fair::render::{self, Shading, View};
 use hier_fair::{FairModelReport, FairParams, LinkFair, Model, Progress, RoleMethods};
-use nurbs_core::{BSplineSurface, Continuity};
+use nurbs_core::BSplineSurface;
 
 use crate::files;
+use crate::options::ModelOptions;
 
 /// The model bundled in the binary for `hier-fair demo`: the X-node of `fixtures/models/`
 /// (a corner patch linked G2 to four fillets, made G1-only, \[SV\] Fig. 6).
 pub const DEMO_MODEL: &str = include_str!("../../../fixtures/models/x_node.json");
-
-/// Options of a model run.
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct ModelOptions {
-    /// one method for every role, by its name in the program's registry ([`crate::methods`];
-    /// `None`: the framework's default per role)
-    pub method: Option<&'static str>,
-    /// deviation tolerance in millimetres, whatever the model's unit (`None`: the model's)
-    pub tolerance: Option<f64>,
-    /// deviation tolerance per role (primary, connecting, corner) in millimetres, over the
-    /// model's
-    pub role_tolerance: [Option<f64>; 3],
-    /// iteration limit of the methods
-    pub iterations: Option<usize>,
-    /// highest continuity set
-    pub target: Option<Continuity>,
-    /// no progress bar
-    pub quiet: bool,
-    /// no verification run for unmet links ([`FairParams::verify_unmet`])
-    pub no_verify: bool,
-    /// keep every method's result where it meets the links, even where the continuity setting
-    /// alone is fairer ([`FairParams::prefer_fairer`] false)
-    pub keep_faired: bool,
-    /// split every corner patch with a pole into three quads first
-    /// ([`hier_fair::poles::split_pole_corners`])
-    pub split_poles: bool,
-}
 
 /// Whether JSON text is a model (surfaces with names and roles) rather than a bare surface file.
 pub fn is_model(text: &str) -> bool {

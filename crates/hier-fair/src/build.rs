@@ -2,12 +2,11 @@
 //! their targets from the angle there, and the roles from the topology (\[SV\] §1.1: primaries,
 //! connecting surfaces between them, corner patches between connecting surfaces).
 //!
-//! - **A side lies on a surface** when every one of [`SIDE_SAMPLES`] points along the side
-//!   projects onto that surface
-//!   within the model's G0 tolerance, the gap a link may have and still be met. The surface may
-//!   be trimmed: the projection goes onto the whole surface, so a fillet's contact line in the
-//!   middle of a trimmed face is found as well as one on its boundary. Of several such surfaces
-//!   the nearest is taken.
+//! - **A side lies on a surface** when every one of [`crate::topology::SIDE_SAMPLES`] points along
+//!   the side projects onto that surface within the model's G0 tolerance, the gap a link may have
+//!   and still be met. The surface may be trimmed: the projection goes onto the whole surface, so a
+//!   fillet's contact line in the middle of a trimmed face is found as well as one on its boundary.
+//!   Of several such surfaces the nearest is taken.
 //! - **The target** is G2 where the two normals along the side stay within
 //!   [`TANGENT_ANGLE_DEG`] (a tangent join, which the fairing raises to G2), else G0 (a sharp
 //!   edge, kept closed).
@@ -38,12 +37,7 @@
 use nurbs_core::{BSplineSurface, Continuity, ProjectionParams, Side, SurfaceProjector};
 
 use crate::model::{Link, Model, Role};
-
-/// Points sampled along each side, both ends included (an end touches every surface of its
-/// vertex, which does not make the side lie on them: the largest gap decides). 17 points put
-/// one in every sixteenth of the side: a trimmed-off end (a fillet running past its face) is
-/// seen.
-pub const SIDE_SAMPLES: usize = 17;
+use crate::topology::{SIDE_SAMPLES, net_box, other_part};
 
 /// Largest normal angle (degrees) of a tangent join. A kernel's tangent joins are within a few
 /// hundredths of a degree where exact and about a degree where approximated (a lofted face's
@@ -114,7 +108,7 @@ fn contact<'m>(
         if k == own || other_part(model, own, k) {
             continue;
         }
-        let (lo, hi) = crate::patches::net_box(&other.surface, tol);
+        let (lo, hi) = net_box(&other.surface, tol);
         let inside = samples
             .iter()
             .all(|d| (0..3).all(|c| d.point[c] >= lo[c] && d.point[c] <= hi[c]));
@@ -150,15 +144,6 @@ fn contact<'m>(
         }
     }
     (best, nearest)
-}
-
-/// Whether surfaces `a` and `b` belong to different parts of an assembly: two parts that
-/// merely touch are not one surface model, and no link joins them.
-pub(crate) fn other_part(model: &Model, a: usize, b: usize) -> bool {
-    match (&model.surfaces[a].part, &model.surfaces[b].part) {
-        (Some(x), Some(y)) => x != y,
-        _ => false,
-    }
 }
 
 /// Whether `s` bridges the surfaces its opposite sides `a`, `b` lie on: narrow across

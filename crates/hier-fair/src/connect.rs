@@ -111,9 +111,6 @@ pub struct ModelConnectReport {
     pub links: Vec<LinkConnect>,
 }
 
-/// Grid size of the sampled deviation (the same as the fairing reports).
-pub const DEVIATION_GRID: usize = nurbs_core::fairing::REPORT_DEVIATION_SAMPLES;
-
 /// Sets continuity on every slave of `model` in hierarchy order; returns the new model and the
 /// report. Links that do not touch their masters are errors (see [`check_model`]).
 pub fn connect(model: &Model, options: &ConnectOptions) -> Result<(Model, ModelConnectReport)> {
@@ -209,7 +206,11 @@ fn connect_surface(
         role: model.surfaces[k].role,
         energy_before: nurbs_core::energy::thin_plate_energy(original),
         energy_after: nurbs_core::energy::thin_plate_energy(&result),
-        max_deviation: nurbs_core::energy::max_deviation(original, &result, DEVIATION_GRID),
+        max_deviation: nurbs_core::energy::max_deviation(
+            original,
+            &result,
+            crate::framework::DEVIATION_GRID,
+        ),
         max_control_movement: report.max_control_movement,
         knots_inserted: report.knots_inserted,
         refinements: report.refinements,

@@ -40,17 +40,17 @@
 //! # Tolerance
 //! - A sample of the side lies on the other surface when it projects within the model's G0
 //!   tolerance (the gap at which a link counts as met) and the normals there are within
-//!   [`crate::patches::TANGENT_EDGE_DEG`] (a sharp edge keeps its boundary row, which fairing
+//!   [`TANGENT_EDGE_DEG`] (a sharp edge keeps its boundary row, which fairing
 //!   never moves on an unlinked side, so its gap cannot open and only tangent edges need more).
-//! - The side lies on it when [`MIN_RUN`] consecutive of its [`crate::build::SIDE_SAMPLES`]
+//! - The side lies on it when [`MIN_RUN`] consecutive of its [`SIDE_SAMPLES`]
 //!   samples do.
 
 use nurbs_core::{BSplineSurface, ProjectionParams, Side, SurfaceDerivatives, SurfaceProjector};
 
 use crate::model::Model;
-use crate::patches::TANGENT_EDGE_DEG;
+use crate::topology::{JOIN_SAMPLES, SIDE_SAMPLES, TANGENT_EDGE_DEG, net_box, other_part};
 
-/// Consecutive samples (of [`crate::build::SIDE_SAMPLES`], an eighth of the side apart for
+/// Consecutive samples (of [`SIDE_SAMPLES`], an eighth of the side apart for
 /// three) that must lie on the other surface: one is a shared vertex, two can be a tangent
 /// neighbour that leaves the side within the tolerance just past that vertex (the gap grows with
 /// the square of the distance from it), three mean the side runs along the other surface over an
@@ -145,7 +145,7 @@ pub fn shared_edges(model: &Model) -> Vec<SharedEdge> {
     let boxes: Vec<_> = model
         .surfaces
         .iter()
-        .map(|s| crate::patches::net_box(&s.surface, tol))
+        .map(|s| net_box(&s.surface, tol))
         .collect();
     let mut projectors: Vec<Option<SurfaceProjector>> = (0..n).map(|_| None).collect();
     let mut out = Vec::new();
@@ -159,7 +159,7 @@ pub fn shared_edges(model: &Model) -> Vec<SharedEdge> {
                 // shell (no link joins them either, [`crate::build`])
                 if m == k
                     || model.links.iter().any(|l| l.slave == m && l.master == k)
-                    || crate::build::other_part(model, k, m)
+                    || other_part(model, k, m)
                 {
                     continue;
                 }
@@ -188,7 +188,7 @@ struct SideSamples {
 }
 
 impl SideSamples {
-    /// The [`crate::build::SIDE_SAMPLES`] samples of `side` of surface `k` of `model`; `None`
+    /// The [`SIDE_SAMPLES`] samples of `side` of surface `k` of `model`; `None`
     /// when the side is collapsed, linked, or cannot be sampled.
     fn unlinked(model: &Model, k: usize, side: Side) -> Option<Self> {
         let s = &model.surfaces[k].surface;
@@ -197,8 +197,7 @@ impl SideSamples {
         {
             return None;
         }
-        let ts = g_continuity::sampling::uniform_side_params(s, side, crate::build::SIDE_SAMPLES)
-            .ok()?;
+        let ts = g_continuity::sampling::uniform_side_params(s, side, SIDE_SAMPLES).ok()?;
         let samples = ts
             .iter()
             .map(|&t| {
@@ -324,7 +323,7 @@ pub fn measure_edge(
 }
 
 /// Control points of `me` (surface `k` as its stages have it) that carry the shared edges lying on
-/// it: at every one of [`crate::framework::JOIN_SAMPLES`] + 1 points along each edge's run, the
+/// it: at every one of [`JOIN_SAMPLES`] + 1 points along each edge's run, the
 /// rows 0 and 1 of the boundary the foot point lies on within the basis support there, or the
 /// full (p + 1) × (q + 1) support where it lies inside `me`. Kept, they leave `me`'s position and
 /// tangent plane along the edge exactly as they were.
@@ -346,7 +345,7 @@ pub fn carrying_points(
         let projector =
             projector.get_or_insert_with(|| SurfaceProjector::new(me, ProjectionParams::default()));
         let (a, b) = (e.ts[0], e.ts[e.ts.len() - 1]);
-        let steps = crate::framework::JOIN_SAMPLES;
+        let steps = JOIN_SAMPLES;
         for i in 0..=steps {
             let t = a + (b - a) * i as f64 / steps as f64;
             let (u, v) = e.side.params(s, t);
@@ -431,7 +430,7 @@ fn edge_range(model: &Model, e: &SharedEdge) -> (f64, f64) {
     let other = &model.surfaces[e.other].surface;
     let tol = model.tolerances.g0;
     let (a, b) = e.side.along_domain(s);
-    let step = (b - a) / (crate::build::SIDE_SAMPLES - 1) as f64;
+    let step = (b - a) / (SIDE_SAMPLES - 1) as f64;
     let mut ends = [e.ts[0], e.ts[e.ts.len() - 1]];
     for (end, dir) in ends.iter_mut().zip([-1.0, 1.0]) {
         let (mut on, mut off) = (*end, (*end + dir * step).clamp(a, b));
@@ -464,7 +463,7 @@ pub fn link_edges(model: &Model, edges: &[SharedEdge]) -> (Model, Vec<FoundLink>
     let mut ranges = vec![None; model.links.len()];
     let mut found = Vec::new();
     for e in edges {
-        let whole = e.ts.len() >= crate::build::SIDE_SAMPLES;
+        let whole = e.ts.len() >= SIDE_SAMPLES;
         let (me, other) = (&model.surfaces[e.surface], &model.surfaces[e.other]);
         if me.role == crate::model::Role::Primary || other.role.rank() >= me.role.rank() {
             continue;
@@ -482,7 +481,7 @@ pub fn link_edges(model: &Model, edges: &[SharedEdge]) -> (Model, Vec<FoundLink>
             master: e.other,
             continuity: nurbs_core::Continuity::G2,
         });
-        if crate::framework::waves(&work).is_err() {
+        if work.hierarchy_order().is_err() {
             work.links.pop();
             continue;
         }

@@ -190,7 +190,7 @@ impl FairnessVerdict {
     /// framework passes the model's relative G2 tolerance: curvatures that close are "the same
     /// curvature" at a join, and so are two peaks). A spike is the worse fault: a surface that peaks at 9× its input's with
     /// two fewer wiggles in its comb is not the fairer one (a sphere corner's setting against
-    /// its faired result, box12_r5 by default).
+    /// its faired result, by default).
     pub fn fairer_than(&self, other: &Self, same: f64) -> bool {
         let (a, b) = (self.faults().len(), other.faults().len());
         if a != b {

@@ -98,6 +98,7 @@ pub mod report;
 pub mod synthetic;
 #[cfg(feature = "render")]
 pub mod text;
+pub mod topology;
 pub mod trim;
 pub mod zones;
 

@@ -14,19 +14,12 @@ use g_continuity::measure::is_collapsed;
 use g_continuity::{MeasureParams, measure_link};
 use nurbs_core::{BSplineSurface, ControlMask, Direction, Frame, PerSide, Side};
 
-use crate::framework::lies_on_side;
-
-/// Largest normal angle (degrees) along a shared edge at which the two patches count as meeting
-/// tangentially, so that their tangency is kept. A designed tangent join is within a few
-/// thousandths of a degree (the teapot's 1.7e-6°, a CAD export's 1e-4°); a crease between
-/// patches is meant as one and is tens of degrees; 1° is the angle below which CAD systems'
-/// checkers call an edge smooth.
-pub const TANGENT_EDGE_DEG: f64 = 1.0;
+use crate::topology::{TANGENT_EDGE_DEG, lies_on_side, net_box};
 
 /// Distance within which a side lies on another patch's side, relative to the size of the
 /// file's bounding box: patches that share an edge share it to round-off of their export
-/// (1e-12 of the size in the teapot, 1e-9 in an IGES file), and 1e-6 of the part is below any
-/// modelling gap a user means.
+/// (1e-12 of the size in a Bézier teapot, 1e-9 in an IGES file), and 1e-6 of the part is below
+/// any modelling gap a user means.
 pub const SHARED_EDGE_RELATIVE: f64 = 1e-6;
 
 /// A side of one patch that lies on a side of another.
@@ -91,19 +84,6 @@ pub fn shared_sides(surfaces: &[BSplineSurface]) -> Vec<PerSide<Option<SharedSid
         }
     }
     out
-}
-
-/// The box of `s`'s control points, grown by `grow` on every side.
-pub(crate) fn net_box(s: &BSplineSurface, grow: f64) -> ([f64; 3], [f64; 3]) {
-    let mut lo = [f64::INFINITY; 3];
-    let mut hi = [f64::NEG_INFINITY; 3];
-    for p in s.control_points() {
-        for d in 0..3 {
-            lo[d] = lo[d].min(p[d] - grow);
-            hi[d] = hi[d].max(p[d] + grow);
-        }
-    }
-    (lo, hi)
 }
 
 /// The frame each side keeps: at least `keep`; a tangent shared edge or a pole its tangential

@@ -32,16 +32,16 @@ fn reverse_kv(kv: &KnotVector) -> Result<KnotVector> {
     KnotVector::new(kv.degree(), k)
 }
 
-/// Least degree of a direction into which knots are inserted before its control points move.
-/// A simple knot joins the spans of degree p with C^{p−1} continuity, and that is all that is
-/// left once the points on either side move independently (fairing, continuity rows): on a
-/// degree-1 direction — a plane, a cylinder's axis as kernels export them — every inserted knot
-/// becomes a crease (corner3's trimmed fillet came out of `fair` with 19° ones), on degree 2 a
-/// jump of curvature (tried: box12_variable's trimmed fillet, its rows moved over part of a
+/// Least degree of a direction into which knots are inserted before its control points move. A
+/// simple knot joins the spans of degree p with C^{p−1} continuity, and that is all that is left
+/// once the points on either side move independently (fairing, continuity rows): on a degree-1
+/// direction — a plane, a cylinder's axis as kernels export them — every inserted knot becomes a
+/// crease (a three-radii corner's trimmed fillet came out of `fair` with 19° ones), on degree 2 a
+/// jump of curvature (tried: a variable-radius box's trimmed fillet, its rows moved over part of a
 /// side, went from a thin-plate energy of 2.4e3 to 9.2e4 at 0.02 mm of deviation — a curvature
-/// spike at the end of the moved part). The hierarchy's highest target is G2, curvature
-/// continuity, so a direction that gains knots is raised to p = 3 first: every new join is C²,
-/// exactly (degree elevation does not change the surface).
+/// spike at the end of the moved part). The hierarchy's highest target is G2, curvature continuity,
+/// so a direction that gains knots is raised to p = 3 first: every new join is C², exactly (degree
+/// elevation does not change the surface).
 pub const SMOOTH_JOIN_DEGREE: usize = 3;
 
 impl BSplineCurve {

@@ -38,13 +38,13 @@ pub struct ProjectionParams {
     pub max_samples_per_direction: usize,
 }
 
-/// Default cap on the start samples per direction: 256, four per span up to 64 spans. The
-/// nearest start must lie in the basin of the true foot, so the samples must be closer together
-/// than the surface comes back near itself: a swept spring of seven turns over 96 spans
-/// (Inventor's, fixtures/foreign/bug22869_Spring.igs) with 64 uniform samples had them 12 mm
-/// apart along a wire whose turns are 10.5 mm apart, and its trim points projected onto the
-/// neighbouring turn, 3–6 mm off; with 256 every one lies on it. A global projection scans
-/// the grid once (a surface of 256 × 37 starts: about 10⁴ distances), a warm start none.
+/// Default cap on the start samples per direction: 256, four per span up to 64 spans. The nearest
+/// start must lie in the basin of the true foot, so the samples must be closer together than the
+/// surface comes back near itself: a swept spring of seven turns over 96 spans (an Inventor export)
+/// with 64 uniform samples had them 12 mm apart along a wire whose turns are 10.5 mm apart, and its
+/// trim points projected onto the neighbouring turn, 3–6 mm off; with 256 every one lies on it. A
+/// global projection scans the grid once (a surface of 256 × 37 starts: about 10⁴ distances), a
+/// warm start none.
 pub const MAX_START_SAMPLES: usize = 256;
 
 impl Default for ProjectionParams {

@@ -18,7 +18,7 @@
 
 use nurbs_core::{BSplineSurface, Point3, ProjectionParams, SurfaceProjector};
 
-pub use crate::edge_fit::{fitted_edge, polyline};
+pub use crate::edge_fit::{distance_to_polyline, fitted_edge, polyline};
 
 /// Turning angle (radians) at a loop point above which the loop is split into two edges there:
 /// 30°. A kernel's edges meet at corners of 90° or so, and a loop thinned to the G0 tolerance
@@ -485,34 +485,6 @@ fn halve(
         }
         None => out.push(b.0),
     }
-}
-
-/// Distance from `x` to the polyline through `pts`.
-pub fn distance_to_polyline(x: &Point3, pts: &[Point3]) -> f64 {
-    if pts.len() == 1 {
-        return (x - pts[0]).norm();
-    }
-    foot_on_polyline(x, pts).1
-}
-
-/// The foot of `x` on the polyline `pts` (two points at least): (segment, fraction along it)
-/// and the distance.
-pub(crate) fn foot_on_polyline(x: &Point3, pts: &[Point3]) -> ((usize, f64), f64) {
-    let mut best = ((0, 0.0), f64::INFINITY);
-    for (i, w) in pts.windows(2).enumerate() {
-        let d = w[1] - w[0];
-        let len2 = d.norm_squared();
-        let t = if len2 > 0.0 {
-            ((x - w[0]).dot(&d) / len2).clamp(0.0, 1.0)
-        } else {
-            0.0
-        };
-        let dist = (x - (w[0] + d * t)).norm();
-        if dist < best.1 {
-            best = ((i, t), dist);
-        }
-    }
-    best
 }
 
 #[cfg(test)]

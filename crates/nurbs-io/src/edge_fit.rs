@@ -5,8 +5,6 @@
 
 use nurbs_core::{BSplineCurve, KnotVector, Point3};
 
-use crate::bounds::distance_to_polyline;
-
 /// The degree-1 B-spline curve through `points` (at least two, distinct in a row), its knots the
 /// chord lengths scaled to [0, 1].
 pub fn polyline(points: &[Point3]) -> Result<BSplineCurve, nurbs_core::Error> {
@@ -16,7 +14,7 @@ pub fn polyline(points: &[Point3]) -> Result<BSplineCurve, nurbs_core::Error> {
     }
     let total = t[t.len() - 1];
     // a point whose chord-length parameter equals its predecessor's — repeated, or nearer to
-    // it than the parameter resolves (a loop of pr1db.stp's I-DEAS faces in parameter space:
+    // it than the parameter resolves (a loop of an I-DEAS export's faces in parameter space:
     // 0.5861111111136063 twice after a jump across its seam) — would be a knot of multiplicity
     // 2, which a degree-1 curve cannot carry: it is dropped (the end point stays, in place of
     // its predecessor if that one coincides with it)
@@ -209,4 +207,32 @@ fn halve(
     } else {
         out.push(b.1);
     }
+}
+
+/// Distance from `x` to the polyline through `pts`.
+pub fn distance_to_polyline(x: &Point3, pts: &[Point3]) -> f64 {
+    if pts.len() == 1 {
+        return (x - pts[0]).norm();
+    }
+    foot_on_polyline(x, pts).1
+}
+
+/// The foot of `x` on the polyline `pts` (two points at least): (segment, fraction along it)
+/// and the distance.
+pub(crate) fn foot_on_polyline(x: &Point3, pts: &[Point3]) -> ((usize, f64), f64) {
+    let mut best = ((0, 0.0), f64::INFINITY);
+    for (i, w) in pts.windows(2).enumerate() {
+        let d = w[1] - w[0];
+        let len2 = d.norm_squared();
+        let t = if len2 > 0.0 {
+            ((x - w[0]).dot(&d) / len2).clamp(0.0, 1.0)
+        } else {
+            0.0
+        };
+        let dist = (x - (w[0] + d * t)).norm();
+        if dist < best.1 {
+            best = ((i, t), dist);
+        }
+    }
+    best
 }

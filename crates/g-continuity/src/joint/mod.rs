@@ -34,10 +34,12 @@ use nurbs_core::{
 };
 
 use crate::error::Result;
+use crate::link::SideLink;
 use crate::measure::{DEFAULT_SAMPLES, FLAT_RADIUS_FACTOR, is_collapsed};
 use crate::params::ConnectParams;
 use crate::rows::row_of;
-use crate::slave::{SideLink, degenerate_corner_blocks, in_zones};
+use crate::sampling::in_zones;
+use crate::slave::degenerate_corner_blocks;
 
 mod normal;
 mod weights;

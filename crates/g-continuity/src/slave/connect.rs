@@ -5,9 +5,10 @@
 use nurbs_core::{BSplineSurface, Continuity, Point3};
 
 use super::prepare::prepare;
-use super::refine::{Refiner, insert_along, new_knots, worst_excess};
+use super::refine::{Refiner, insert_along, worst_excess};
 use super::{ConnectReport, SideLink, SideReport, check_links, measure_links, set_rows};
 use crate::error::Result;
+use crate::knots::new_knots;
 use crate::measure::LinkMeasure;
 use crate::params::{ConnectParams, Tolerances};
 

@@ -75,7 +75,7 @@ fn add_zone_knots(
                 xs.push(b - f * l.g2_zones[1]);
             }
         }
-        let knots = super::refine::new_breakpoints(&s, dir, &xs);
+        let knots = crate::knots::new_breakpoints(&s, dir, &xs);
         if !knots.is_empty() {
             s = s.refine(dir, &knots)?;
             report.knots_inserted += knots.len();

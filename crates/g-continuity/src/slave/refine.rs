@@ -10,74 +10,11 @@
 use nurbs_core::{BSplineSurface, Continuity, Direction};
 
 use super::SideLink;
+
 use crate::error::Result;
 use crate::measure::LinkMeasure;
 use crate::params::{ConnectParams, Tolerances};
 use crate::sampling::along_knots;
-
-/// The knots of `xs` that can be inserted in direction `dir` of `s`: sorted, inside the open
-/// domain, and none that would raise a knot's multiplicity above the degree (two links along
-/// the same direction ask for the same span midpoints; on a degree-1 direction the second
-/// insertion is impossible). A value within [`KNOT_MERGE_RELATIVE`] of the domain of a knot
-/// counts as that knot.
-pub fn new_knots(s: &BSplineSurface, dir: Direction, xs: &[f64]) -> Vec<f64> {
-    insertable(s, dir, xs, true)
-}
-
-/// The values of `xs` to insert into direction `dir` of `s`, sorted, inside the open domain, a
-/// value within [`KNOT_MERGE_RELATIVE`] of a knot snapped onto it; with `repeat` a knot may be
-/// raised up to the degree, without it every value is a new breakpoint.
-fn insertable(s: &BSplineSurface, dir: Direction, xs: &[f64], repeat: bool) -> Vec<f64> {
-    let kv = match dir {
-        Direction::U => s.knots_u(),
-        Direction::V => s.knots_v(),
-    };
-    let (a, b) = kv.domain();
-    let close = KNOT_MERGE_RELATIVE * (b - a);
-    let p = kv.degree();
-    let mut out: Vec<f64> = Vec::new();
-    let mut sorted: Vec<f64> = xs.iter().copied().filter(|x| x.is_finite()).collect();
-    sorted.sort_by(f64::total_cmp);
-    for x in sorted {
-        if x - a <= close || b - x <= close {
-            continue;
-        }
-        // snap onto a knot that is there already, so that multiplicities add up exactly
-        let known = kv
-            .knots()
-            .iter()
-            .chain(out.iter())
-            .copied()
-            .find(|&k| (k - x).abs() <= close);
-        match known {
-            None => out.push(x),
-            Some(k) if repeat => {
-                let mult = kv.knots().iter().filter(|&&t| t == k).count()
-                    + out.iter().filter(|&&t| t == k).count();
-                if mult < p {
-                    out.push(k);
-                }
-            }
-            Some(_) => {}
-        }
-    }
-    out
-}
-
-/// The knots of `xs` that are new breakpoints in direction `dir` of `s`: sorted, inside the open
-/// domain, none at a knot that is there already and none twice. [`set_step`] refines with these:
-/// it solves the rows of the earlier steps again after each round, and a knot repeated because
-/// two sides along the same direction failed in the same span halves nothing but lowers the
-/// continuity there — next to a vertex blend's corners the repeated knots left 1.3e-4 of
-/// curvature difference against 2e-5 with single ones (box12_r5). [`connect_slave`] solves all
-/// rows at once and keeps [`new_knots`]: the X-node centre of the twist tests meets G2 only with
-/// the knots its opposite sides repeat.
-///
-/// [`set_step`]: super::set_step
-/// [`connect_slave`]: super::connect_slave
-pub fn new_breakpoints(s: &BSplineSurface, dir: Direction, xs: &[f64]) -> Vec<f64> {
-    insertable(s, dir, xs, false)
-}
 
 /// Knots closer than this fraction of the domain are one knot (rounding of span midpoints; the
 /// kernel's value).
@@ -180,20 +117,20 @@ impl Refiner {
     }
 }
 
-/// How one refinement round's result ranks against the others: the links it meets, then its
-/// worst excess ([`worst_excess`]) counted only up to 1/ρ (ρ the relative curvature
-/// tolerance). A relative curvature of 1 or more — the slave bends the other way or not at
-/// all where its master bends, a corner whose masters disagree — is a G2 row that did not take
-/// hold, and how far beyond that a round lands says nothing of its progress (on a vertex blend
-/// whose fillet corners conflict, rounds of 14 × 20 up to 41 × 44 points all landed at 1.7 –
-/// 1.97); the same multiple of the gap and angle tolerances counts alike. Among rounds at that
-/// cap alike the one with fewer samples beyond their tolerances wins: a round that joins a side
-/// everywhere but at the samples next to a corner whose masters disagree by a rounding (a
-/// curvature of 1e-3 where the master is flat is a relative figure of 1) is not the round that
-/// misses the whole side — on the freeform vertex blend of box12_variable as its STEP file has
-/// it, the rounds of 16 × 28 and 27 × 46 points both capped, the second missing only its four
-/// corner samples, and keeping the first left all four sides missed after the stages and the
-/// polish. Between rounds that rank the same the earlier one, with fewer knots, is kept.
+/// How one refinement round's result ranks against the others: the links it meets, then its worst
+/// excess ([`worst_excess`]) counted only up to 1/ρ (ρ the relative curvature tolerance). A
+/// relative curvature of 1 or more — the slave bends the other way or not at all where its master
+/// bends, a corner whose masters disagree — is a G2 row that did not take hold, and how far beyond
+/// that a round lands says nothing of its progress (on a vertex blend whose fillet corners
+/// conflict, rounds of 14 × 20 up to 41 × 44 points all landed at 1.7 – 1.97); the same multiple of
+/// the gap and angle tolerances counts alike. Among rounds at that cap alike the one with fewer
+/// samples beyond their tolerances wins: a round that joins a side everywhere but at the samples
+/// next to a corner whose masters disagree by a rounding (a curvature of 1e-3 where the master is
+/// flat is a relative figure of 1) is not the round that misses the whole side — on the freeform
+/// vertex blend of a variable-radius box as its STEP file has it, the rounds of 16 × 28 and 27 × 46
+/// points both capped, the second missing only its four corner samples, and keeping the first left
+/// all four sides missed after the stages and the polish. Between rounds that rank the same the
+/// earlier one, with fewer knots, is kept.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) struct RoundRank {
     met: usize,

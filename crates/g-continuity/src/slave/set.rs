@@ -8,10 +8,11 @@
 
 use nurbs_core::{BSplineSurface, Continuity, Side};
 
-use super::refine::{Refiner, RoundRank, insert_along, new_breakpoints};
+use super::refine::{Refiner, RoundRank, insert_along};
 use super::step::{step_all, step_all_with};
 use super::{C0_CONVERGED, SideLink, check_links, measure_links};
 use crate::error::Result;
+use crate::knots::new_breakpoints;
 use crate::measure::LinkMeasure;
 use crate::params::{ConnectParams, SetParams, Tolerances};
 

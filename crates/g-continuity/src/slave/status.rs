@@ -140,7 +140,7 @@ fn fix_poles_and_blocks(
     // a degenerate corner — a corner point and its neighbour along one side coincide, a
     // zero end tangent, how kernels close a vertex blend's side — has a normal only as the
     // limit S_u × S_uv: it depends on the corner's 2 × 2 block, twist included, and moving
-    // any of them turns the normal there (0.7° on box12_variable's freeform vertex blend).
+    // any of them turns the normal there (0.7° on a variable-radius box's freeform vertex blend).
     // The block stays as it is, as a pole does.
     let row = side.row(k, base.num_u(), base.num_v());
     for (j, ij) in row.iter().enumerate() {

@@ -55,9 +55,9 @@ fn next_width(w: f64, d0: f64, d: f64, budget: f64, met: bool) -> Option<f64> {
         w / LEAD_IN_MISS_NARROWING
     } else if d0 >= budget {
         // the C0 step alone takes the budget, so no narrower lead-in brings the result within
-        // it; once the links are met there is nothing a narrower one can give (box12_r5's
+        // it; once the links are met there is nothing a narrower one can give (a box's
         // sphere corners per role: 0.281 mm at every width), else another width may meet them
-        // (its refinement places other knots: box12_var2's B-spline corner per role met at the
+        // (its refinement places other knots: a box's B-spline corner per role met at the
         // fourth)
         if met {
             return None;

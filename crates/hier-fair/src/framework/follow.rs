@@ -1,9 +1,9 @@
 //! One-hump sections a slave could not follow, withdrawn. A master fillet that takes its
 //! one-hump section ([`super::section`]) changes the curves its slaves are set against; the
 //! slaves' C0 steps spread that move over their interiors ([`super::spread`]), and on the
-//! kernel models they follow. Where a slave still misses a link after such a change (measured:
-//! box12_var2 by default, whose B-spline corner missed all four of its links against the
-//! changed fillet step137), the run is made again with the sections of that slave's masters
+//! kernel models they follow. Where a slave still misses a link after such a change (measured
+//! by default on a box whose B-spline corner missed all four of its links against a changed
+//! fillet), the run is made again with the sections of that slave's masters
 //! withdrawn — those masters keep their input section — and the run that misses fewer links
 //! is kept, its report naming each withdrawn section.
 

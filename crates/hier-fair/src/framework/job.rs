@@ -10,20 +10,15 @@ use nurbs_core::{BSplineSurface, Continuity, Side};
 
 use super::{
     GROUP_CHAIN_SHARE, Job, Outcome, Problem, ProblemKind, Run, Stage, StageReport, SurfaceFair,
-    lies_on_side, net_bound, report,
+    net_bound, report,
 };
 use crate::check::TOUCH_FACTOR;
+use crate::topology::{JOIN_SAMPLES, lies_on_side};
 
 /// A result that lies within this fraction of the surface's size of its input everywhere is
 /// the input (knot insertion is exact up to round-off, about 1e-15 of the size; a fairing move
 /// the reports show starts at 1e-9).
 pub const UNCHANGED_RELATIVE: f64 = 1e-12;
-
-/// Samples along a slave side lying inside its master whose knot spans the master keeps
-/// (`Job::interior_join_points`): 64 intervals, so a master span is skipped only when the
-/// join crosses it in less than 1/64 of the side — and a span crossed that briefly is also
-/// held by its neighbours' supports, which overlap it by p of its control points.
-pub const JOIN_SAMPLES: usize = 64;
 
 impl Run<'_> {
     pub(super) fn record(&mut self, stage: Stage, before: &BSplineSurface, after: &BSplineSurface) {

@@ -10,30 +10,6 @@ pub(super) fn knots_between(before: &BSplineSurface, after: &BSplineSurface) -> 
         + missing_knots(before.knots_v().knots(), after.knots_v().knots()).len()
 }
 
-/// Whether `slave`'s side `slave_side` lies on `master`'s boundary side `master_side`: five
-/// samples along the slave side (ends and three inner points) are within `tol` of the master's
-/// exact boundary isocurve. A slave side that lies inside a (trimmed) master is on no side.
-pub(crate) fn lies_on_side(
-    slave: &BSplineSurface,
-    slave_side: Side,
-    master: &BSplineSurface,
-    master_side: Side,
-    tol: f64,
-) -> bool {
-    let cross = master_side.boundary_param(master);
-    let Ok(curve) = master.isocurve(master_side.cross_direction(), cross) else {
-        return false;
-    };
-    let (a, b) = slave_side.along_domain(slave);
-    let params = nurbs_core::ProjectionParams::default();
-    (0..5).all(|k| {
-        let t = a + (b - a) * k as f64 / 4.0;
-        let (u, v) = slave_side.params(slave, t);
-        let p = slave.derivatives(u, v).point;
-        nurbs_core::projection::project_to_curve(&curve, &p, &params).distance <= tol
-    })
-}
-
 /// Rows fixed at `side` when keeping `level`: the link's target (capped by `level`) + 1, or
 /// the boundary row for an unlinked side.
 fn fixed_rows(links: &[SideLink], side: Side, level: Continuity) -> usize {

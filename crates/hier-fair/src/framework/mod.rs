@@ -82,8 +82,7 @@ pub use dry_run::{
 pub use error::{StageError, StageResult};
 pub use group::GroupFair;
 pub use growth::{LinkGrowth, NEGLIGIBLE_GROWTH, worse_than};
-pub use job::{JOIN_SAMPLES, UNCHANGED_RELATIVE};
-pub(crate) use masks::lies_on_side;
+pub use job::UNCHANGED_RELATIVE;
 pub use masks::{smooth_join_points, stage_mask};
 pub use plan::waves;
 pub use report::{
@@ -99,16 +98,16 @@ pub use slivers::SLIVER_MOVE_SHARE;
 pub use verify::VERIFY_FACTOR;
 
 /// The framework's [`g_continuity::SetParams::g2_move_factor`]: a lighter-weighted G2 solution
-/// (closer to the exact scalar condition) is taken only when no control point moves more than
-/// the paper's well-conditioned solution (\[SV\] §4.2, tangential weight 1) moves. Why 1: in the
-/// framework a fairing stage follows every continuity step within a shrinking deviation budget,
-/// and a move the paper's system did not need is deviation that stage no longer has — so the
-/// framework takes nothing beyond the paper's own solution's largest move. `connect`, which no
-/// fairing follows, allows 2×. Where G2 is missed with this bound, the dry run tries
-/// `connect`'s before calling the link a conflict. Measured: on the fixtures 1× met as many
-/// links as 2× with every slave's energy below its start (X-node fillet_s 18.31 → 17.74 instead
-/// of → 18.52); a vertex blend between three faired fillets needs 2× next to its pole
-/// (box12_r5: curvature 2e-4 off at 1×, 2e-5 at 2×), which the dry run's retry gives it.
+/// (closer to the exact scalar condition) is taken only when no control point moves more than the
+/// paper's well-conditioned solution (\[SV\] §4.2, tangential weight 1) moves. Why 1: in the
+/// framework a fairing stage follows every continuity step within a shrinking deviation budget, and
+/// a move the paper's system did not need is deviation that stage no longer has — so the framework
+/// takes nothing beyond the paper's own solution's largest move. `connect`, which no fairing
+/// follows, allows 2×. Where G2 is missed with this bound, the dry run tries `connect`'s before
+/// calling the link a conflict. Measured: on the fixtures 1× met as many links as 2× with every
+/// slave's energy below its start (X-node fillet_s 18.31 → 17.74 instead of → 18.52); a vertex
+/// blend between three faired fillets needs 2× next to its pole (a box's sphere corner: curvature
+/// 2e-4 off at 1×, 2e-5 at 2×), which the dry run's retry gives it.
 pub const FRAMEWORK_G2_MOVE_FACTOR: f64 = 1.0;
 
 /// Share of the G1/G2 tolerances the patches of an n-sided corner group aim at when their
@@ -125,6 +124,10 @@ pub const GROUP_CHAIN_SHARE: f64 = 0.1;
 /// the fillets' energy rose 2–15× while following the primaries' faired tangent rows). The
 /// curvature row stays free, so the master's curvature across the join is still faired.
 pub const MASTER_FRAME: nurbs_core::Frame = nurbs_core::Frame::Tangential;
+
+/// Grid size of the sampled deviation (the same as the fairing reports), of `fair` and of
+/// `connect` ([`mod@crate::connect`]).
+pub const DEVIATION_GRID: usize = nurbs_core::fairing::REPORT_DEVIATION_SAMPLES;
 
 /// Largest control net per direction the framework's knot refinement may create: 64, the
 /// net of a 61-span cubic — far beyond what a fillet or corner of a kernel model needs once its
@@ -193,7 +196,7 @@ impl Default for FairParams {
                 ..ConnectParams::default()
             },
             min_free_rows: 2,
-            deviation_grid: crate::connect::DEVIATION_GRID,
+            deviation_grid: DEVIATION_GRID,
             parallel: true,
             budget: DeviationBudget::default(),
             verify_unmet: true,

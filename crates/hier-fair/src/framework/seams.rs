@@ -13,7 +13,7 @@
 //! its master; its corner is the two-master corner of a vertex blend, [`super::vertex`]). Only the
 //! parts on an opened seam run again: linked G2 across its seams, a fillet part would have G2
 //! sides in both directions and lose its one-hump section, so the closed seams of a ring stay
-//! as the free run left them (a ring of a metre part, r103ec: 20 of its 126 links were lost
+//! as the free run left them (a ring of a metre part: 20 of its 126 links were lost
 //! when every part of the ring ran again linked).
 
 use nurbs_core::{BSplineSurface, Continuity};

@@ -22,14 +22,14 @@ pub const SECTION_TRIALS: usize = 4;
 
 /// Narrowest ramp tried on a master, as a fraction of the section: [`MIN_LEAD_IN`]'s 1/64. Its
 /// slaves must follow the changed end curves, and narrower ramps they could not: measured with
-/// 1/256, box12_r5 and box12_variable by default had every fillet's section withdrawn after
-/// runs of 50–57 s instead of 2.5–3.7 s.
+/// 1/256, boxes with sphere corners at 5 mm and variable radii had every fillet's section
+/// withdrawn by default after runs 15–20 times as long (docs/benchmarks.md).
 pub const MIN_RAMP: f64 = MIN_LEAD_IN;
 
 /// Narrowest ramp tried on a surface that is no master: 1/256 of the section. The ramp is as
 /// wide as the deviation budget allows (about 0.31 f R for a 90° arc of radius R, so by default's
 /// 0.025 mm a 5 mm fillet needs f ≤ 1/62); a narrow monotone ramp is still one hump, where the
-/// lead-in it replaces waves. Measured by default: plate_boss's torus fillet r 5 takes
+/// lead-in it replaces waves. Measured by default: a boss's torus fillet of radius 5 takes
 /// f = 0.0138, one hump at 1.01× its input's peak (with 1/64 it kept the lead-in's five extrema
 /// at 1.30×). Narrower ramps than 1/256 were not tried.
 pub const MIN_FREE_RAMP: f64 = MIN_RAMP / 4.0;
@@ -58,8 +58,8 @@ impl Job<'_> {
         // the curve it shares with it, which the section changes across the whole fillet: the
         // slave's C0 step then spreads that move over its interior
         // ([`g_continuity::SetParams::spread_boundary_move`]). Measured before that spread,
-        // with the section on those masters box12_r5 per role met 42 of its 48 links and
-        // corner3_radii 8 of 12; with it every link (docs/benchmarks.md)
+        // with the section on those masters a box's sphere corners per role met 42 of 48 links
+        // and a three-radii corner 8 of 12; with it every link (docs/benchmarks.md)
         let at = |start: bool| {
             if g2.iter().any(|s| s.is_start() == start) {
                 f

@@ -4,17 +4,17 @@
 //! where the result then misses a link, the stages run again without, and the result that
 //! misses fewer links is kept.
 //!
-//! Why: a vertex blend bounded by fillets whose one-hump sections changed their end curves
-//! must follow curves up to the deviation budget away (0.24 mm on box12_r5 per role); moving
+//! Why: a vertex blend bounded by fillets whose one-hump sections changed their end curves must
+//! follow curves up to the deviation budget away (0.24 mm on a box's 5 mm fillets per role); moving
 //! only its boundary rows turned that into a strip of curvature beside each side (its sphere
-//! corners peaked at 11× their input's), spread it peaks at 1.8×. Elsewhere the masters moved
-//! only where their lead-ins are, near the slave's vertices, and the spread is no help: with it
-//! box12_var's sphere corner step504 by default (masters moved 0.024 mm) missed G2 in its dry
-//! run and was kept at G1 with a peak of 14× its input's, against 6× without. A master keeps
-//! its interior for its slaves (with the spread in box12_variable's fillets too, its B-spline
+//! corners peaked at 11× their input's), spread it peaks at 1.8×. Elsewhere the masters moved only
+//! where their lead-ins are, near the slave's vertices, and the spread is no help: with it a
+//! variable-radius box's sphere corner by default (masters moved 0.024 mm) missed G2 in its dry run
+//! and was kept at G1 with a peak of 14× its input's, against 6× without. A master keeps its
+//! interior for its slaves (with the spread in a variable-radius box's fillets too, its B-spline
 //! corner missed two links per role and three by default, whichever way it ran); a slave whose
-//! stages miss with the spread (box12_variable's B-spline corner, though its dry run met them)
-//! runs again without (docs/benchmarks.md).
+//! stages miss with the spread (that B-spline corner, though its dry run met them) runs again
+//! without (docs/benchmarks.md).
 
 use nurbs_core::BSplineSurface;
 

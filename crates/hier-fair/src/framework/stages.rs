@@ -487,8 +487,8 @@ impl Job<'_> {
     /// input's (a one-hump section's result: where it is not fair by any figure of
     /// [`crate::fairness`]), the setting meets every link and is fairer ([`crate::fairness::FairnessVerdict::fairer_than`]): a fairing stage minimizes
     /// its method's functional, which on a strongly curved connecting surface need not lower
-    /// its curvature peaks (with 0.5 mm of deviation the thin-plate energy of plate_boss's
-    /// torus fillet drops 4 % while its peak curvature grows 2.6×; box12_r5's sphere corners
+    /// its curvature peaks (with 0.5 mm of deviation the thin-plate energy of a boss's
+    /// torus fillet drops 4 % while its peak curvature grows 2.6×; a box's sphere corners
     /// per role drop 7 % in energy and go from 1.18× to 1.81× in peak), nor keep the one hump
     /// of a fillet's section ([`super::section`]).
     fn setting_is_fairer(
@@ -497,17 +497,17 @@ impl Job<'_> {
         s: &BSplineSurface,
         original: &BSplineSurface,
     ) -> Option<String> {
-        // a master's result is what its slaves are set against; they are set after it, against
-        // the setting where that is kept. Measured on the 36 runs of the six kernel models and
-        // their twelve variants (per role and by default), masters included: every link met as
-        // before, 336 fair surfaces against 330, the lofted blocks' fillets per role from
-        // 2.7–4.0× to 1.3–1.4× their input's peak (their thin-plate fairing lowered the energy
-        // by a tenth and tripled the peak), corner3_radii per role 14.0 → 3.9 s. (An earlier
-        // state of the framework, before the slaves' C0 move was spread, made a vertex blend
-        // between four lofted fillets kept at their settings miss G2 on all four sides.)
-        // The setting replaces the faired result only where it meets every link: a polish
-        // follows either ([`Job::polished_stages`]), and where the setting misses links the
-        // faired result's polish may meet them (unless it spikes, [`Job::polished`])
+        // a master's result is what its slaves are set against; they are set after it, against the
+        // setting where that is kept. Measured on the 36 runs of the six kernel models and their
+        // twelve variants (per role and by default), masters included: every link met as before,
+        // 336 fair surfaces against 330, the lofted blocks' fillets per role from 2.7–4.0× to
+        // 1.3–1.4× their input's peak (their thin-plate fairing lowered the energy by a tenth and
+        // tripled the peak), a three-radii corner per role 14.0 → 3.9 s. (An earlier state of the
+        // framework, before the slaves' C0 move was spread, made a vertex blend between four lofted
+        // fillets kept at their settings miss G2 on all four sides.) The setting replaces the
+        // faired result only where it meets every link: a polish follows either
+        // ([`Job::polished_stages`]), and where the setting misses links the faired result's polish
+        // may meet them (unless it spikes, [`Job::polished`])
         if !self.params.prefer_fairer
             || plan.highest.is_none()
             || self.worse_link(plan.labelled, &plan.connected).is_some()

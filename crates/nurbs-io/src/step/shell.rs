@@ -22,7 +22,8 @@
 
 use nurbs_core::{BSplineCurve, BSplineSurface, Direction, Point3};
 
-use crate::bounds::{BoundLoop, Face, distance_to_polyline, face_bounds, foot_on_polyline};
+use crate::bounds::{BoundLoop, Face, distance_to_polyline, face_bounds};
+use crate::edge_fit::foot_on_polyline;
 
 use super::writer::DISTANCE_ACCURACY;
 
