@@ -78,7 +78,8 @@ impl Job<'_> {
     /// along which the two masters touch and agree in curvature (a G1 join of the two masters
     /// leaves their curvatures apart along it, and then no slope of the slave's curvature
     /// matches both: no line is given). The corner passes through it when it lies within the
-    /// G0 tolerance of that boundary (the gap at which a link counts as met).
+    /// G0 tolerance of that boundary (the gap at which a link counts as met). A B-master that
+    /// is the next part of the slave's own ring gives none ([`across_a_seam`]).
     ///
     /// [`SetParams::contact_lines`]: g_continuity::SetParams::contact_lines
     pub(super) fn contact_lines(&self) -> [[Option<[f64; 3]>; 2]; 4] {
@@ -104,6 +105,9 @@ impl Job<'_> {
                     continue;
                 };
                 let b_master = self.model.links[*kb].master;
+                if across_a_seam(self.model, self.surface, b_master) {
+                    continue;
+                }
                 let mb = &self.current.surfaces[b_master].surface;
                 let (u, v) = a.side.params(me, t);
                 let corner = me.point(u, v);
@@ -125,6 +129,16 @@ impl Job<'_> {
         }
         out
     }
+}
+
+/// Whether `master` is a part of `slave`'s own ring, linked to it across their seam
+/// ([`super::seams`]): a master of the slave's own role. Its contact line with the common
+/// master continues the slave's own boundary, so turning the slave's boundary onto it (the
+/// contact-line rule, [`Job::contact_lines`]) would only fold the seam's own mismatch into the
+/// boundary's first span: on a metre part's fillet ring that made two parts peak at 46–48×
+/// their input's curvature, which they no longer do (docs/benchmarks.md).
+fn across_a_seam(model: &Model, slave: usize, master: usize) -> bool {
+    model.surfaces[master].role == model.surfaces[slave].role
 }
 
 /// The named conflicts of the vertex zones ([`crate::zones`]) on `out` (the faired model with
@@ -194,7 +208,7 @@ mod tests {
     use nurbs_core::shapes::{arc, extrude_curve, plane_patch};
     use nurbs_core::{BSplineSurface, Continuity, Point3, Side, Vector3};
 
-    use super::incompatible_corner;
+    use super::{across_a_seam, incompatible_corner};
 
     /// The plane z = 0 over [−2, 2]².
     fn ground() -> BSplineSurface {
@@ -241,6 +255,24 @@ mod tests {
             g2_zones: [0.0; 2],
         };
         incompatible_corner(&[link(Side::U0, a), link(Side::V0, b)], &slave, 5e-3)
+    }
+
+    #[test]
+    fn a_master_of_the_slave_s_own_role_is_across_a_seam() {
+        let square = |role: &str, x: f64| {
+            serde_json::json!({"name": format!("{role}{x}"), "role": role, "surface": {
+                "degree_u": 1, "degree_v": 1, "control_points":
+                [[[x, 0, 0], [x, 1, 0]], [[x + 1.0, 0, 0], [x + 1.0, 1, 0]]]}})
+        };
+        let json = serde_json::json!({"surfaces": [
+            square("primary", 0.0), square("connecting", 1.0), square("connecting", 2.0),
+            square("corner", 3.0)]});
+        let model = crate::model::Model::from_json(&json.to_string()).unwrap();
+        // a fillet part on the next part of its ring; a vertex blend on a fillet; a fillet on
+        // its plane
+        assert!(across_a_seam(&model, 1, 2));
+        assert!(!across_a_seam(&model, 3, 2));
+        assert!(!across_a_seam(&model, 1, 0));
     }
 
     #[test]
