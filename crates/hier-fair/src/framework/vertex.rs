@@ -132,13 +132,19 @@ impl Job<'_> {
 }
 
 /// Whether `master` is a part of `slave`'s own ring, linked to it across their seam
-/// ([`super::seams`]): a master of the slave's own role. Its contact line with the common
-/// master continues the slave's own boundary, so turning the slave's boundary onto it (the
-/// contact-line rule, [`Job::contact_lines`]) would only fold the seam's own mismatch into the
-/// boundary's first span: on a metre part's fillet ring that made two parts peak at 46–48×
-/// their input's curvature, which they no longer do (docs/benchmarks.md).
+/// ([`super::seams`]): a master of the slave's own role outside any corner group they share
+/// (the quads of an n-sided corner are linked to each other too, and there the rule is meant).
+/// Its contact line with the common master continues the slave's own boundary, so turning the
+/// slave's boundary onto it (the contact-line rule, [`Job::contact_lines`]) would only fold the
+/// seam's own mismatch into the boundary's first span: on a metre part's fillet ring that made
+/// two parts peak at 46–48× their input's curvature, which they no longer do
+/// (docs/benchmarks.md).
 fn across_a_seam(model: &Model, slave: usize, master: usize) -> bool {
-    model.surfaces[master].role == model.surfaces[slave].role
+    let one_group = model
+        .corners
+        .iter()
+        .any(|g| g.patches.contains(&slave) && g.patches.contains(&master));
+    model.surfaces[master].role == model.surfaces[slave].role && !one_group
 }
 
 /// The named conflicts of the vertex zones ([`crate::zones`]) on `out` (the faired model with
@@ -266,13 +272,17 @@ mod tests {
         };
         let json = serde_json::json!({"surfaces": [
             square("primary", 0.0), square("connecting", 1.0), square("connecting", 2.0),
-            square("corner", 3.0)]});
+            square("corner", 3.0), square("corner", 4.0), square("corner", 5.0)],
+            "corners": [{"name": "hole", "patches": ["corner4", "corner5"]}]});
         let model = crate::model::Model::from_json(&json.to_string()).unwrap();
         // a fillet part on the next part of its ring; a vertex blend on a fillet; a fillet on
-        // its plane
+        // its plane; a quad of an n-sided corner on its neighbour quad; a vertex blend on a
+        // corner patch outside its group
         assert!(across_a_seam(&model, 1, 2));
         assert!(!across_a_seam(&model, 3, 2));
         assert!(!across_a_seam(&model, 1, 0));
+        assert!(!across_a_seam(&model, 4, 5));
+        assert!(across_a_seam(&model, 3, 4));
     }
 
     #[test]
