@@ -384,6 +384,17 @@ mod tests {
         .unwrap()
     }
 
+    /// A link of the whole `side` onto `master`, without vertex zones.
+    fn link(side: Side, master: &BSplineSurface, target: Continuity) -> SideLink<'_> {
+        SideLink {
+            side,
+            master,
+            target,
+            range: None,
+            g2_zones: [0.0; 2],
+        }
+    }
+
     fn strip(knots_u: Vec<f64>, degree_u: usize) -> BSplineSurface {
         strip_at(knots_u, degree_u, 0.0)
     }
@@ -400,13 +411,7 @@ mod tests {
             5,
         );
         let slave = quadratic_strip([0.0, 0.5, 1.0]);
-        let links = [SideLink {
-            side: Side::V0,
-            master: &master,
-            target: Continuity::G1,
-            range: None,
-            g2_zones: [0.0; 2],
-        }];
+        let links = [link(Side::V0, &master, Continuity::G1)];
         let (s, report) =
             with_master_knots(&slave, &links, [true; 2], 1024, ProjectionParams::default())
                 .unwrap();
@@ -430,13 +435,7 @@ mod tests {
         // Bézier: x(t) = t²), so master knot 0.25 lands at t = 0.5 and 0.64 at t = 0.8
         let master = strip(vec![0.0, 0.0, 0.0, 0.0, 0.25, 0.64, 1.0, 1.0, 1.0, 1.0], 3);
         let slave = quadratic_strip([0.0, 0.0, 1.0]);
-        let links = [SideLink {
-            side: Side::V0,
-            master: &master,
-            target: Continuity::G0,
-            range: None,
-            g2_zones: [0.0; 2],
-        }];
+        let links = [link(Side::V0, &master, Continuity::G0)];
         let (s, _) =
             with_master_knots(&slave, &links, [true; 2], 1024, ProjectionParams::default())
                 .unwrap();
@@ -454,13 +453,7 @@ mod tests {
             3,
         );
         let shifted = strip_at(vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0], 3, 1.0);
-        let links = [SideLink {
-            side: Side::V0,
-            master: &master,
-            target: Continuity::G1,
-            range: None,
-            g2_zones: [0.0; 2],
-        }];
+        let links = [link(Side::V0, &master, Continuity::G1)];
         let (s, report) =
             with_master_knots(&shifted, &links, [true; 2], 5, ProjectionParams::default()).unwrap();
         assert_eq!(report.knots_inserted, 0);
@@ -478,13 +471,7 @@ mod tests {
         knots.extend([1.0; 4]);
         let master = strip(knots, 3);
         let slave = quadratic_strip([0.0, 0.5, 1.0]);
-        let links = [SideLink {
-            side: Side::V0,
-            master: &master,
-            target: Continuity::G2,
-            range: None,
-            g2_zones: [0.0; 2],
-        }];
+        let links = [link(Side::V0, &master, Continuity::G2)];
         let (s, report) =
             with_master_knots(&slave, &links, [true; 2], 1024, ProjectionParams::default())
                 .unwrap();
@@ -518,17 +505,10 @@ mod tests {
     fn a_free_end_is_a_collapsed_or_unlinked_neighbour() {
         let master = strip(vec![0.0, 0.0, 1.0, 1.0], 1);
         let slave = quadratic_strip([0.0, 0.5, 1.0]);
-        let link = |side, target| SideLink {
-            side,
-            master: &master,
-            target,
-            range: None,
-            g2_zones: [0.0; 2],
-        };
         let links = [
-            link(Side::V0, Continuity::G2),
-            link(Side::U0, Continuity::G2),
-            link(Side::U1, Continuity::G0),
+            link(Side::V0, &master, Continuity::G2),
+            link(Side::U0, &master, Continuity::G2),
+            link(Side::U1, &master, Continuity::G0),
         ];
         // V0 runs along u: its start meets U0 (linked G2), its end U1 (only G0: no frame)
         assert_eq!(free_ends(&slave, &links[0], &links), [false, true]);
