@@ -49,11 +49,12 @@ pub fn lies_on_side(
     let Ok(curve) = master.isocurve(master_side.cross_direction(), cross) else {
         return false;
     };
-    let (a, b) = slave_side.along_domain(slave);
+    let Ok(ts) = g_continuity::sampling::uniform_side_params(slave, slave_side, ON_SIDE_SAMPLES)
+    else {
+        return false;
+    };
     let params = nurbs_core::ProjectionParams::default();
-    let last = (ON_SIDE_SAMPLES - 1) as f64;
-    (0..ON_SIDE_SAMPLES).all(|k| {
-        let t = a + (b - a) * k as f64 / last;
+    ts.into_iter().all(|t| {
         let (u, v) = slave_side.params(slave, t);
         let p = slave.derivatives(u, v).point;
         nurbs_core::projection::project_to_curve(&curve, &p, &params).distance <= tol
