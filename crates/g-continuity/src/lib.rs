@@ -100,7 +100,7 @@ pub use lead_in::{LEAD_IN_DEGREE, LeadInReport, MAX_LEAD_IN, with_lead_in};
 pub use link::SideLink;
 pub use measure::{LinkMeasure, MeasureParams, SampleMeasure, measure_link};
 pub use params::{ConnectParams, G2Method, SetParams, Tolerances};
-pub use section::{MAX_RAMP, one_hump_section, one_hump_section_by_sections};
+pub use section::{MAX_RAMP, RampShape, one_hump_section, one_hump_section_by_sections};
 pub use slave::{
     C0_FOR_G1_SHARE, ConnectReport, SideReport, StepReport, connect_slave,
     degenerate_corner_blocks, prepare_slave, set_g0, set_g1, set_g2, set_rows, set_step,

@@ -44,13 +44,23 @@ fn kernel_models_keep_their_surfaces_and_fillets_never_get_worse() {
         assert_eq!(out.surfaces.len(), m.surfaces.len());
         for (a, b) in m.surfaces.iter().zip(&out.surfaces) {
             assert_eq!((&a.name, a.role), (&b.name, b.role));
-            // rational conics stay rational: nothing is re-approximated by polynomials
-            assert_eq!(
-                a.surface.is_rational(),
-                b.surface.is_rational(),
-                "{name}: {}",
-                a.name
-            );
+            // rational conics stay rational: nothing is re-approximated by polynomials. A fillet
+            // whose section was replaced by a one-hump profile is no conic any more; a
+            // cylinder's then has equal weights, which the continuity steps drop exactly
+            let sectioned = report
+                .surfaces
+                .iter()
+                .find(|s| s.name == a.name)
+                .and_then(|s| s.stages.first())
+                .is_some_and(|st| st.section_ramp.is_some());
+            if !sectioned {
+                assert_eq!(
+                    a.surface.is_rational(),
+                    b.surface.is_rational(),
+                    "{name}: {}",
+                    a.name
+                );
+            }
             // no surface gets a crease inside: its C0 knot lines (a kernel's arcs joined by
             // double knots; knots inserted into a degree-1 direction before they were raised)
             // turn the normal no more than in the input or the G1 tolerance. Before the joins
@@ -158,8 +168,9 @@ fn rolling_ball_fillets_reach_g2_on_their_planes() {
 /// a crease: the joint polish met its four links only with a comb peaking at 466× its input's
 /// curvature (76 /mm beside a side, thin-plate energy 977×), which the framework no longer
 /// takes. The blend stays fair (peak and comb within PEAK_FACTOR, energy within ENERGY_FACTOR),
-/// each of its links it leaves unmet is named with the spike it would have cost, and every
-/// fillet's link is met.
+/// each of its links it leaves unmet is named — with the spike it would have cost, or as a
+/// conflict with the deviation that meets it (against fillets with linear-ramp sections it
+/// meets two of its four links, and the other two at 0.1 mm) — and every fillet's link is met.
 #[test]
 fn the_three_radii_corner_is_not_given_g2_with_a_crease_by_default() {
     let (_, report) = faired("occt_corner3_radii");
@@ -178,9 +189,12 @@ fn the_three_radii_corner_is_not_given_g2_with_a_crease_by_default() {
         if l.label.starts_with("C07_bspline.") {
             assert!(
                 l.met
-                    || report.problems.iter().any(
-                        |p| p.surface == "C07_bspline" && p.message.contains("curvature spike")
-                    ),
+                    || report.problems.iter().any(|p| {
+                        p.surface == "C07_bspline"
+                            && (p.message.contains("curvature spike")
+                                || (p.kind == hier_fair::ProblemKind::Conflict
+                                    && p.link.as_deref() == Some(l.label.as_str())))
+                    }),
                 "{}: {:?}",
                 l.label,
                 report.problems

@@ -8,15 +8,16 @@
 //! profile whose curvature ramps from 0 to a plateau and back turns the same angle over a
 //! slightly shorter plateau of slightly higher curvature — the railway easement between a
 //! straight and a circle, with the ends pinned. Its deviation from the arc grows linearly with
-//! the ramp: for a 90° arc of radius R and ramps of length ℓ the plateau's radius shrinks by
-//! about ℓ/2 and the middle of the section moves by about 0.2 ℓ (measured in the tests).
+//! the ramp and with the ramp's deficit ([`RampShape`]): for a 90° arc of radius R and ramps of
+//! length ℓ the middle of the section moves by about 0.1 ℓ with the linear ramp and 0.2 ℓ with
+//! the flat one (measured in the tests), the plateau's radius shrinking by about ℓ/4 or ℓ/2.
 //!
 //! # Construction
 //! 1. The reference section: the iso-curve across the fillet at the middle of its length, in
 //!    its plane (E0 at the origin, its start tangent along +x), with its arc length and signed
 //!    curvature κ_ref(σ) at normalized arc length σ.
-//! 2. The profile κ(σ) = ρ(σ)·(c + d(σ − ½))·κ_ref(σ), ρ a C² ramp from 0 to 1 over the
-//!    fraction f of the length at each ramped end; c, d and the length are solved (Newton) so
+//! 2. The profile κ(σ) = ρ(σ)·(c + d(σ − ½))·κ_ref(σ), ρ a ramp from 0 to 1 ([`RampShape`])
+//!    over the fraction f of the length at each ramped end; c, d and the length are solved (Newton) so
 //!    that the curve from E0 ends at E1 with E1's tangent. For a circle d = 0 and the profile
 //!    is symmetric; for a conic the tilt d keeps the two ends' shares.
 //! 3. A quintic B-spline fitted to it: three knots in each ramp, the rest in equal spans; the
@@ -39,14 +40,14 @@ use nalgebra::Vector3 as V3;
 use nurbs_core::{BSplineSurface, Direction, KnotVector, Point3};
 
 use crate::error::{Error, Result};
-pub use profile::{SECTION_DEGREE, SECTION_SAMPLES};
+pub use profile::{RampShape, SECTION_DEGREE, SECTION_SAMPLES};
 use profile::{Section, fit_profile, frame_coordinates, from_frame, meeting};
 
 /// Widest ramp, as a fraction of the section's length at each end: a quarter. The profile
-/// turns the section's angle with a mean factor of 1 − f/2 per ramp (the ramp averages ½), so
-/// with both ends ramped its plateau is about 1/(1 − f) of the input's curvature — 1.33 at a
-/// quarter, within the 1.6× a fair result may peak at, with room for the G2 step's change at a
-/// curved master.
+/// turns the section's angle with a mean factor of 1 − D·f per ramp (D the ramp's deficit,
+/// [`RampShape`]: ¼ linear, ½ flat), so with both ends ramped its plateau is about 1/(1 − 2Df)
+/// of the input's curvature — at a quarter 1.14 (linear) or 1.33 (flat), within the 1.6× a
+/// fair result may peak at, with room for the G2 step's change at a curved master.
 pub const MAX_RAMP: f64 = 0.25;
 
 /// Steps of the profile's integration: the midpoint-heading rule is exact for curvature linear
@@ -60,20 +61,20 @@ pub const PROFILE_STEPS: usize = 2000;
 pub const MIDDLE_SPANS: usize = 3;
 
 /// `s` with its section across `cross` replaced by the one-hump profile with ramps of the
-/// fractions `ramps` (start side, end side; 0: no ramp, that end bends as the profile does) of its
-/// length, as the
-/// module docs describe. An error where the surface has no such section: a column whose end
-/// tangents do not meet ahead of it,
-/// a straight or singular section, or a profile that cannot join its ends.
+/// fractions `ramps` (start side, end side; 0: no ramp, that end bends as the profile does) of
+/// its length and of the `shape`, as the module docs describe. An error where the surface has
+/// no such section: a column whose end tangents do not meet ahead of it, a straight or
+/// singular section, or a profile that cannot join its ends.
 pub fn one_hump_section(
     s: &BSplineSurface,
     cross: Direction,
     ramps: (f64, f64),
+    shape: RampShape,
 ) -> Result<BSplineSurface> {
     let f = (ramps.0.clamp(0.0, MAX_RAMP), ramps.1.clamp(0.0, MAX_RAMP));
     let s = s.clamped()?;
     let section = Section::read(&s, cross)?;
-    let points = section.profile(f, PROFILE_STEPS)?;
+    let points = section.profile(f, shape, PROFILE_STEPS)?;
     let middle = MIDDLE_SPANS.max(section.spans + 1);
     let (kv, ctrl) = fit_profile(&points, f, middle, section.end_tangent())?;
     let (corner, end) = (section.corner, section.end());
@@ -122,6 +123,7 @@ pub fn one_hump_section_by_sections(
     s: &BSplineSurface,
     cross: Direction,
     ramps: (f64, f64),
+    shape: RampShape,
 ) -> Result<BSplineSurface> {
     let f = (ramps.0.clamp(0.0, MAX_RAMP), ramps.1.clamp(0.0, MAX_RAMP));
     let s = s.clamped()?;
@@ -131,7 +133,7 @@ pub fn one_hump_section_by_sections(
     };
     // the spans of the middle, as [`one_hump_section`] takes them from its section
     let middle = MIDDLE_SPANS.max(cross_kv.spans().count() + 1);
-    let (kv, columns) = sections_interpolated(&s, cross, f, middle)?;
+    let (kv, columns) = sections_interpolated(&s, cross, f, shape, middle)?;
     let kv = across_knots(&s, cross, &kv)?;
     net_of(&s, cross, kv, &columns, None)
 }
@@ -197,6 +199,7 @@ fn sections_interpolated(
     s: &BSplineSurface,
     cross: Direction,
     f: (f64, f64),
+    shape: RampShape,
     middle: usize,
 ) -> Result<(KnotVector, Vec<Vec<Point3>>)> {
     let along = match cross {
@@ -208,7 +211,7 @@ fn sections_interpolated(
     let mut curves: Vec<Vec<Point3>> = Vec::with_capacity(abscissae.len());
     for &g in &abscissae {
         let section = Section::read_at(s, cross, g)?;
-        let points = section.profile(f, PROFILE_STEPS)?;
+        let points = section.profile(f, shape, PROFILE_STEPS)?;
         let (k, ctrl) = fit_profile(&points, f, middle, section.end_tangent())?;
         kv.get_or_insert(k);
         curves.push(ctrl.iter().map(|q| section.to_space(q)).collect());

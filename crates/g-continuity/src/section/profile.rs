@@ -46,20 +46,50 @@ pub(super) struct Section {
     ey: V3<f64>,
 }
 
-/// The smooth ramp 0 → 1 on [0, 1] (x³(10 − 15x + 6x²), "smootherstep"): its first and second
-/// derivatives vanish at both ends, so a curvature multiplied by it stays C² where the ramp
-/// starts and ends — the curvature plot has no kink at the ramp's end.
-fn ramp(x: f64) -> f64 {
-    let x = x.clamp(0.0, 1.0);
-    x * x * x * (10.0 + x * (6.0 * x - 15.0))
+/// How the curvature of a one-hump section leaves a contact line, where it is 0 (a plane's):
+/// the shape ρ of its ramp from 0 to the plateau over the ramp's fraction of the length. Both
+/// shapes have ρ(0) = 0 (G2 to a plane) and ρ'(1) = ρ''(1) = 0 (the curvature plot has no kink
+/// where the ramp meets the plateau). What a ramp costs in deviation is its deficit ∫(1 − ρ):
+/// the plateau must turn what the ramp does not, so the middle of the section moves in
+/// proportion to it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum RampShape {
+    /// ρ(x) = 1 − (1 − x)³, the least polynomial with those end conditions: the curvature rises
+    /// linearly from the contact line (as a railway's easement from a straight into a curve)
+    /// and the deficit is ¼ — half the flat ramp's, so the same deviation allows a ramp twice
+    /// as wide.
+    Linear,
+    /// ρ(x) = x³(10 − 15x + 6x²), "smootherstep": also ρ'(0) = ρ''(0) = 0, so the curvature
+    /// leaves the contact line flat; deficit ½. A surface that meets the section's end curve
+    /// at a contact point with a master of its own (the part across a fillet ring's seam)
+    /// finds there a curvature with no slope along the curve, as on its master.
+    Flat,
+}
+
+impl RampShape {
+    /// ρ(x) on [0, 1] (clamped outside).
+    pub fn at(self, x: f64) -> f64 {
+        let x = x.clamp(0.0, 1.0);
+        match self {
+            Self::Linear => {
+                let y = 1.0 - x;
+                1.0 - y * y * y
+            }
+            Self::Flat => x * x * x * (10.0 + x * (6.0 * x - 15.0)),
+        }
+    }
 }
 
 /// The ramp factor at σ with ramp fractions (f0, f1) of the section's length at its start and
 /// end (0: no ramp at that end).
-fn ramps(sigma: f64, f: (f64, f64)) -> f64 {
-    let a = if f.0 > 0.0 { ramp(sigma / f.0) } else { 1.0 };
+fn ramps(sigma: f64, f: (f64, f64), shape: RampShape) -> f64 {
+    let a = if f.0 > 0.0 {
+        shape.at(sigma / f.0)
+    } else {
+        1.0
+    };
     let b = if f.1 > 0.0 {
-        ramp((1.0 - sigma) / f.1)
+        shape.at((1.0 - sigma) / f.1)
     } else {
         1.0
     };
@@ -193,9 +223,15 @@ impl Section {
 
     /// The curve of curvature ρ(σ)·(c + d(σ − ½))·κ_ref(σ) over length `len` from the origin
     /// along +x, sampled at `steps` + 1 equal steps of σ: points and the end heading.
-    fn integrate(&self, f: (f64, f64), z: &V3<f64>, steps: usize) -> (Vec<Vector2<f64>>, f64) {
+    fn integrate(
+        &self,
+        f: (f64, f64),
+        shape: RampShape,
+        z: &V3<f64>,
+        steps: usize,
+    ) -> (Vec<Vector2<f64>>, f64) {
         let (c, d, len) = (z.x, z.y, z.z);
-        let k = |s: f64| ramps(s, f) * (c + d * (s - 0.5)) * self.kappa_at(s);
+        let k = |s: f64| ramps(s, f, shape) * (c + d * (s - 0.5)) * self.kappa_at(s);
         let h = 1.0 / steps as f64;
         let mut pts = Vec::with_capacity(steps + 1);
         let (mut p, mut phi) = (Vector2::zeros(), 0.0f64);
@@ -223,22 +259,27 @@ impl Section {
 
     /// The profile with ramps `f` that joins the section's end point with its end tangent:
     /// (c, d, length) solved by Newton's method from (turn / ∫ρκ, 0, length).
-    pub(super) fn profile(&self, f: (f64, f64), steps: usize) -> Result<Vec<Vector2<f64>>> {
+    pub(super) fn profile(
+        &self,
+        f: (f64, f64),
+        shape: RampShape,
+        steps: usize,
+    ) -> Result<Vec<Vector2<f64>>> {
         let h = 1.0 / steps as f64;
         let integral: f64 = (0..=steps)
-            .map(|i| ramps(i as f64 * h, f) * self.kappa_at(i as f64 * h))
+            .map(|i| ramps(i as f64 * h, f, shape) * self.kappa_at(i as f64 * h))
             .sum::<f64>()
             * h;
         let mut z = V3::new(self.turn / (integral * self.length), 0.0, self.length);
         let residual = |z: &V3<f64>| {
-            let (pts, phi) = self.integrate(f, z, steps);
+            let (pts, phi) = self.integrate(f, shape, z, steps);
             let e = pts[steps] - self.end;
             V3::new(e.x, e.y, (phi - self.turn) * self.length)
         };
         for _ in 0..PROFILE_ITERATIONS {
             let r = residual(&z);
             if r.norm() <= PROFILE_RESIDUAL * self.length {
-                return Ok(self.integrate(f, &z, steps).0);
+                return Ok(self.integrate(f, shape, &z, steps).0);
             }
             let mut jac = Matrix3::zeros();
             for col in 0..3 {

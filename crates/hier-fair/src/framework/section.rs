@@ -4,7 +4,7 @@
 //! deviation budget allows; the candidate is taken when it meets every link the lead-in trial
 //! met within that budget and is fairer by the figures of [`crate::fairness`].
 
-use g_continuity::{ConnectParams, SideLink, prepare_slave};
+use g_continuity::{ConnectParams, RampShape, SideLink, prepare_slave};
 use nurbs_core::energy::max_deviation;
 use nurbs_core::{BSplineSurface, Continuity, Direction, Side};
 
@@ -27,11 +27,13 @@ pub const SECTION_TRIALS: usize = 4;
 pub const MIN_RAMP: f64 = MIN_LEAD_IN;
 
 /// Narrowest ramp tried on a surface that is no master: 1/256 of the section. The ramp is as
-/// wide as the deviation budget allows (about 0.31 f R for a 90° arc of radius R, so by default's
-/// 0.025 mm a 5 mm fillet needs f ≤ 1/62); a narrow monotone ramp is still one hump, where the
-/// lead-in it replaces waves. Measured by default: a boss's torus fillet of radius 5 takes
-/// f = 0.0138, one hump at 1.01× its input's peak (with 1/64 it kept the lead-in's five extrema
-/// at 1.30×). Narrower ramps than 1/256 were not tried.
+/// wide as the deviation budget allows (for a 90° arc of radius R about 0.15 f R with the
+/// linear ramp, 0.31 f R with the flat one, [`RampShape`]; so by default's 0.025 mm a 5 mm
+/// fillet needs f ≤ 1/31 or 1/62); a narrow monotone ramp is still one hump, where the lead-in
+/// it replaces waves. Measured by default with flat ramps: a boss's torus fillet of radius 5
+/// took f = 0.0138, one hump at 1.01× its input's peak (with 1/64 it kept the lead-in's five
+/// extrema at 1.30×); with linear ramps it takes f = 0.029, 1.01×. Narrower ramps than 1/256
+/// were not tried.
 pub const MIN_FREE_RAMP: f64 = MIN_RAMP / 4.0;
 
 impl Job<'_> {
@@ -68,6 +70,26 @@ impl Job<'_> {
             }
         };
         Some((dir, (at(true), at(false))))
+    }
+
+    /// The ramp shape of this surface's section across `dir`: [`RampShape::Linear`], the
+    /// narrower deficit, unless a seam ([`crate::edges::is_seam`]) lies on one of the section's
+    /// end curves — there a part of the same ring follows the end curve and meets its own
+    /// masters at the contact points, and takes a curvature that leaves them flat
+    /// ([`RampShape::Flat`]). Measured on a metre part's fillet ring: with linear ramps on its
+    /// parts, two parts across their seams could not follow and four G2 links were lost; with
+    /// flat ones every part follows (docs/benchmarks.md).
+    fn ramp_shape(&self, dir: Direction) -> RampShape {
+        let on_an_end = self.edges.iter().any(|e| {
+            e.surface == self.surface
+                && e.side.cross_direction() != dir
+                && crate::edges::is_seam(self.model, e)
+        });
+        if on_an_end {
+            RampShape::Flat
+        } else {
+            RampShape::Linear
+        }
     }
 
     /// The fairness verdict of `result` against the input ([`FairnessVerdict`]).
@@ -107,7 +129,8 @@ impl Job<'_> {
             let Some((dir, ramps)) = self.section_ends(links, f) else {
                 break;
             };
-            let Ok(section) = g_continuity::one_hump_section(self.start, dir, ramps) else {
+            let shape = self.ramp_shape(dir);
+            let Ok(section) = g_continuity::one_hump_section(self.start, dir, ramps, shape) else {
                 break;
             };
             let d_section = max_deviation(original, &section, self.params.deviation_grid);
