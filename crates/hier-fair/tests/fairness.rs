@@ -340,12 +340,13 @@ fn hanging(model: &Model, name: &str) -> Model {
 }
 
 /// box12_r5's sphere corner C06 (radius 5: 0.2 /mm everywhere) with its three cylinder fillets
-/// and their planes, faired with the default deviation (0.05 mm). As one patch with a pole its
-/// lead-ins narrow to nothing at the pole and it peaks above 2× its input's there (measured
-/// 2.5× against fillets with linear-ramp sections, 5.3× before them); split into three quads
-/// it has no pole, every link is still met, and no quad peaks beyond 2× (measured 1.67×;
-/// 1.55–2.0× in the whole model, where the quad next to the two fillets that meet at a corner
-/// of the sphere carries the vertex conflict there).
+/// and their planes, faired with the default deviation (0.05 mm). As one patch with a pole it
+/// meets every link and keeps its input's peak curvature (measured 1.02×: its continuity
+/// setting against fillets with linear-ramp sections, kept where it is fairer than its faired
+/// result; 5.3× when its lead-ins narrowed to nothing at the pole, 2.5× with the faired result
+/// kept); split into three quads it has no pole, every link is still met, and no quad peaks
+/// beyond 2× (measured 1.67×; 1.55–2.0× in the whole model, where the quad next to the two
+/// fillets that meet at a corner of the sphere carries the vertex conflict there).
 #[test]
 fn a_split_sphere_corner_has_no_spike_at_its_pole() {
     let model = hanging(&model("occt_box12_r5").unwrap(), "C06_sphere");
@@ -360,7 +361,10 @@ fn a_split_sphere_corner_has_no_spike_at_its_pole() {
     };
     assert!(whole.links.iter().all(|l| l.met));
     let before = peak(&whole, "C06_sphere");
-    assert!(before > 2.0, "the pole's spike: {before}");
+    assert!(
+        before <= hier_fair::fairness::PEAK_FACTOR,
+        "the pole's spike: {before}"
+    );
     let (split, record) = hier_fair::poles::split_pole_corners(&model);
     assert_eq!(record.len(), 1);
     let (_, quads) = fair_model(&split, &RoleMethods::default(), None, &params).unwrap();
