@@ -12,7 +12,9 @@ use super::error::{StageError, StageResult};
 use super::masks::free_rows;
 use super::stages::StagePlan;
 use super::{DryRun, Job, LEAD_IN_MARGIN, MIN_LEAD_IN, Run, Stage};
+use crate::edges::SharedEdge;
 use crate::fairness::{FairnessVerdict, surface_fairness};
+use crate::model::Model;
 
 /// Ramp trials: the first at [`g_continuity::MAX_RAMP`], each next one scaled by budget/d (the
 /// section's deviation grows linearly with its ramps, [`g_continuity::section`]) and
@@ -35,6 +37,24 @@ pub const MIN_RAMP: f64 = MIN_LEAD_IN;
 /// extrema at 1.30×); with linear ramps it takes f = 0.029, 1.01×. Narrower ramps than 1/256
 /// were not tried.
 pub const MIN_FREE_RAMP: f64 = MIN_RAMP / 4.0;
+
+/// The ramp shape of surface `k`'s section across `dir`: [`RampShape::Linear`], the narrower
+/// deficit, unless a seam ([`crate::edges::is_seam`]) among `edges` lies on one of the section's
+/// end curves — there a part of the same ring follows the end curve and meets its own masters
+/// at the contact points, and takes a curvature that leaves them flat ([`RampShape::Flat`]).
+/// Measured on a metre part's fillet ring: with linear ramps on its parts, two parts across
+/// their seams could not follow and four G2 links were lost; with flat ones every part follows
+/// (docs/benchmarks.md).
+fn ramp_shape(model: &Model, edges: &[SharedEdge], k: usize, dir: Direction) -> RampShape {
+    let on_an_end = edges.iter().any(|e| {
+        e.surface == k && e.side.cross_direction() != dir && crate::edges::is_seam(model, e)
+    });
+    if on_an_end {
+        RampShape::Flat
+    } else {
+        RampShape::Linear
+    }
+}
 
 impl Job<'_> {
     /// The cross direction and the ramps (start, end) of a one-hump section for this surface:
@@ -72,24 +92,9 @@ impl Job<'_> {
         Some((dir, (at(true), at(false))))
     }
 
-    /// The ramp shape of this surface's section across `dir`: [`RampShape::Linear`], the
-    /// narrower deficit, unless a seam ([`crate::edges::is_seam`]) lies on one of the section's
-    /// end curves — there a part of the same ring follows the end curve and meets its own
-    /// masters at the contact points, and takes a curvature that leaves them flat
-    /// ([`RampShape::Flat`]). Measured on a metre part's fillet ring: with linear ramps on its
-    /// parts, two parts across their seams could not follow and four G2 links were lost; with
-    /// flat ones every part follows (docs/benchmarks.md).
+    /// The ramp shape of this surface's section across `dir` ([`ramp_shape`]).
     fn ramp_shape(&self, dir: Direction) -> RampShape {
-        let on_an_end = self.edges.iter().any(|e| {
-            e.surface == self.surface
-                && e.side.cross_direction() != dir
-                && crate::edges::is_seam(self.model, e)
-        });
-        if on_an_end {
-            RampShape::Flat
-        } else {
-            RampShape::Linear
-        }
+        ramp_shape(self.model, self.edges, self.surface, dir)
     }
 
     /// The fairness verdict of `result` against the input ([`FairnessVerdict`]).
@@ -211,5 +216,43 @@ impl Job<'_> {
             run.record(Stage::set(h), &plan.prepared, &plan.connected);
         }
         plan.connected.clone()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use g_continuity::RampShape;
+    use nurbs_core::Direction;
+
+    use super::ramp_shape;
+    use crate::edges::tests::strip;
+    use crate::model::Role;
+
+    #[test]
+    fn a_ring_part_takes_flat_ramps_where_its_seams_end_the_section() {
+        // three squares in a row sharing the sides u1/u0: the middle one has seams on both
+        // u sides, the outer ones on one
+        let (model, edges) = strip(Role::Connecting);
+        for k in 0..3 {
+            // a section across v ends on the u sides, where the seams are
+            assert_eq!(ramp_shape(&model, &edges, k, Direction::V), RampShape::Flat);
+            // a section across u ends on the v sides: no seam there
+            assert_eq!(
+                ramp_shape(&model, &edges, k, Direction::U),
+                RampShape::Linear
+            );
+        }
+    }
+
+    #[test]
+    fn a_shared_edge_with_another_role_is_no_seam() {
+        // the middle square between two primaries: its shared edges are no seams
+        let (mut model, edges) = strip(Role::Connecting);
+        model.surfaces[0].role = Role::Primary;
+        model.surfaces[2].role = Role::Primary;
+        assert_eq!(
+            ramp_shape(&model, &edges, 1, Direction::V),
+            RampShape::Linear
+        );
     }
 }
