@@ -17,8 +17,8 @@
 //!    its plane (E0 at the origin, its start tangent along +x), with its arc length and signed
 //!    curvature κ_ref(σ) at normalized arc length σ.
 //! 2. The profile κ(σ) = ρ(σ)·(c + d(σ − ½))·κ_ref(σ), ρ a ramp from 0 to 1 ([`RampShape`])
-//!    over the fraction f of the length at each ramped end; c, d and the length are solved (Newton) so
-//!    that the curve from E0 ends at E1 with E1's tangent. For a circle d = 0 and the profile
+//!    over the fraction f of the length at each ramped end; c, d and the length are solved
+//!    (Newton) so that the curve from E0 ends at E1 with E1's tangent. For a circle d = 0 and the profile
 //!    is symmetric; for a conic the tilt d keeps the two ends' shares.
 //! 3. A quintic B-spline fitted to it: three knots in each ramp, the rest in equal spans; the
 //!    second and third control points on the end tangent at a ramped end (curvature 0, as the

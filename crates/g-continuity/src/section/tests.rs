@@ -130,7 +130,7 @@ fn a_wider_ramp_moves_the_section_further() {
 fn the_ramp_shapes_meet_their_end_conditions_and_deficits() {
     // ρ(0) = 0, ρ(1) = 1, ρ'(1) = ρ''(1) = 0; the flat one also ρ'(0) = 0, the linear one
     // ρ'(0) = 3. Central differences with h = 1e-3: truncation h²/6·|ρ'''| ≤ 1e-5 and
-    // h²/12·|ρ''''| ≤ 3e-5 for these quintics, rounding 1e-10 — far below the bound 1e-4
+    // h²/12·|ρ''''| ≤ 3e-5 for these polynomials, rounding 1e-10 — far below the bound 1e-4
     let h = 1e-3;
     for shape in [RampShape::Linear, RampShape::Flat] {
         let r = |x: f64| {

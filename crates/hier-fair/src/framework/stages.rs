@@ -485,9 +485,10 @@ impl Job<'_> {
     /// `None` to keep `s`. It replaces it only with [`FairParams::prefer_fairer`], where the
     /// faired result's peak curvature is beyond [`crate::fairness::PEAK_FACTOR`] of its
     /// input's (a one-hump section's result: where it is not fair by any figure of
-    /// [`crate::fairness`]), the setting meets as many links as `s` and is fairer ([`crate::fairness::FairnessVerdict::fairer_than`]): a fairing stage minimizes
-    /// its method's functional, which on a strongly curved connecting surface need not lower
-    /// its curvature peaks (with 0.5 mm of deviation the thin-plate energy of a boss's
+    /// [`crate::fairness`]), the setting meets as many links as `s` and is fairer
+    /// ([`crate::fairness::FairnessVerdict::fairer_than`]): a fairing stage minimizes its
+    /// method's functional, which on a strongly curved connecting surface need not lower its
+    /// curvature peaks (with 0.5 mm of deviation the thin-plate energy of a boss's
     /// torus fillet drops 4 % while its peak curvature grows 2.6×; a box's sphere corners
     /// per role drop 7 % in energy and go from 1.18× to 1.81× in peak), nor keep the one hump
     /// of a fillet's section ([`super::section`]).
