@@ -24,6 +24,13 @@ fn per_role_with(name: &str, base: FairParams) -> (Model, Model, FairModelReport
     (m, out, report)
 }
 
+/// `m` faired by default (0.05 mm everywhere): its report.
+fn by_default(m: &Model) -> FairModelReport {
+    fair_model(m, &RoleMethods::default(), None, &FairParams::default())
+        .unwrap()
+        .1
+}
+
 fn surface<'a>(report: &'a FairModelReport, name: &str) -> &'a hier_fair::SurfaceFair {
     report
         .surfaces
@@ -173,9 +180,7 @@ fn torus_fillets_get_one_hump_per_role() {
 /// at 1.30×).
 #[test]
 fn torus_fillets_get_one_hump_by_default() {
-    let m = model("occt_plate_boss").unwrap();
-    let (_, report) =
-        fair_model(&m, &RoleMethods::default(), None, &FairParams::default()).unwrap();
+    let report = by_default(&model("occt_plate_boss").unwrap());
     assert!(report.links.iter().all(|l| l.met));
     for f in ["F02_torus", "F09_torus"] {
         let s = surface(&report, f);
@@ -281,14 +286,10 @@ fn sphere_corner_poles_take_their_masters_curvature() {
 /// keep their input's section), every link is met, and the report names each withdrawn section.
 #[test]
 fn sections_a_corner_cannot_follow_are_withdrawn() {
-    let model = hanging(&model("occt_box12_variable").unwrap(), "C07_bspline");
-    let (_, report) = fair_model(
-        &model,
-        &RoleMethods::default(),
-        None,
-        &FairParams::default(),
-    )
-    .unwrap();
+    let report = by_default(&hanging(
+        &model("occt_box12_variable").unwrap(),
+        "C07_bspline",
+    ));
     assert!(report.links.iter().all(|l| l.met));
     let withdrawn: Vec<&str> = report
         .problems
@@ -350,8 +351,7 @@ fn hanging(model: &Model, name: &str) -> Model {
 #[test]
 fn a_split_sphere_corner_has_no_spike_at_its_pole() {
     let model = hanging(&model("occt_box12_r5").unwrap(), "C06_sphere");
-    let params = FairParams::default();
-    let (_, whole) = fair_model(&model, &RoleMethods::default(), None, &params).unwrap();
+    let whole = by_default(&model);
     let peak = |r: &hier_fair::FairModelReport, name: &str| {
         r.surfaces
             .iter()
@@ -367,7 +367,7 @@ fn a_split_sphere_corner_has_no_spike_at_its_pole() {
     );
     let (split, record) = hier_fair::poles::split_pole_corners(&model);
     assert_eq!(record.len(), 1);
-    let (_, quads) = fair_model(&split, &RoleMethods::default(), None, &params).unwrap();
+    let quads = by_default(&split);
     assert!(quads.links.iter().all(|l| l.met), "{:?}", quads.problems);
     let after = peak(&quads, "C06_sphere.q");
     assert!(after < 2.0, "split: {after} (unsplit {before})");
