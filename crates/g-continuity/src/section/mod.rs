@@ -206,7 +206,10 @@ fn sections_interpolated(
         Direction::V => s.knots_u(),
         Direction::U => s.knots_v(),
     };
-    let abscissae = along.greville();
+    // the Greville abscissae, clamped to the domain: the averages of the end knots can round
+    // past them by an ulp
+    let (d0, d1) = along.domain();
+    let abscissae: Vec<f64> = along.greville().iter().map(|g| g.clamp(d0, d1)).collect();
     let mut kv = None;
     let mut curves: Vec<Vec<Point3>> = Vec::with_capacity(abscissae.len());
     for &g in &abscissae {

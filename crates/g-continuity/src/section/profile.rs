@@ -415,12 +415,7 @@ pub(super) fn fit_profile(
         rhs[2 * k] = target.x;
         rhs[2 * k + 1] = target.y;
     }
-    let sol = a
-        .svd(true, true)
-        .solve(&rhs, 1e-14)
-        .map_err(|e| Error::NoSection {
-            reason: format!("the section's fit: {e}"),
-        })?;
+    let sol = least_squares(a, rhs)?;
     let out = vars
         .iter()
         .map(|v| match *v {
@@ -430,6 +425,32 @@ pub(super) fn fit_profile(
         })
         .collect();
     Ok((kv, out))
+}
+
+/// The least-squares solution of `a x = rhs`: by Householder QR where R's diagonal is well
+/// away from zero (a column no sample reaches would leave it 0), else by the SVD with its small
+/// singular values dropped. The QR is the same solution for a full-rank `a` at a fraction of the
+/// SVD's cost: the section is fitted once per control column when it is taken section by
+/// section, and the SVD was half of a fillet's time there (docs/benchmarks.md).
+fn least_squares(a: DMatrix<f64>, rhs: DVector<f64>) -> Result<DVector<f64>> {
+    let m = a.ncols();
+    let qr = a.clone().qr();
+    let r = qr.r();
+    let largest = r.diagonal().amax();
+    // Householder QR loses about cond(A)·ε; a pivot below 1e-10 of the largest means a
+    // condition beyond what the fit's 1e-9 accuracy tolerates, so the SVD decides instead
+    if largest > 0.0 && r.diagonal().iter().all(|d| d.abs() > 1e-10 * largest) {
+        let mut b = rhs.clone();
+        qr.q_tr_mul(&mut b);
+        if let Some(x) = r.solve_upper_triangular(&b.rows(0, m)) {
+            return Ok(x);
+        }
+    }
+    a.svd(true, true)
+        .solve(&rhs, 1e-14)
+        .map_err(|e| Error::NoSection {
+            reason: format!("the section's fit: {e}"),
+        })
 }
 
 /// The affine coordinates (α, β) of the plane point `q` in the frame E0 = 0, M = `corner`,
@@ -463,5 +484,40 @@ impl Section {
     /// The unit end tangent pointing back along the section (from E1 towards M).
     pub(super) fn end_tangent(&self) -> Vector2<f64> {
         (self.corner - self.end).normalize()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use nalgebra::{DMatrix, DVector};
+
+    use super::least_squares;
+
+    /// The QR path gives the SVD's least-squares solution on a full-rank system, and a column
+    /// no row reaches (rank deficient) goes to the SVD, which leaves its unknown at 0.
+    #[test]
+    fn least_squares_by_qr_matches_the_svd_and_falls_back_on_rank_deficiency() {
+        let rows = 40;
+        let a = DMatrix::from_fn(rows, 3, |i, j| {
+            let t = i as f64 / (rows - 1) as f64;
+            t.powi(j as i32)
+        });
+        // a quadratic with a residual (a sine) that a quadratic cannot fit
+        let rhs = DVector::from_fn(rows, |i, _| {
+            let t = i as f64 / (rows - 1) as f64;
+            1.0 - 2.0 * t + 0.5 * t * t + 0.01 * (12.0 * t).sin()
+        });
+        let x = least_squares(a.clone(), rhs.clone()).unwrap();
+        let svd = a.clone().svd(true, true).solve(&rhs, 1e-14).unwrap();
+        assert!((&x - &svd).amax() < 1e-12, "{x} against {svd}");
+        // the normal equations hold: the residual is orthogonal to the columns
+        let r = &rhs - &a * &x;
+        assert!((a.transpose() * r).amax() < 1e-12);
+        // a zero column: no pivot, the SVD's minimum-norm solution
+        let mut b = DMatrix::zeros(rows, 4);
+        b.columns_mut(0, 3).copy_from(&a);
+        let y = least_squares(b, rhs).unwrap();
+        assert!((y.rows(0, 3) - &svd).amax() < 1e-12);
+        assert_eq!(y[3], 0.0);
     }
 }

@@ -237,6 +237,12 @@ fn weights_that_are_no_product_keep_both_contact_curves() {
 /// of radius 2 at v = 0 and a 60° arc of radius 3 at v = 1, both leaving the plane z = 0 along
 /// +x, joined linearly along (v).
 fn changing_fillet() -> BSplineSurface {
+    changing_fillet_along(KnotVector::new(1, vec![0.0, 0.0, 1.0, 1.0]).unwrap())
+}
+
+/// [`changing_fillet`] with the knot vector `along` in v (its control rows blend the two end
+/// arcs linearly at their Greville fractions, so every v degree gives the same surface).
+fn changing_fillet_along(along: KnotVector) -> BSplineSurface {
     let bezier_arc = |y: f64, r: f64, theta: f64| {
         let h = 4.0 / 3.0 * (theta / 4.0).tan() * r;
         let end = Point3::new(r * theta.sin(), y, r - r * theta.cos());
@@ -252,14 +258,38 @@ fn changing_fillet() -> BSplineSurface {
         bezier_arc(0.0, 2.0, FRAC_PI_2),
         bezier_arc(4.0, 3.0, PI / 3.0),
     );
-    let points: Vec<Point3> = (0..4).flat_map(|i| [a[i], b[i]]).collect();
+    let fractions = along.greville_fractions();
+    let points: Vec<Point3> = (0..4)
+        .flat_map(|i| {
+            fractions
+                .iter()
+                .map(move |&t| a[i] + (b[i] - a[i]) * t)
+                .collect::<Vec<_>>()
+        })
+        .collect();
     BSplineSurface::new(
         KnotVector::new(3, vec![0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0, 1.0]).unwrap(),
-        KnotVector::new(1, vec![0.0, 0.0, 1.0, 1.0]).unwrap(),
+        along,
         points,
         None,
     )
     .unwrap()
+}
+
+/// A Greville abscissa is a knot average, which can round past the domain's end: at
+/// x = 0.8626903632435095, (x + x + x) / 3 < x. The sections are read at the abscissae
+/// clamped to the domain, so such a surface is sectioned like any other.
+#[test]
+fn greville_abscissae_rounded_past_the_domain_are_read_at_its_end() {
+    let x = 0.862_690_363_243_509_5;
+    let along = KnotVector::new(3, vec![x, x, x, x, 2.0, 2.0, 2.0, 2.0]).unwrap();
+    assert!(along.greville()[0] < x, "the rounding this test needs");
+    let s = changing_fillet_along(along);
+    let out =
+        one_hump_section_by_sections(&s, Direction::U, (0.1, 0.1), RampShape::Linear).unwrap();
+    for u in [0.0, 1.0] {
+        assert!((out.point(u, x) - s.point(u, x)).norm() < 1e-9);
+    }
 }
 
 #[test]
