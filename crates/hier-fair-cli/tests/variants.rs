@@ -213,26 +213,13 @@ fn pipe_tees_reach_g2_everywhere_with_their_seams_closed() {
 
 #[test]
 fn an_opened_seam_is_closed_by_linking_the_later_part_to_the_earlier() {
-    // with the fairing's limit set by hand (20,000 moves, fewer than the default's 100 per free
-    // point) the halves' G2 steps leave the kernel's pipe tee's seams open next to their ends;
-    // the later half is run again with its seams linked G2 to the earlier one, which keeps its
-    // free result (run again with the seams kept as they came, all four links had lost G2)
-    // (`--keep-faired`: the faired halves, 27× their input's peak curvature, are kept as the
-    // method made them; by default the fairer continuity setting is, and no seam opens). The
-    // connecting surfaces at 0.1 mm: at 0.5 mm the halves take the one-hump section, whose
-    // seams do not open; the variants' pipe tees take it at 0.1 mm too (section by section)
-    let kernel =
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/occt/occt_pipe_tee.json");
-    let r = fair_file(
-        kernel.to_str().unwrap(),
-        &[
-            "--iterations",
-            "20000",
-            "--keep-faired",
-            "--tolerance-role",
-            "connecting=0.1",
-        ],
-    );
+    // a ring of fillet parts from another system (`fixtures/foreign/trj1_t4m-ac.stp`) by
+    // default: the continuity steps of part 20DD open its seams with the parts B1 and 20DB
+    // (3.2e-3 mm, 0.02°; input 1e-11 mm); 20DD is run again with its seams linked G2 to them,
+    // which keep their free results. (The kernel's pipe tee opened its halves' seams with the
+    // fairing limited by hand until its halves took one-hump sections, whose seams stay shut.)
+    let ring = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../fixtures/foreign/trj1_t4m-ac.stp");
+    let r = fair_args(ring.to_str().unwrap(), std::iter::empty());
     let problems = r["problems"].as_array().unwrap();
     let linked: Vec<&str> = problems
         .iter()
@@ -249,7 +236,7 @@ fn an_opened_seam_is_closed_by_linking_the_later_part_to_the_earlier() {
         "the free run no longer opens a seam here: pick a setting that does ({problems:#?})"
     );
     assert_seams_closed(&r);
-    // the earlier half keeps its free result, whose links are met
+    // the earlier parts keep their free results, whose links are met
     for l in r["links"].as_array().unwrap() {
         let slave = l["slave"].as_str().unwrap();
         if !linked.contains(&slave) {

@@ -1,28 +1,32 @@
 //! The one-hump section of a fillet: curvature that rises once and falls once across it.
 //!
 //! A rolling-ball fillet meets a plane with curvature 1/R against the plane's 0. G2 needs 0 at
-//! the contact line, and a lead-in that moves only control row 2 ([`crate::lead_in`]) must
-//! rejoin the unchanged arc beyond it: the curvature overshoots and undershoots there, two
-//! extrema too many beside each side. The whole section has to change instead (\[SV\] §1:
-//! "large, monotone curvature areas"): with the contact lines and their tangent planes kept, a
-//! profile whose curvature ramps from 0 to a plateau and back turns the same angle over a
-//! slightly shorter plateau of slightly higher curvature — the railway easement between a
-//! straight and a circle, with the ends pinned. Its deviation from the arc grows linearly with
-//! the ramp and with the ramp's deficit ([`RampShape`]): for a 90° arc of radius R and ramps of
-//! length ℓ the middle of the section moves by about 0.1 ℓ with the linear ramp and 0.2 ℓ with
-//! the flat one (measured in the tests), the plateau's radius shrinking by about ℓ/4 or ℓ/2.
+//! the contact line (a curved master's own curvature across, in general), and a lead-in that
+//! moves only control row 2 ([`crate::lead_in`]) must rejoin the unchanged arc beyond it: the
+//! curvature overshoots and undershoots there, two extrema too many beside each side. The
+//! whole section has to change instead (\[SV\] §1: "large, monotone curvature areas"): with
+//! the contact lines and their tangent planes kept, a profile whose curvature ramps from 0 to a
+//! plateau and back turns the same angle over a slightly shorter plateau of slightly higher
+//! curvature — the railway easement between a straight and a circle, with the ends pinned. Its
+//! deviation from the arc grows linearly with the ramp and with the ramp's deficit
+//! ([`RampShape`]): for a 90° arc of radius R and ramps of length ℓ the middle of the section
+//! moves by about 0.1 ℓ with the linear ramp and 0.2 ℓ with the flat one (measured in the
+//! tests), the plateau's radius shrinking by about ℓ/4 or ℓ/2.
 //!
 //! # Construction
 //! 1. The reference section: the iso-curve across the fillet at the middle of its length, in
 //!    its plane (E0 at the origin, its start tangent along +x), with its arc length and signed
 //!    curvature κ_ref(σ) at normalized arc length σ.
-//! 2. The profile κ(σ) = ρ(σ)·(c + d(σ − ½))·κ_ref(σ), ρ a ramp from 0 to 1 ([`RampShape`])
-//!    over the fraction f of the length at each ramped end; c, d and the length are solved
-//!    (Newton) so that the curve from E0 ends at E1 with E1's tangent. For a circle d = 0 and the profile
-//!    is symmetric; for a conic the tilt d keeps the two ends' shares.
+//! 2. The profile κ(σ) = ρ(σ)·(c + d(σ − ½))·κ_ref(σ) + (1 − ρ)·κ_contact, ρ a ramp from 0
+//!    to 1 ([`RampShape`]) over the fraction f of the length at each ramped end and κ_contact
+//!    that end's master's curvature across (0 for a plane or without a master); c, d and the
+//!    length are solved (Newton) so that the curve from E0 ends at E1 with E1's tangent. For a
+//!    circle between planes d = 0 and the profile is symmetric; for a conic the tilt d keeps
+//!    the two ends' shares.
 //! 3. A quintic B-spline fitted to it: three knots in each ramp, the rest in equal spans; the
-//!    second and third control points on the end tangent at a ramped end (curvature 0, as the
-//!    profile), so that G1 and G2 to a plane hold already and the G2 step has little left.
+//!    second and third control points on the end tangent at a ramped end with curvature 0 (as
+//!    the profile), so that G1 and G2 to a plane hold already and the G2 step has little left;
+//!    at a curved master's end the third is free and the fit carries the master's curvature.
 //! 4. Every control column of the surface takes the fitted section through its own frame: the
 //!    points E0, M, E1 of the column (first point, the end tangents' meeting point, last point)
 //!    and the section's affine coordinates in that frame. The map is affine per column, so a
@@ -62,21 +66,31 @@ pub const MIDDLE_SPANS: usize = 3;
 
 /// `s` with its section across `cross` replaced by the one-hump profile with ramps of the
 /// fractions `ramps` (start side, end side; 0: no ramp, that end bends as the profile does) of
-/// its length and of the `shape`, as the module docs describe. An error where the surface has
-/// no such section: a column whose end tangents do not meet ahead of it, a straight or
-/// singular section, or a profile that cannot join its ends.
+/// its length and of the `shape`, as the module docs describe. A ramped end with a master in
+/// `masters` (the surfaces the start and the end side are G2 to) rises from the master's normal
+/// curvature across at the middle section's contact point instead of from 0 (G2 to a curved
+/// master; 0 for a plane, as without one). An error where the surface has no such section: a
+/// column whose end tangents do not meet ahead of it, a straight or singular section, or a
+/// profile that cannot join its ends.
 pub fn one_hump_section(
     s: &BSplineSurface,
     cross: Direction,
     ramps: (f64, f64),
     shape: RampShape,
+    masters: [Option<&BSplineSurface>; 2],
 ) -> Result<BSplineSurface> {
     let f = (ramps.0.clamp(0.0, MAX_RAMP), ramps.1.clamp(0.0, MAX_RAMP));
     let s = s.clamped()?;
-    let section = Section::read(&s, cross)?;
+    let section = Section::read(&s, cross)?.with_contacts(masters);
     let points = section.profile(f, shape, PROFILE_STEPS)?;
     let middle = MIDDLE_SPANS.max(section.spans + 1);
-    let (kv, ctrl) = fit_profile(&points, f, middle, section.end_tangent())?;
+    let (kv, ctrl) = fit_profile(
+        &points,
+        f,
+        middle,
+        section.end_tangent(),
+        section.flat_ends(),
+    )?;
     let (corner, end) = (section.corner, section.end());
     let coords: Vec<(f64, f64)> = ctrl
         .iter()
@@ -118,12 +132,14 @@ pub fn one_hump_section(
 /// 0.20 mm from the fillet at any ramp, this one 0.022 mm at a ramp of 1/72. The result is
 /// polynomial; both contact curves are interpolated from their own points, so a polynomial
 /// surface keeps them exactly (a rational one to the interpolation's accuracy: the caller
-/// measures the deviation).
+/// measures the deviation). Each section's ramps rise from its own contact points' curvatures
+/// on `masters`.
 pub fn one_hump_section_by_sections(
     s: &BSplineSurface,
     cross: Direction,
     ramps: (f64, f64),
     shape: RampShape,
+    masters: [Option<&BSplineSurface>; 2],
 ) -> Result<BSplineSurface> {
     let f = (ramps.0.clamp(0.0, MAX_RAMP), ramps.1.clamp(0.0, MAX_RAMP));
     let s = s.clamped()?;
@@ -133,7 +149,7 @@ pub fn one_hump_section_by_sections(
     };
     // the spans of the middle, as [`one_hump_section`] takes them from its section
     let middle = MIDDLE_SPANS.max(cross_kv.spans().count() + 1);
-    let (kv, columns) = sections_interpolated(&s, cross, f, shape, middle)?;
+    let (kv, columns) = sections_interpolated(&s, cross, f, shape, middle, masters)?;
     let kv = across_knots(&s, cross, &kv)?;
     net_of(&s, cross, kv, &columns, None)
 }
@@ -201,6 +217,7 @@ fn sections_interpolated(
     f: (f64, f64),
     shape: RampShape,
     middle: usize,
+    masters: [Option<&BSplineSurface>; 2],
 ) -> Result<(KnotVector, Vec<Vec<Point3>>)> {
     let along = match cross {
         Direction::V => s.knots_u(),
@@ -213,9 +230,15 @@ fn sections_interpolated(
     let mut kv = None;
     let mut curves: Vec<Vec<Point3>> = Vec::with_capacity(abscissae.len());
     for &g in &abscissae {
-        let section = Section::read_at(s, cross, g)?;
+        let section = Section::read_at(s, cross, g)?.with_contacts(masters);
         let points = section.profile(f, shape, PROFILE_STEPS)?;
-        let (k, ctrl) = fit_profile(&points, f, middle, section.end_tangent())?;
+        let (k, ctrl) = fit_profile(
+            &points,
+            f,
+            middle,
+            section.end_tangent(),
+            section.flat_ends(),
+        )?;
         kv.get_or_insert(k);
         curves.push(ctrl.iter().map(|q| section.to_space(q)).collect());
     }

@@ -15,6 +15,16 @@ pub const SECTION_SAMPLES: usize = 401;
 /// circle: 3–4 iterations), so twenty only bound a section it cannot join.
 const PROFILE_ITERATIONS: usize = 20;
 
+/// Largest distance, relative to the section's length, of a contact point from the master it
+/// takes its curvature from ([`Section::with_contacts`]): a side on its master lies within the
+/// model's G0 tolerance, far below a thousandth of a fillet's section.
+const CONTACT_DISTANCE: f64 = 1e-3;
+
+/// Least |n · N| (the section's normal against the master's) at which a contact curvature is
+/// taken: below it the section's plane lies almost in the master's tangent plane and κ = k_n /
+/// (n · N) grows without bound (cos 60°).
+const MIN_CONTACT_COS: f64 = 0.5;
+
 /// Relative residual (to the section's length) at which the profile's end meets the contact
 /// point: far below any model tolerance, above the trapezoid's rounding.
 const PROFILE_RESIDUAL: f64 = 1e-11;
@@ -44,6 +54,12 @@ pub(super) struct Section {
     origin: V3<f64>,
     ex: V3<f64>,
     ey: V3<f64>,
+    /// the unit tangent at the end, in the plane (forward, along the section)
+    end_dir: Vector2<f64>,
+    /// the signed curvature (in the plane) the section takes at its start and end contact
+    /// points: its masters' normal curvature across there ([`Section::with_contacts`]; 0 for a
+    /// plane, and without a master)
+    contact: (f64, f64),
 }
 
 /// How the curvature of a one-hump section leaves a contact line, where it is 0 (a plane's):
@@ -203,7 +219,72 @@ impl Section {
             origin: e0,
             ex,
             ey,
+            end_dir: end_dir.normalize(),
+            contact: (0.0, 0.0),
         })
+    }
+
+    /// The section with the curvatures its contact points take from `masters` (at its start,
+    /// at its end; `None`: no master, curvature 0 there): G2 sets a surface's normal curvature
+    /// across a side to its master's in that direction, and the section's plane curvature κ
+    /// gives the normal curvature κ (n · N) with n its normal in the plane and N the master's
+    /// (Meusnier). A ramp then rises from that value instead of from 0, so the G2 step has
+    /// nothing to bend at the contact line and the curvature does not dip beside it. A master
+    /// the contact point is not on (farther than [`CONTACT_DISTANCE`] of the section's length),
+    /// or whose normal is almost in the section's tangent plane, leaves 0.
+    pub(super) fn with_contacts(mut self, masters: [Option<&BSplineSurface>; 2]) -> Self {
+        let start = (self.origin, self.ex, self.ey);
+        let end_point = self.to_space(&self.end).coords;
+        let t1 = self.ex * self.end_dir.x + self.ey * self.end_dir.y;
+        let n1 = self.ey * self.end_dir.x - self.ex * self.end_dir.y;
+        let ends = [start, (end_point, t1, n1)];
+        let mut k = [0.0; 2];
+        for (i, master) in masters.iter().enumerate() {
+            let Some(master) = master else { continue };
+            let (p, t, n) = ends[i];
+            let pr = nurbs_core::projection::project_to_surface(
+                master,
+                &Point3::from(p),
+                &nurbs_core::projection::ProjectionParams::default(),
+            );
+            if !(pr.distance <= CONTACT_DISTANCE * self.length) {
+                continue;
+            }
+            let d = master.derivatives(pr.u, pr.v);
+            let (Some(normal), Some(kn)) = (d.normal(), d.normal_curvature(&t)) else {
+                continue;
+            };
+            let cos = n.dot(&normal);
+            if cos.abs() >= MIN_CONTACT_COS {
+                k[i] = kn / cos;
+            }
+        }
+        self.contact = (k[0], k[1]);
+        self
+    }
+
+    /// The signed curvatures the section takes at its start and end contact points.
+    #[cfg(test)]
+    pub(super) fn contact_curvatures(&self) -> (f64, f64) {
+        self.contact
+    }
+
+    /// Whether the section leaves its start and its end flat (curvature 0 there).
+    pub(super) fn flat_ends(&self) -> (bool, bool) {
+        (self.contact.0 == 0.0, self.contact.1 == 0.0)
+    }
+
+    /// What the contact curvatures add at σ: each end's, faded out over its ramp (1 − ρ), as
+    /// the plateau fades in; nothing at an end without a ramp (it keeps the profile's own).
+    fn contact_at(&self, sigma: f64, f: (f64, f64), shape: RampShape) -> f64 {
+        let mut k = 0.0;
+        if f.0 > 0.0 && self.contact.0 != 0.0 {
+            k += (1.0 - shape.at(sigma / f.0)) * self.contact.0;
+        }
+        if f.1 > 0.0 && self.contact.1 != 0.0 {
+            k += (1.0 - shape.at((1.0 - sigma) / f.1)) * self.contact.1;
+        }
+        k
     }
 
     /// The reference curvature at normalized arc length σ (linear between samples).
@@ -231,7 +312,10 @@ impl Section {
         steps: usize,
     ) -> (Vec<Vector2<f64>>, f64) {
         let (c, d, len) = (z.x, z.y, z.z);
-        let k = |s: f64| ramps(s, f, shape) * (c + d * (s - 0.5)) * self.kappa_at(s);
+        let k = |s: f64| {
+            ramps(s, f, shape) * (c + d * (s - 0.5)) * self.kappa_at(s)
+                + self.contact_at(s, f, shape)
+        };
         let h = 1.0 / steps as f64;
         let mut pts = Vec::with_capacity(steps + 1);
         let (mut p, mut phi) = (Vector2::zeros(), 0.0f64);
@@ -270,7 +354,18 @@ impl Section {
             .map(|i| ramps(i as f64 * h, f, shape) * self.kappa_at(i as f64 * h))
             .sum::<f64>()
             * h;
-        let mut z = V3::new(self.turn / (integral * self.length), 0.0, self.length);
+        let contact: f64 = (0..=steps)
+            .map(|i| self.contact_at(i as f64 * h, f, shape))
+            .sum::<f64>()
+            * h;
+        // the plateau turns what the contact curvatures do not (the same start as before where
+        // both are 0)
+        let c0 = if contact == 0.0 {
+            self.turn / (integral * self.length)
+        } else {
+            (self.turn / self.length - contact) / integral
+        };
+        let mut z = V3::new(c0, 0.0, self.length);
         let residual = |z: &V3<f64>| {
             let (pts, phi) = self.integrate(f, shape, z, steps);
             let e = pts[steps] - self.end;
@@ -345,7 +440,7 @@ enum Var {
 /// The unknowns of the section's `n` control points (see [`fit_profile`]) and their count.
 fn unknowns(
     n: usize,
-    f: (f64, f64),
+    flat: (bool, bool),
     (e0, e1): (Vector2<f64>, Vector2<f64>),
     end_tangent: Vector2<f64>,
 ) -> (Vec<Var>, usize) {
@@ -357,10 +452,10 @@ fn unknowns(
             Var::Fixed(e0)
         } else if j == n - 1 {
             Var::Fixed(e1)
-        } else if j == 1 || (j == 2 && f.0 > 0.0) {
+        } else if j == 1 || (j == 2 && flat.0) {
             m += 1;
             Var::Along(e0, tx, m - 1)
-        } else if j == n - 2 || (j == n - 3 && f.1 > 0.0) {
+        } else if j == n - 2 || (j == n - 3 && flat.1) {
             m += 1;
             Var::Along(e1, end_tangent, m - 1)
         } else {
@@ -374,13 +469,14 @@ fn unknowns(
 
 /// The quintic B-spline (knots in [0, 1]) fitted by least squares to `points` at their
 /// normalized arc length, its first and last points at the ends, its second and third on the
-/// end tangent where that end has a ramp (zero curvature there, as the profile has), else its
-/// second on the tangent (the tangent plane kept) and its third free.
+/// end tangent where that end has a ramp and is `flat` (zero curvature there, as the profile
+/// has), else its second on the tangent (the tangent plane kept) and its third free.
 pub(super) fn fit_profile(
     points: &[Vector2<f64>],
     f: (f64, f64),
     middle: usize,
     end_tangent: Vector2<f64>,
+    flat: (bool, bool),
 ) -> Result<(KnotVector, Vec<Vector2<f64>>)> {
     let p = SECTION_DEGREE;
     let mut knots = vec![0.0; p + 1];
@@ -390,7 +486,12 @@ pub(super) fn fit_profile(
     let n = kv.num_basis();
     let last = points.len() - 1;
     let (e0, e1) = (points[0], points[last]);
-    let (vars, m) = unknowns(n, f, (e0, e1), end_tangent);
+    let (vars, m) = unknowns(
+        n,
+        (f.0 > 0.0 && flat.0, f.1 > 0.0 && flat.1),
+        (e0, e1),
+        end_tangent,
+    );
     let rows = points.len();
     let mut a = DMatrix::zeros(2 * rows, m);
     let mut rhs = DVector::zeros(2 * rows);

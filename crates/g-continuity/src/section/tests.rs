@@ -36,7 +36,7 @@ fn a_cylinder_fillet_gets_one_hump_with_its_contact_lines_and_tangent_planes_kep
     let r = 2.0;
     let s = cylinder(r, 1.0).unwrap();
     let f = 0.15;
-    let out = one_hump_section(&s, Direction::V, (f, f), RampShape::Linear).unwrap();
+    let out = one_hump_section(&s, Direction::V, (f, f), RampShape::Linear, [None, None]).unwrap();
     assert!(out.is_rational() || !s.is_rational());
     let (v0, v1) = s.domain_v();
     let (u0, u1) = s.domain_u();
@@ -72,7 +72,14 @@ fn a_cylinder_fillet_gets_one_hump_with_its_contact_lines_and_tangent_planes_kep
 #[test]
 fn a_torus_fillet_stays_a_surface_of_revolution() {
     let s = torus_fillet();
-    let out = one_hump_section(&s, Direction::U, (0.2, 0.2), RampShape::Linear).unwrap();
+    let out = one_hump_section(
+        &s,
+        Direction::U,
+        (0.2, 0.2),
+        RampShape::Linear,
+        [None, None],
+    )
+    .unwrap();
     let (u0, u1) = out.domain_u();
     let (v0, v1) = out.domain_v();
     for k in 0..=20 {
@@ -101,7 +108,8 @@ fn a_torus_fillet_stays_a_surface_of_revolution() {
 fn an_unramped_end_keeps_a_curvature() {
     let r = 2.0;
     let s = cylinder(r, 1.0).unwrap();
-    let out = one_hump_section(&s, Direction::V, (0.2, 0.0), RampShape::Flat).unwrap();
+    let out =
+        one_hump_section(&s, Direction::V, (0.2, 0.0), RampShape::Flat, [None, None]).unwrap();
     let (u0, _) = s.domain_u();
     let (v0, v1) = s.domain_v();
     let at = |v: f64| {
@@ -118,7 +126,7 @@ fn a_wider_ramp_moves_the_section_further() {
     let s = cylinder(2.0, 1.0).unwrap();
     for shape in [RampShape::Linear, RampShape::Flat] {
         let d = |f: f64| {
-            let out = one_hump_section(&s, Direction::V, (f, f), shape).unwrap();
+            let out = one_hump_section(&s, Direction::V, (f, f), shape, [None, None]).unwrap();
             max_deviation(&s, &out, 21)
         };
         let (a, b) = (d(0.05), d(0.2));
@@ -176,7 +184,7 @@ fn the_linear_ramp_moves_the_section_about_half_as_far_as_the_flat_one() {
     // the deviation follows the ramp's deficit (module docs): ¼ against ½
     let s = cylinder(2.0, 1.0).unwrap();
     let d = |shape: RampShape| {
-        let out = one_hump_section(&s, Direction::V, (0.15, 0.15), shape).unwrap();
+        let out = one_hump_section(&s, Direction::V, (0.15, 0.15), shape, [None, None]).unwrap();
         max_deviation(&s, &out, 21)
     };
     let (linear, flat) = (d(RampShape::Linear), d(RampShape::Flat));
@@ -193,7 +201,7 @@ fn a_flat_ramp_leaves_the_contact_line_with_less_curvature_than_a_linear_one() {
     let r = 2.0;
     let s = cylinder(r, 1.0).unwrap();
     let near = |shape: RampShape| {
-        let out = one_hump_section(&s, Direction::V, (0.2, 0.2), shape).unwrap();
+        let out = one_hump_section(&s, Direction::V, (0.2, 0.2), shape, [None, None]).unwrap();
         let (u0, _) = out.domain_u();
         let (v0, v1) = out.domain_v();
         let d = out.derivatives(u0, v0 + 0.02 * (v1 - v0));
@@ -218,7 +226,14 @@ fn weights_that_are_no_product_keep_both_contact_curves() {
         Some(w),
     )
     .unwrap();
-    let out = one_hump_section(&odd, Direction::V, (0.1, 0.1), RampShape::Linear).unwrap();
+    let out = one_hump_section(
+        &odd,
+        Direction::V,
+        (0.1, 0.1),
+        RampShape::Linear,
+        [None, None],
+    )
+    .unwrap();
     let (u0, u1) = odd.domain_u();
     let (v0, v1) = odd.domain_v();
     for k in 0..=10 {
@@ -285,8 +300,14 @@ fn greville_abscissae_rounded_past_the_domain_are_read_at_its_end() {
     let along = KnotVector::new(3, vec![x, x, x, x, 2.0, 2.0, 2.0, 2.0]).unwrap();
     assert!(along.greville()[0] < x, "the rounding this test needs");
     let s = changing_fillet_along(along);
-    let out =
-        one_hump_section_by_sections(&s, Direction::U, (0.1, 0.1), RampShape::Linear).unwrap();
+    let out = one_hump_section_by_sections(
+        &s,
+        Direction::U,
+        (0.1, 0.1),
+        RampShape::Linear,
+        [None, None],
+    )
+    .unwrap();
     for u in [0.0, 1.0] {
         assert!((out.point(u, x) - s.point(u, x)).norm() < 1e-9);
     }
@@ -300,7 +321,9 @@ fn a_section_that_changes_along_the_fillet_is_followed_section_by_section() {
     // section's shape in every column, and is not one hump at the ends (three extrema at v = 1)
     let s = changing_fillet();
     let f = 0.1;
-    let out = one_hump_section_by_sections(&s, Direction::U, (f, f), RampShape::Linear).unwrap();
+    let out =
+        one_hump_section_by_sections(&s, Direction::U, (f, f), RampShape::Linear, [None, None])
+            .unwrap();
     let d = max_deviation(&s, &out, 21);
     assert!(d < 0.4 * f * 3.0, "deviation {d}");
     // the contact curves kept
@@ -317,5 +340,60 @@ fn a_section_that_changes_along_the_fillet_is_followed_section_by_section() {
         let p = profile(&out, Direction::U, at);
         let peak = p.iter().cloned().fold(0.0, f64::max);
         assert_eq!(count_extrema(&p, 0.02 * peak), 1, "at {at}: {p:?}");
+    }
+}
+
+/// A ramp rises from its master's curvature across ([`Section::with_contacts`]): a cylinder
+/// fillet of radius 2 whose start side lies on a cylinder of radius 10 with its circle in the
+/// section's plane, tangent at the contact line and turning the same way, takes +1/10 there
+/// (Meusnier: the plane holds the normal); its end, with no master given, stays at 0. The new
+/// section meets both at its contact lines, and its curvature across is one hump from 1/10.
+#[test]
+fn a_ramp_rises_from_its_masters_curvature_across() {
+    let r = 2.0;
+    let s = cylinder(r, 1.0).unwrap();
+    // the master: the cylinder of radius 10 through the fillet's start line (r, 0, z), its
+    // axis at (r − 10, 0)
+    let mut master = cylinder(10.0, 1.0).unwrap();
+    for p in master.control_points_mut() {
+        p.x += r - 10.0;
+    }
+    let section = profile::Section::read(&s, Direction::V)
+        .unwrap()
+        .with_contacts([Some(&master), None]);
+    assert!(
+        (section.contact_curvatures().0 - 0.1).abs() < 1e-9,
+        "{:?}",
+        section.contact_curvatures()
+    );
+    assert_eq!(section.contact_curvatures().1, 0.0);
+    let f = 0.15;
+    let out = one_hump_section(
+        &s,
+        Direction::V,
+        (f, f),
+        RampShape::Linear,
+        [Some(&master), None],
+    )
+    .unwrap();
+    let (v0, v1) = s.domain_v();
+    let (u0, u1) = s.domain_u();
+    for k in 0..=10 {
+        let u = u0 + (u1 - u0) * k as f64 / 10.0;
+        let (start, end) = (out.derivatives(u, v0), out.derivatives(u, v1));
+        let k0 = start.normal_curvature(&start.dv).unwrap().abs();
+        let k1 = end.normal_curvature(&end.dv).unwrap().abs();
+        // the least-squares quintic meets the profile's start to a percent; the flat end exactly
+        assert!(
+            (k0 - 0.1).abs() < 1e-3,
+            "curvature {k0} at the master's side"
+        );
+        assert!(k1 < 1e-6 / r, "curvature {k1} at the flat side");
+    }
+    for at in [0.0, 0.5, 1.0] {
+        let p = profile(&out, Direction::V, at);
+        let peak = p.iter().cloned().fold(0.0, f64::max);
+        assert_eq!(count_extrema(&p, 0.005 * peak), 1, "{p:?}");
+        assert!(p[0] > 0.099 && p[0] < 0.101, "{}", p[0]);
     }
 }

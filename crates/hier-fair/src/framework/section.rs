@@ -60,6 +60,19 @@ enum Found {
     Section(Box<DryRun>),
 }
 
+/// The masters of the G2 sides at the start and the end of a section across `dir`: each ramp
+/// rises from its master's curvature across ([`g_continuity::one_hump_section`]; an end
+/// without a ramp, a collapsed side's, keeps the profile's own).
+fn section_masters<'a>(links: &[SideLink<'a>], dir: Direction) -> [Option<&'a BSplineSurface>; 2] {
+    let mut out = [None; 2];
+    for l in links {
+        if l.target >= Continuity::G2 && l.side.cross_direction() == dir {
+            out[usize::from(!l.side.is_start())] = Some(l.master);
+        }
+    }
+    out
+}
+
 /// The ramp shape of surface `k`'s section across `dir`: [`RampShape::Linear`], the narrower
 /// deficit, unless a seam ([`crate::edges::is_seam`]) among `edges` lies on one of the section's
 /// end curves — there a part of the same ring follows the end curve and meets its own masters
@@ -182,11 +195,14 @@ impl Job<'_> {
                 break;
             };
             let shape = self.ramp_shape(dir);
+            let masters = section_masters(links, dir);
             let built = match build {
-                Build::Framed => g_continuity::one_hump_section(self.start, dir, ramps, shape),
-                Build::BySections => {
-                    g_continuity::one_hump_section_by_sections(self.start, dir, ramps, shape)
+                Build::Framed => {
+                    g_continuity::one_hump_section(self.start, dir, ramps, shape, masters)
                 }
+                Build::BySections => g_continuity::one_hump_section_by_sections(
+                    self.start, dir, ramps, shape, masters,
+                ),
             };
             let Ok(section) = built else {
                 break;
