@@ -299,9 +299,54 @@ mod tests {
     use g_continuity::RampShape;
     use nurbs_core::Direction;
 
-    use super::ramp_shape;
+    use g_continuity::SideLink;
+    use nurbs_core::{BSplineSurface, Continuity, Side};
+
+    use super::{ramp_shape, section_masters};
     use crate::edges::tests::strip;
     use crate::model::Role;
+
+    #[test]
+    fn a_section_takes_the_masters_of_its_g2_sides_at_its_start_and_end() {
+        let plane = |z: f64| {
+            nurbs_core::shapes::plane_patch(
+                nurbs_core::Point3::new(0.0, 0.0, z),
+                nurbs_core::Vector3::x(),
+                nurbs_core::Vector3::y(),
+                (0.0, 1.0),
+                (0.0, 1.0),
+            )
+            .unwrap()
+        };
+        let (a, b, c) = (plane(0.0), plane(1.0), plane(2.0));
+        let link = |side, master, target| SideLink {
+            side,
+            master,
+            target,
+            range: None,
+            g2_zones: [0.0; 2],
+        };
+        let is =
+            |m: Option<&BSplineSurface>, s: &BSplineSurface| m.is_some_and(|m| std::ptr::eq(m, s));
+        let links = [
+            link(Side::U1, &a, Continuity::G2),
+            link(Side::U0, &b, Continuity::G2),
+            link(Side::V0, &c, Continuity::G2),
+        ];
+        // across u: the start side u0's master first, the end side u1's second
+        let m = section_masters(&links, Direction::U);
+        assert!(is(m[0], &b) && is(m[1], &a));
+        // across v: only v0 has one
+        let m = section_masters(&links, Direction::V);
+        assert!(is(m[0], &c) && m[1].is_none());
+        // a G1 side gives no curvature to start from
+        let g1 = [link(Side::U0, &b, Continuity::G1)];
+        assert!(
+            section_masters(&g1, Direction::U)
+                .iter()
+                .all(Option::is_none)
+        );
+    }
 
     #[test]
     fn a_ring_part_takes_flat_ramps_where_its_seams_end_the_section() {
