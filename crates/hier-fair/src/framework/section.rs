@@ -296,11 +296,8 @@ impl Job<'_> {
 
 #[cfg(test)]
 mod tests {
-    use g_continuity::RampShape;
-    use nurbs_core::Direction;
-
-    use g_continuity::SideLink;
-    use nurbs_core::{BSplineSurface, Continuity, Side};
+    use g_continuity::{RampShape, SideLink};
+    use nurbs_core::{BSplineSurface, Continuity, Direction, Side};
 
     use super::{ramp_shape, section_masters};
     use crate::edges::tests::strip;
