@@ -39,6 +39,22 @@ fn surface<'a>(report: &'a FairModelReport, name: &str) -> &'a hier_fair::Surfac
         .unwrap_or_else(|| panic!("no surface {name}"))
 }
 
+/// The size of the normal curvature across `surface` on the iso-line at the fraction `at` of
+/// its other direction, 201 samples along `along` ([`nurbs_core::fairness::cross_profile`]),
+/// and its largest value.
+fn abs_profile(
+    surface: &nurbs_core::BSplineSurface,
+    along: nurbs_core::Direction,
+    at: f64,
+) -> (Vec<f64>, f64) {
+    let p: Vec<f64> = nurbs_core::fairness::cross_profile(surface, along, at, 201)
+        .into_iter()
+        .map(|k| k.unwrap().abs())
+        .collect();
+    let peak = p.iter().cloned().fold(0.0, f64::max);
+    (p, peak)
+}
+
 /// The input's figures are closed-form: a torus fillet of tube radius r reads 1/r as its peak,
 /// with no extremum across (its cross section is a circular arc).
 #[test]
@@ -149,12 +165,7 @@ fn torus_fillets_get_one_hump_per_role() {
         let k = out.surfaces.iter().position(|x| x.name == f).unwrap();
         let surface = &out.surfaces[k].surface;
         for at in [0.1, 0.5, 0.9] {
-            let p: Vec<f64> =
-                nurbs_core::fairness::cross_profile(surface, nurbs_core::Direction::V, at, 201)
-                    .into_iter()
-                    .map(|k| k.unwrap().abs())
-                    .collect();
-            let peak = p.iter().cloned().fold(0.0, f64::max);
+            let (p, peak) = abs_profile(surface, nurbs_core::Direction::V, at);
             assert_eq!(
                 nurbs_core::fairness::count_extrema(&p, 0.005 * peak),
                 1,
@@ -196,12 +207,7 @@ fn freeform_fillets_get_one_hump_section_by_section() {
         // by at most the contact value there. Extrema are counted above the larger contact
         // value and the 0.5 % at which a G2 join's curvatures differ
         for at in [0.1, 0.5, 0.9] {
-            let p: Vec<f64> =
-                nurbs_core::fairness::cross_profile(surface, nurbs_core::Direction::U, at, 201)
-                    .into_iter()
-                    .map(|k| k.unwrap().abs())
-                    .collect();
-            let peak = p.iter().cloned().fold(0.0, f64::max);
+            let (p, peak) = abs_profile(surface, nurbs_core::Direction::U, at);
             let dip = p[0].max(p[200]);
             assert_eq!(
                 nurbs_core::fairness::count_extrema(&p, dip + 0.005 * peak),
