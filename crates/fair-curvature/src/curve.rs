@@ -17,7 +17,7 @@ use crate::error::{CurvatureError, Result, check_tolerance};
 use crate::polyline::{EndCurvature, PolylineParams, fair_polyline};
 
 /// Dense parameter samples per arc-length sample used to invert the arc length.
-pub const ARC_LENGTH_OVERSAMPLING: usize = 16;
+pub(crate) const ARC_LENGTH_OVERSAMPLING: usize = 16;
 
 /// Settings of curve fairing.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -35,10 +35,10 @@ use nurbs_core::{Point3, Vector3};
 use crate::error::{CurvatureError, Result};
 
 /// Factor by which the pull of a sample outside the ball grows before the next solve.
-pub const BALL_PULL_GROWTH: f64 = 100.0;
+pub(crate) const BALL_PULL_GROWTH: f64 = 100.0;
 
 /// Solves after the first one that may be spent on samples outside the ball.
-pub const BALL_RESOLVES: usize = 3;
+pub(crate) const BALL_RESOLVES: usize = 3;
 
 /// A line of samples: indices start, start + stride, … (len of them) into the point set, with
 /// the wanted change δ of the curvature vector at each of its vertices (ends unused).

@@ -49,7 +49,7 @@ pub const DEGENERATE_CHORD_REL: f64 = 1e-9;
 /// |t_i − t_{i−1}| (= 2 sin θ/2) below which a vertex counts as straight (no turning
 /// direction); far below the turning of any visible bend, far above rounding of unit vectors
 /// (~1e-16).
-pub const STRAIGHT_SIN: f64 = 1e-14;
+pub(crate) const STRAIGHT_SIN: f64 = 1e-14;
 
 /// Settings of the curvature smoothing and integration.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -30,7 +30,7 @@ impl Default for Sampling {
 }
 
 /// Fewest samples per direction a method accepts (smoothing needs an interior).
-pub const MIN_SAMPLES: usize = 3;
+pub(crate) const MIN_SAMPLES: usize = 3;
 
 impl Sampling {
     pub(crate) fn check(&self) -> Result<()> {

@@ -56,7 +56,7 @@ pub use nurbs_core::fairing::BALL_SHRINK;
 
 /// Diagonal entries K_rr at or below this fraction of the largest one count as zero: such a point
 /// does not influence the functional (e.g. a degree-1 curve) and is never moved.
-pub const NULL_DIAGONAL_REL: f64 = 1e-14;
+pub(crate) const NULL_DIAGONAL_REL: f64 = 1e-14;
 
 /// Why a local run stopped.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -27,7 +27,7 @@ use crate::sampling::MasterTracker;
 /// Sides kept. A surface's repeats come within its own run: its four sides, each with the row
 /// samples and the measures' samples, eight entries per surface being set; 64 serve eight
 /// surfaces at once (one per core on an eight-core machine).
-pub const MEMO_SIDES: usize = 64;
+pub(crate) const MEMO_SIDES: usize = 64;
 
 /// One remembered side.
 struct Entry {

@@ -43,7 +43,7 @@ pub const WARM_START_SLACK: f64 = 1e-6;
 /// Start samples per knot span of the global projection of a side's first sample (the kernel
 /// default is 4; the side's later samples are warm-started, so the first one only needs the right
 /// basin: 2 per span cut the start grid — the dominant cost of a measurement — by 4).
-pub const GLOBAL_START_SAMPLES_PER_SPAN: usize = 2;
+pub(crate) const GLOBAL_START_SAMPLES_PER_SPAN: usize = 2;
 
 /// `count` parameters spread uniformly over the side's domain, both ends included.
 pub fn uniform_side_params(slave: &BSplineSurface, side: Side, count: usize) -> Result<Vec<f64>> {

@@ -81,7 +81,7 @@ pub const END_CONTINUOUS: f64 = 1e-9;
 /// function, which moved 1.1e5 mm) and every function that reaches a part with a span at least
 /// 3e-2; 1 % lies in that gap (6.7 times the largest tail, a third of the smallest span),
 /// chosen from the gap, not fitted to a result.
-pub const PART_SHARE: f64 = 1e-2;
+pub(crate) const PART_SHARE: f64 = 1e-2;
 
 /// Before/after of one linked side.
 #[derive(Debug, Clone, PartialEq)]

@@ -47,7 +47,7 @@ pub const TRANSFER_PARAMETER_RELATIVE: f64 = 1e-12;
 
 /// Secant steps per mapped knot (regula falsi with the Illinois rule converges superlinearly; a
 /// bracket of 1/64 of the side reaches 1e-12 in a handful).
-pub const TRANSFER_STEPS: usize = 40;
+pub(crate) const TRANSFER_STEPS: usize = 40;
 
 /// A master knot inside the join must be this fraction of the master domain away from the ends
 /// of the join's foot range to be transferred (the join's own end is a slave knot already).

@@ -14,12 +14,12 @@ use hier_fair::{Model, Role};
 use nurbs_core::{BSplineSurface, Vector3};
 
 /// Picture size of a corner view (pixels): square, the corner fills its middle.
-pub const CORNER_IMAGE_SIZE: u32 = 640;
+pub(crate) const CORNER_IMAGE_SIZE: u32 = 640;
 
 /// How much wider than the corner itself a corner view is: 1.8, so that a band of the surfaces
 /// around it about 40 % of the corner's size shows on each side — the stripes must be seen to
 /// run on across the joins.
-pub const CORNER_VIEW_MARGIN: f64 = 1.8;
+pub(crate) const CORNER_VIEW_MARGIN: f64 = 1.8;
 
 /// The mean-curvature colour range of a corner view, as a multiple of the 95th percentile of
 /// the corner's |H| before: 2, so that the input's curvature shows at half strength and a

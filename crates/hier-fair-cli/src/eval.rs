@@ -56,7 +56,7 @@ pub const MAX_GRID_SAMPLES: usize = 100_000_000;
 
 /// Largest number of samples `eval` lists in full: about 270 bytes each in memory and 500 in
 /// JSON, so 4·10⁶ samples are about 1 GB of memory and 2 GB of output (cli-contract.md).
-pub const MAX_LISTED_SAMPLES: usize = 4_000_000;
+pub(crate) const MAX_LISTED_SAMPLES: usize = 4_000_000;
 
 /// Grid rows per block of the streamed summary.
 const SUMMARY_BLOCK_ROWS: usize = 64;

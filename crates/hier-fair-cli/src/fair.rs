@@ -75,7 +75,7 @@ pub struct FairRunReport {
 
 /// Free rows a patch of a multi-patch file gets besides the frames it keeps (knots inserted
 /// where it has fewer), as the framework's `min_free_rows`.
-pub const PATCH_FREE_ROWS: usize = 2;
+pub(crate) const PATCH_FREE_ROWS: usize = 2;
 
 /// Fairs every surface of a bare surface file; returns the faired surfaces and the report. A
 /// file of several patches keeps every shared edge's continuity ([`hier_fair::patches`]).

@@ -203,22 +203,22 @@ fn by_extension(path: &Path, takes: &[FileKind]) -> Option<FileKind> {
 }
 
 /// Extensions of the CAD files hier-fair writes (STEP, IGES).
-pub const CAD_OUTPUTS: &[&str] = &["step", "stp", "igs", "iges"];
+pub(crate) const CAD_OUTPUTS: &[&str] = &["step", "stp", "igs", "iges"];
 
 /// Extensions a model or report is written to.
-pub const JSON_OUTPUTS: &[&str] = &["json"];
+pub(crate) const JSON_OUTPUTS: &[&str] = &["json"];
 
 /// Extensions `fair` writes a model to: JSON, or the CAD file the extension names.
-pub const MODEL_OUTPUTS: &[&str] = &["json", "step", "stp", "igs", "iges"];
+pub(crate) const MODEL_OUTPUTS: &[&str] = &["json", "step", "stp", "igs", "iges"];
 
 /// Extensions a mesh is written to (`fair-mesh -o`).
-pub const MESH_OUTPUTS: &[&str] = &["obj"];
+pub(crate) const MESH_OUTPUTS: &[&str] = &["obj"];
 
 /// Extensions the HTML quality report is written to (`--html`).
-pub const HTML_OUTPUTS: &[&str] = &["html", "htm"];
+pub(crate) const HTML_OUTPUTS: &[&str] = &["html", "htm"];
 
 /// Extensions a drawing is written to (`label --svg`).
-pub const SVG_OUTPUTS: &[&str] = &["svg"];
+pub(crate) const SVG_OUTPUTS: &[&str] = &["svg"];
 
 /// Whether `path` holds a CAD file (STEP or IGES) by its content.
 pub fn is_cad(path: &Path) -> Result<bool> {

@@ -15,7 +15,7 @@ use crate::options::ModelOptions;
 
 /// The model bundled in the binary for `hier-fair demo`: the X-node of `fixtures/models/`
 /// (a corner patch linked G2 to four fillets, made G1-only, \[SV\] Fig. 6).
-pub const DEMO_MODEL: &str = include_str!("../../../fixtures/models/x_node.json");
+pub(crate) const DEMO_MODEL: &str = include_str!("../../../fixtures/models/x_node.json");
 
 /// Whether JSON text is a model (surfaces with names and roles) rather than a bare surface file.
 pub fn is_model(text: &str) -> bool {
@@ -86,7 +86,7 @@ fn png(path: &Path, img: &image::RgbImage) -> Result<()> {
 }
 
 /// Picture size (pixels).
-pub const IMAGE_SIZE: (u32, u32) = (900, 700);
+pub(crate) const IMAGE_SIZE: (u32, u32) = (900, 700);
 
 /// Writes the pictures into `dir`: zebra and mean-curvature maps before and after (one fixed
 /// view, one colour range for both), one curvature plot per link (slave and master normal

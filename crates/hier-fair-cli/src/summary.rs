@@ -9,7 +9,7 @@ use nurbs_core::{BSplineSurface, GridOrder};
 use serde::Serialize;
 
 /// Samples per direction of the summary's curvature scan.
-pub const SUMMARY_GRID: usize = 201;
+pub(crate) const SUMMARY_GRID: usize = 201;
 
 /// Figures describing a surface.
 #[derive(Debug, Clone, Serialize, PartialEq)]

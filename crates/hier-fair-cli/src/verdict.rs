@@ -14,7 +14,7 @@ use hier_fair::{FairModelReport, Model, Problem};
 /// before and its size² (the energy of a surface bent once over its size, on the unit
 /// parameter square). A flat surface's energy is rounding noise (1e-31 on a plane of 100 mm),
 /// and a rise of 1e-12 of the energy is far below anything a fairing method changes.
-pub const ENERGY_NOISE: f64 = 1e-12;
+pub(crate) const ENERGY_NOISE: f64 = 1e-12;
 
 /// A measure in the table's scientific notation, `–` where it is undefined.
 fn sci(v: Option<f64>) -> String {

@@ -410,7 +410,7 @@ pub struct FoundLink {
 
 /// Bisection steps that place the end of a partial edge between its last sample on the other
 /// surface and the first one off it: 2⁻³⁰ of a sixteenth of the side, far below any tolerance.
-pub const END_BISECTIONS: usize = 30;
+pub(crate) const END_BISECTIONS: usize = 30;
 
 /// Whether the point at `t` of `side` of `s` lies on `other` (within `tol`, normals within
 /// [`TANGENT_EDGE_DEG`]).

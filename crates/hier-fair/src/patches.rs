@@ -20,7 +20,7 @@ use crate::topology::{TANGENT_EDGE_DEG, lies_on_side, net_box};
 /// file's bounding box: patches that share an edge share it to round-off of their export
 /// (1e-12 of the size in a Bézier teapot, 1e-9 in an IGES file), and 1e-6 of the part is below
 /// any modelling gap a user means.
-pub const SHARED_EDGE_RELATIVE: f64 = 1e-6;
+pub(crate) const SHARED_EDGE_RELATIVE: f64 = 1e-6;
 
 /// A side of one patch that lies on a side of another.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -71,7 +71,7 @@ pub struct Series {
 }
 
 /// Width of the legend column right of a line plot's axes: the legend never covers a curve.
-pub const LEGEND_WIDTH: u32 = 170;
+pub(crate) const LEGEND_WIDTH: u32 = 170;
 
 /// Ticks with numbers on the x axis (0, 0.1, …, 1) and about as many on the y axis.
 const X_TICKS: usize = 11;
@@ -251,7 +251,7 @@ fn legend(img: &mut RgbImage, series: &[Series], x0: u32, top: u32) {
 }
 
 /// Width of the colour bar panel [`with_colour_bar`] adds (pixels).
-pub const COLOUR_BAR_WIDTH: u32 = 150;
+pub(crate) const COLOUR_BAR_WIDTH: u32 = 150;
 
 /// `map` with a colour bar on its right: the colour scale of `colour(t)` for t ∈ [−1, 1] from
 /// −`range` to +`range`, its end values and zero written beside it (numbers that read:

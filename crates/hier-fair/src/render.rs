@@ -27,7 +27,7 @@ use nurbs_core::{BSplineSurface, Point3, Vector3};
 pub const VIEW_DIRECTION: Vector3 = Vector3::new(0.35, -0.55, -0.76);
 
 /// Samples per direction and surface.
-pub const RENDER_GRID: usize = 64;
+pub(crate) const RENDER_GRID: usize = 64;
 
 /// An orthographic view.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -324,13 +324,13 @@ pub const STRIPE_PIXELS: f64 = 14.0;
 
 /// Fewest stripes per unit of r·a: two stripes across the whole reflected hemisphere would
 /// say nothing.
-pub const MIN_STRIPES: f64 = 4.0;
+pub(crate) const MIN_STRIPES: f64 = 4.0;
 
 /// Most stripes per unit of r·a: beyond this a nearly flat face turns to moiré at its edges.
-pub const MAX_STRIPES: f64 = 400.0;
+pub(crate) const MAX_STRIPES: f64 = 400.0;
 
 /// Colour of the patch boundaries drawn over every picture.
-pub const BOUNDARY_COLOUR: Rgb<u8> = Rgb([255, 140, 0]);
+pub(crate) const BOUNDARY_COLOUR: Rgb<u8> = Rgb([255, 140, 0]);
 
 /// Draws the four boundary curves of `s` (sampled [`BOUNDARY_SAMPLES`] times each) where they
 /// are in front: a boundary point counts as visible when it lies within
@@ -394,7 +394,7 @@ pub const BOUNDARY_SAMPLES: usize = 200;
 /// Depth tolerance of a visible boundary point, in pixels of the view's scale: the rendered
 /// triangles lie within a fraction of a pixel of the surface at [`RENDER_GRID`] samples, so a
 /// few pixels separate a boundary in front from one hidden behind another sheet.
-pub const BOUNDARY_DEPTH_PIXELS: f64 = 3.0;
+pub(crate) const BOUNDARY_DEPTH_PIXELS: f64 = 3.0;
 
 /// Where [`raster`] draws: the image, its depth buffer, the view, and the face's trim mask
 /// (a pixel outside it is not drawn).

@@ -20,7 +20,7 @@ use crate::error::{Error, Result};
 use crate::model::{Link, Model, Role};
 
 /// Side of one square (mm).
-pub const CELL: f64 = 20.0;
+pub(crate) const CELL: f64 = 20.0;
 
 fn height(x: f64, y: f64) -> f64 {
     0.002 * x * x - 0.0015 * y * y + 2e-6 * x * x * x

@@ -49,11 +49,11 @@ use nurbs_core::{BSplineCurve, BSplineSurface, KnotVector, Point3, Vector3};
 use crate::error::{NsideError, Result};
 
 /// Fewest sides of an n-sided patch.
-pub const MIN_SIDES: usize = 3;
+pub(crate) const MIN_SIDES: usize = 3;
 /// Most sides of an n-sided patch supported.
-pub const MAX_SIDES: usize = 8;
+pub(crate) const MAX_SIDES: usize = 8;
 /// Degree of the quads in both directions.
-pub const QUAD_DEGREE: usize = 3;
+pub(crate) const QUAD_DEGREE: usize = 3;
 /// Smallest cosine between the inward direction d_k and the chord ê_k used in the centre lift;
 /// directions closer to perpendicular than ~84° are clamped so the lift stays bounded.
 const MIN_LIFT_COSINE: f64 = 0.1;

@@ -22,7 +22,7 @@ pub const CREASE_SAMPLES: usize = 41;
 /// a side gives there differs from its limit by about this times the domain length times the
 /// normal's rate of turn (≤ 1e-7° for any surface a radius of 1e-3 of its parameter range can
 /// bend), and it stays far above the spacing of doubles near the knot.
-pub const ONE_SIDED_OFFSET: f64 = 1e-8;
+pub(crate) const ONE_SIDED_OFFSET: f64 = 1e-8;
 
 /// An interior knot of multiplicity at least the degree: the surface is C⁰ across its iso-line.
 #[derive(Debug, Clone, Copy, PartialEq)]

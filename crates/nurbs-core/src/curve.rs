@@ -11,11 +11,11 @@ use crate::knots::KnotVector;
 use crate::{Point3, Vector3};
 
 /// Highest curve derivative order the evaluators return.
-pub const MAX_CURVE_DERIVATIVE: usize = 3;
+pub(crate) const MAX_CURVE_DERIVATIVE: usize = 3;
 
 /// Relative size of |C'| (against the control polygon's extent per unit parameter) below which a
 /// curve point counts as singular and its curvature as undefined.
-pub const CURVE_SINGULAR_SPEED: f64 = 1e-12;
+pub(crate) const CURVE_SINGULAR_SPEED: f64 = 1e-12;
 
 /// A (possibly rational) B-spline curve in 3D.
 #[derive(Debug, Clone, PartialEq)]

@@ -24,7 +24,7 @@ pub const NORMAL_SIN_EPS: f64 = 1e-10;
 
 /// Relative size of the tangential part of a 3D direction below which it counts as normal to
 /// the surface (no normal curvature in that direction).
-pub const DIRECTION_TANGENTIAL_EPS: f64 = 1e-9;
+pub(crate) const DIRECTION_TANGENTIAL_EPS: f64 = 1e-9;
 
 /// First and second fundamental forms at a regular point.
 #[derive(Debug, Clone, Copy, PartialEq)]

@@ -15,7 +15,7 @@ use crate::knots::KnotVector;
 use crate::quadrature::GaussLegendre;
 
 /// Highest derivative order of a Gram integral.
-pub const MAX_GRAM_ORDER: usize = 3;
+pub(crate) const MAX_GRAM_ORDER: usize = 3;
 
 /// A square matrix stored by diagonals: entry (i, j) with |i − j| ≤ `half_bandwidth`.
 #[derive(Debug, Clone, PartialEq)]

@@ -361,7 +361,7 @@ pub fn extrude_curve(
 /// Relative difference below which two weight sequences count as proportional in
 /// [`ruled_surface`]: far above the rounding of knot insertion and degree elevation (a few
 /// hundred ulps), far below any weight a modeller sets.
-pub const PROPORTIONAL_WEIGHTS_RELATIVE: f64 = 1e-12;
+pub(crate) const PROPORTIONAL_WEIGHTS_RELATIVE: f64 = 1e-12;
 
 /// The ruled surface S(u, v) = (1 − v) C₁(u) + v C₂(u), u ∈ [0, 1] the two curves' parameters
 /// mapped linearly onto [0, 1] (IGES 118 form 1, \[NB\] §8.2): the curves are made compatible —

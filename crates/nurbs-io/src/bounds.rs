@@ -24,7 +24,7 @@ pub use crate::edge_fit::{distance_to_polyline, fitted_edge, polyline};
 /// 30°. A kernel's edges meet at corners of 90° or so, and a loop thinned to the G0 tolerance
 /// turns by about √(8 g0 / R) between points (2.3° on a 5 mm radius at 1 µm), so smooth runs stay
 /// one edge.
-pub const CORNER_ANGLE: f64 = std::f64::consts::PI / 6.0;
+pub(crate) const CORNER_ANGLE: f64 = std::f64::consts::PI / 6.0;
 
 /// A chord of a written edge whose midpoint lies farther than this fraction of the surface size
 /// from the surface gets that midpoint's foot as a new point: 10⁻⁶ (0.1 µm on a 100 mm part), a
@@ -48,11 +48,11 @@ pub const SEAM_RELATIVE: f64 = 1e-5;
 
 /// A surface point where a first derivative is below this fraction of the size is a pole (a
 /// collapsed side; the rounding of exact kernel geometry is far below).
-pub const POLE_RELATIVE: f64 = 1e-9;
+pub(crate) const POLE_RELATIVE: f64 = 1e-9;
 
 /// Edges a loop is split into at least: a closed edge (one vertex at both ends) is not read by
 /// every reader.
-pub const MIN_EDGES: usize = 2;
+pub(crate) const MIN_EDGES: usize = 2;
 
 /// A surface to write, its name and its trim loops.
 #[derive(Debug, Clone, Copy)]

@@ -57,12 +57,12 @@ pub const MAX_RAMP: f64 = 0.25;
 /// Steps of the profile's integration: the midpoint-heading rule is exact for curvature linear
 /// on a step, so its error is O(h²) in the curvature's second derivative — below 1e-9 of the
 /// length for a quarter ramp at 2000 steps.
-pub const PROFILE_STEPS: usize = 2000;
+pub(crate) const PROFILE_STEPS: usize = 2000;
 
 /// Least spans of the section's middle (between its ramps): four quintic spans fit a plateau
 /// of a quarter circle with curvature even to 1e-4 relative (two left a wave of 0.7 %, above
 /// the 0.5 % at which two curvatures count as different at a G2 join).
-pub const MIDDLE_SPANS: usize = 3;
+pub(crate) const MIDDLE_SPANS: usize = 3;
 
 /// `s` with its section across `cross` replaced by the one-hump profile with ramps of the
 /// fractions `ramps` (start side, end side; 0: no ramp, that end bends as the profile does) of

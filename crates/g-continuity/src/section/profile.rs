@@ -39,7 +39,7 @@ const PROFILE_RESIDUAL: f64 = 1e-11;
 /// more in each surface that takes the section's knots along a side (a vertex blend set G2
 /// against the fillet's end curve), whose net the fairness bound counts (docs/benchmarks.md,
 /// "the ramps' spans").
-pub const RAMP_SPANS: usize = 5;
+pub(crate) const RAMP_SPANS: usize = 5;
 
 /// Degree of the new section: quintic, the lead-in degree ([`crate::LEAD_IN_DEGREE`]).
 pub const SECTION_DEGREE: usize = 5;

@@ -38,7 +38,7 @@ pub const LEAD_IN_MARGIN: f64 = 0.9;
 /// After a trial that misses a link within the budget, the next lead-in is this factor
 /// narrower: its three knots at half the distance from the side, one level of the span halving
 /// the refinement rounds use.
-pub const LEAD_IN_MISS_NARROWING: f64 = 2.0;
+pub(crate) const LEAD_IN_MISS_NARROWING: f64 = 2.0;
 
 /// A trial narrows the lead-in by at most this factor (the square law is a local estimate).
 pub const LEAD_IN_MAX_NARROWING: f64 = 8.0;

@@ -108,7 +108,7 @@ pub use verify::VERIFY_FACTOR;
 /// slave's energy below its start (X-node fillet_s 18.31 → 17.74 instead of → 18.52); a vertex
 /// blend between three faired fillets needs 2× next to its pole (a box's sphere corner: curvature
 /// 2e-4 off at 1×, 2e-5 at 2×), which the dry run's retry gives it.
-pub const FRAMEWORK_G2_MOVE_FACTOR: f64 = 1.0;
+pub(crate) const FRAMEWORK_G2_MOVE_FACTOR: f64 = 1.0;
 
 /// Share of the G1/G2 tolerances the patches of an n-sided corner group aim at when their
 /// continuity is set (knots inserted until reached): around the centre vertex the patches are
@@ -116,18 +116,18 @@ pub const FRAMEWORK_G2_MOVE_FACTOR: f64 = 1.0;
 /// its predecessor and the first — by the linkage-curve theorem their curvature tensors at the
 /// centre all agree only up to the errors accumulated along the chain, so those must stay well
 /// below the tolerance the closing patch has to meet.
-pub const GROUP_CHAIN_SHARE: f64 = 0.1;
+pub(crate) const GROUP_CHAIN_SHARE: f64 = 0.1;
 
 /// The frame a surface keeps, in all its fairing stages, along each side where a slave is linked
 /// G1 or G2 to it: its tangent planes along the join stay as the slave's continuity was set
 /// against, and its fairing cannot make the join wavy for the slaves that follow (on the X-node
 /// the fillets' energy rose 2–15× while following the primaries' faired tangent rows). The
 /// curvature row stays free, so the master's curvature across the join is still faired.
-pub const MASTER_FRAME: nurbs_core::Frame = nurbs_core::Frame::Tangential;
+pub(crate) const MASTER_FRAME: nurbs_core::Frame = nurbs_core::Frame::Tangential;
 
 /// Grid size of the sampled deviation (the same as the fairing reports), of `fair` and of
 /// `connect` ([`mod@crate::connect`]).
-pub const DEVIATION_GRID: usize = nurbs_core::fairing::REPORT_DEVIATION_SAMPLES;
+pub(crate) const DEVIATION_GRID: usize = nurbs_core::fairing::REPORT_DEVIATION_SAMPLES;
 
 /// Largest control net per direction the framework's knot refinement may create: 64, the
 /// net of a 61-span cubic — far beyond what a fillet or corner of a kernel model needs once its

@@ -20,7 +20,7 @@ use crate::model::{Model, ModelSurface};
 /// 4/3 of that as base64, so a faired report spends about 3.6 MB on its grids at this budget
 /// (the minimum grid of [`GRID_MIN`] lets a model of more than 138 surfaces spend more, 8.7 MB
 /// at 300); nets, knot lines, combs and the viewer are the rest.
-pub const GRID_BUDGET: usize = 40_000;
+pub(crate) const GRID_BUDGET: usize = 40_000;
 
 /// Samples per direction of a surface's grid: at least this many, so that a fillet's lead-ins
 /// show on a 100-surface model (16 intervals put about 3 samples on a lead-in of a fifth).

@@ -59,21 +59,21 @@ use surfaces::surface;
 /// the surface size is on the surface there (a face's edges lie on it to the kernel's
 /// tolerance, 1e-7 of a part; the foot of a point on a surface is that point): the full search
 /// from the start grid is skipped.
-pub const ON_SURFACE_RELATIVE: f64 = 1e-7;
+pub(crate) const ON_SURFACE_RELATIVE: f64 = 1e-7;
 
 /// Points along each edge curve used for a face's parameter box.
-pub const EDGE_SAMPLES: usize = 17;
+pub(crate) const EDGE_SAMPLES: usize = 17;
 
 /// Points along a B-spline edge between its vertices for the face's parameter box: the largest
 /// parameter of the edge on its face falls between samples and is missed by about |v''| h²/8
 /// (h the spacing); 257 make that (16/256)² of what 17 miss (2.6·10⁻⁵ of a lofted face's
 /// domain in Open CASCADE's IGES of the same model: a 2 µm gap along its fillet).
-pub const SPLINE_EDGE_SAMPLES: usize = 257;
+pub(crate) const SPLINE_EDGE_SAMPLES: usize = 257;
 
 /// Largest angle (radians) between the samples of a circular edge: 2°, so that consecutive
 /// boundary points of a face on a periodic surface are far less than half a turn apart and its
 /// loops unwrap unambiguously (module `domain`).
-pub const ARC_STEP: f64 = std::f64::consts::TAU / 180.0;
+pub(crate) const ARC_STEP: f64 = std::f64::consts::TAU / 180.0;
 
 /// What is wrong with a STEP file, with the entity it concerns.
 #[derive(Debug, thiserror::Error, PartialEq)]

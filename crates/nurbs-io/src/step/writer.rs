@@ -10,7 +10,7 @@ use crate::bounds::Face;
 /// the file's `distance_accuracy_value` (UNCERTAINTY_MEASURE_WITH_UNIT, ISO 10303-43), the
 /// value Open CASCADE's writer declares too. Corners this close share a vertex and sides this
 /// close are one edge ([`StepWriter::box_bound`]).
-pub const DISTANCE_ACCURACY: f64 = 1e-7;
+pub(crate) const DISTANCE_ACCURACY: f64 = 1e-7;
 
 /// Whether two boundary curves are one curve: the same knots and weights, and control points
 /// within [`DISTANCE_ACCURACY`] (so, by the convex hull property, the curves too).
